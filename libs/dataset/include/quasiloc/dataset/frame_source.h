@@ -1,0 +1,42 @@
+#pragma once
+// FrameSource: the one interface through which the estimator sees data, so an MRPT rawlog, an EuRoC ASL
+// folder and the simulator's output look the same.
+#include <memory>
+#include <quasiloc/core/stereo_rig.h>
+#include <quasiloc/dataset/frame.h>
+#include <string>
+
+namespace quasiloc::dataset
+{
+class FrameSource
+{
+   public:
+    virtual ~FrameSource() = default;
+    /** Calibration of the stereo pair and its pose in the IMU (body) frame. */
+    virtual const core::StereoRig& rig() const = 0;
+    /** Fills `frame` with the next stereo frame; false at the end of the data. Throws on corrupt input. */
+    virtual bool next(StereoFrame& frame) = 0;
+    /** A short description for logs ("rawlog /path/x.rawlog"). */
+    virtual std::string description() const = 0;
+};
+
+struct FrameSourceOptions
+{
+    /** Optional TUM file with T_world_cam0; frames get the pose at their timestamp (within max_gt_dt_s). */
+    std::string groundtruth_tum;
+    double max_gt_dt_s = 0.005;
+    /** Optional calibration INI (StereoRig keys, prefix "camera_"); overrides what the data carries. */
+    std::string calibration_ini;
+};
+
+/** Streams a rawlog (never loads it whole). Stereo frames come from CObservationStereoImages (external
+ *  images resolved in `<name>_Images/` beside the rawlog); IMU from CObservationIMU. The rig comes from the
+ *  first stereo observation (leftCamera, rightCamera, rightCameraPose, cameraPose) unless a calibration INI
+ *  is given. */
+std::unique_ptr<FrameSource> openRawlog(const std::string& rawlog_path, const FrameSourceOptions& options = {});
+
+/** Reads an EuRoC ASL folder (the one holding mav0/, or mav0/ itself). cam1 rows without an image
+ *  (or cam0 rows without a matching cam1 image) are skipped and counted, not fatal. */
+std::unique_ptr<FrameSource> openEuroc(const std::string& asl_folder, const FrameSourceOptions& options = {});
+
+}  // namespace quasiloc::dataset
