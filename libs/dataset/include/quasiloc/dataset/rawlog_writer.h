@@ -28,8 +28,6 @@ class RawlogWriter
     /** Copies already-encoded PNG files byte for byte (no re-encoding) as the stereo pair's images. */
     void writeStereoFromPngFiles(double timestamp, const std::string& left_png, const std::string& right_png);
     void writeImu(const ImuSample& sample);
-    /** Any other observation (e.g. quasi-images, labelled) in stream order. */
-    void writeObservation(const std::shared_ptr<void>& observation_ptr) = delete;
 
     /** Flushes, then moves the rawlog and its image folder into place. */
     void close();
