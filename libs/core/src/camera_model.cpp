@@ -225,7 +225,25 @@ CameraModel CameraModel::loadFromIni(const mrpt::config::CConfigFileBase& cfg, c
 
 void CameraModel::saveToIni(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
 {
-    toTCamera().saveToConfigFile(section, cfg);
+    // The keys of mrpt::img::TCamera, written here at full precision (TCamera rounds to 7 digits, which
+    // moves EuRoC's distortion coefficients by 1e-8).
+    auto num = [](double v) {
+        char buf[40];
+        std::snprintf(buf, sizeof(buf), "%.17g", v);
+        return std::string(buf);
+    };
+    cfg.write(section, "resolution", "[" + std::to_string(width) + " " + std::to_string(height) + "]");
+    cfg.write(section, "cx", num(cx));
+    cfg.write(section, "cy", num(cy));
+    cfg.write(section, "fx", num(fx));
+    cfg.write(section, "fy", num(fy));
+    // TCamera's INI layout: plumb_bob dist=[k1 k2 p1 p2 k3], kannala_brandt dist=[k1 k2 k3 k4].
+    const std::array<double, 5> d = model == DistortionModel::None ? std::array<double, 5>{0, 0, 0, 0, 0} : dist;
+    const size_t n = model == DistortionModel::Equidistant ? 4 : 5;
+    std::string ds = "[";
+    for (size_t i = 0; i < n; ++i) ds += (i ? " " : "") + num(d[i]);
+    cfg.write(section, "dist", ds + "]");
+    cfg.write(section, "distortion_model", toString(model));
 }
 
 CameraModel CameraModel::fromEurocYaml(const std::string& path)
