@@ -143,7 +143,10 @@ int runProgram(int argc, char** argv, const std::string& usage, const std::funct
     }
     catch (const std::exception& e)
     {
-        std::cerr << program << ": error: " << mrpt::exception_to_str(e) << std::endl;
+        // Our own errors carry a complete message; anything else (MRPT, OpenCV) gets MRPT's formatting.
+        const bool ours = dynamic_cast<const InputError*>(&e) != nullptr;
+        std::cerr << program << ": error: " << (ours ? std::string(e.what()) : mrpt::exception_to_str(e))
+                  << std::endl;
         if (argc < 2) std::cerr << usage << std::endl;
         return 1;
     }
