@@ -15,6 +15,13 @@ namespace quasiloc::core
 {
 namespace
 {
+std::string trim(const std::string& s)
+{
+    const auto b = s.find_first_not_of(" \t");
+    const auto e = s.find_last_not_of(" \t");
+    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
+}
+
 std::string lower(std::string s)
 {
     std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
@@ -81,6 +88,8 @@ std::vector<std::string> knownKeys(const mrpt::config::CLoadableOptions& options
     options.saveToConfigFile(mem, section);
     std::vector<std::string> keys;
     mem.getAllKeys(section, keys);
+    // MRPT pads key names when a value is written with a padding width or a comment.
+    for (auto& k : keys) k = trim(k);
     return keys;
 }
 
@@ -94,7 +103,7 @@ void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::con
     if (cfg.sectionExists(section)) cfg.getAllKeys(section, present);
     for (const auto& k : present)
     {
-        if (known_lower.count(lower(k))) continue;
+        if (known_lower.count(lower(trim(k)))) continue;
         std::string list;
         for (const auto& kk : known) list += (list.empty() ? "" : ", ") + kk;
         throw InputError(config_name + " [" + section + "] " + k,

@@ -5,6 +5,7 @@
 #include <quasiloc/core/stereo_rig.h>
 #include <quasiloc/dataset/frame.h>
 #include <string>
+#include <vector>
 
 namespace quasiloc::dataset
 {
@@ -18,11 +19,17 @@ class FrameSource
     virtual bool next(StereoFrame& frame) = 0;
     /** A short description for logs ("rawlog /path/x.rawlog"). */
     virtual std::string description() const = 0;
+    /** Things about the input that were tolerated but that a person should know (skipped rows, dropped
+     *  samples, frames without ground truth...), one line each. Complete once next() has returned false;
+     *  sources that decide everything up front (EuRoC) fill it at open. */
+    virtual std::vector<std::string> warnings() const { return {}; }
 };
 
 struct FrameSourceOptions
 {
-    /** Optional TUM file with T_world_cam0; frames get the pose at their timestamp (within max_gt_dt_s). */
+    /** Optional TUM file with T_world_cam0; frames get the pose at their timestamp (within max_gt_dt_s).
+     *  An EuRoC state_groundtruth_estimate0/data.csv (T_world_body) is accepted too and multiplied by the rig's
+     *  T_body_left (see ground_truth.h). */
     std::string groundtruth_tum;
     double max_gt_dt_s = 0.005;
     /** Optional calibration INI (StereoRig keys, prefix "camera_"); overrides what the data carries. */
@@ -36,7 +43,9 @@ struct FrameSourceOptions
 std::unique_ptr<FrameSource> openRawlog(const std::string& rawlog_path, const FrameSourceOptions& options = {});
 
 /** Reads an EuRoC ASL folder (the one holding mav0/, or mav0/ itself). cam1 rows without an image
- *  (or cam0 rows without a matching cam1 image) are skipped and counted, not fatal. */
+ *  (or cam0 rows without a matching cam1 image) are skipped and counted, not fatal: warnings() lists them
+ *  (one line per reason, with the count and the first timestamps) right after opening. See euroc.h for the
+ *  structured counts. */
 std::unique_ptr<FrameSource> openEuroc(const std::string& asl_folder, const FrameSourceOptions& options = {});
 
 }  // namespace quasiloc::dataset

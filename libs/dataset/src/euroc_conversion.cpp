@@ -1,0 +1,200 @@
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <optional>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/staged_output.h>
+#include <quasiloc/dataset/euroc.h>
+#include <quasiloc/dataset/euroc_conversion.h>
+#include <quasiloc/dataset/ground_truth.h>
+#include <quasiloc/dataset/rawlog_writer.h>
+#include <quasiloc/dataset/timestamps.h>
+
+namespace fs = std::filesystem;
+using quasiloc::core::require;
+
+namespace quasiloc::dataset
+{
+namespace
+{
+const char* kSection = "[Euroc2Rawlog] ";
+
+std::string besideOutput(const std::string& output, const std::string& suffix)
+{
+    const fs::path p(output);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+/** Times a stage when a logger is given. */
+class Stage
+{
+   public:
+    Stage(mrpt::system::CTimeLogger* timer, const char* name) : timer_(timer), name_(name)
+    {
+        if (timer_) timer_->enter(name_);
+    }
+    ~Stage()
+    {
+        if (timer_) timer_->leave(name_);
+    }
+    Stage(const Stage&) = delete;
+    Stage& operator=(const Stage&) = delete;
+
+   private:
+    mrpt::system::CTimeLogger* timer_;
+    const char* name_;
+};
+
+/** The frames' ground truth: restricted to their time span +- margin, with a header naming the frame. */
+GroundTruthFile loadGroundTruth(const Euroc2RawlogOptions& o, const EurocSequence& seq, double t0, double t1)
+{
+    GroundTruthFile gt = readGroundTruthCam0(o.groundtruth, seq.rig.T_body_left);
+    gt.T_world_cam0 = restrictToSpan(gt.T_world_cam0, t0, t1, o.gt_margin_s);
+    require(!gt.T_world_cam0.poses.empty(), o.groundtruth,
+            "no pose within the sequence's time span [" + std::to_string(t0) + ", " + std::to_string(t1) + "] s +- " +
+                std::to_string(o.gt_margin_s) + " s (wrong sequence?)");
+    gt.T_world_cam0.header =
+        "T_world_cam0: pose of cam0 (the left camera of " + seq.mav0_folder + ") in the world frame\n" +
+        (gt.kind == GroundTruthFile::Kind::TumCam0 ? "source: TUM file "
+                                                   : "source: EuRoC body csv times T_body_cam0: ") +
+        o.groundtruth + "\nt tx ty tz qx qy qz qw";
+    return gt;
+}
+
+/** Writes IMU and stereo observations merged by time; an IMU sample stamped with a frame's time goes first. */
+void writeInterleaved(RawlogWriter& writer, const EurocSequence& seq, size_t num_pairs, size_t num_imu)
+{
+    size_t i = 0, k = 0;
+    while (i < num_pairs || k < num_imu)
+    {
+        if (k < num_imu && (i >= num_pairs || seq.imu_t_ns[k] <= seq.pairs[i].t_ns))
+        {
+            writer.writeImuNs(seq.imu_t_ns[k], seq.imu[k]);
+            ++k;
+        }
+        else
+        {
+            const auto& p = seq.pairs[i++];
+            writer.writeStereoFromPngFilesNs(p.t_ns, p.left_png, p.right_png);
+        }
+    }
+}
+}  // namespace
+
+void Euroc2RawlogOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    input = cfg.read_string(s, "input", input);
+    output = cfg.read_string(s, "output", output);
+    groundtruth = cfg.read_string(s, "groundtruth", groundtruth);
+    calib_out = cfg.read_string(s, "calib_out", calib_out);
+    gt_out = cfg.read_string(s, "gt_out", gt_out);
+    stereo_sensor_label = cfg.read_string(s, "stereo_sensor_label", stereo_sensor_label);
+    imu_sensor_label = cfg.read_string(s, "imu_sensor_label", imu_sensor_label);
+    max_frames = cfg.read_int(s, "max_frames", max_frames);
+    gt_margin_s = cfg.read_double(s, "gt_margin_s", gt_margin_s);
+    gz_compression_level = cfg.read_int(s, "gz_compression_level", gz_compression_level);
+}
+
+void Euroc2RawlogOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
+{
+    cfg.write(s, "input", input);
+    cfg.write(s, "output", output);
+    cfg.write(s, "groundtruth", groundtruth);
+    cfg.write(s, "calib_out", calib_out);
+    cfg.write(s, "gt_out", gt_out);
+    cfg.write(s, "stereo_sensor_label", stereo_sensor_label);
+    cfg.write(s, "imu_sensor_label", imu_sensor_label);
+    cfg.write(s, "max_frames", max_frames);
+    cfg.write(s, "gt_margin_s", gt_margin_s);
+    cfg.write(s, "gz_compression_level", gz_compression_level);
+}
+
+void Euroc2RawlogOptions::check() const
+{
+    require(!input.empty(), std::string(kSection) + "input", "is empty: give the EuRoC ASL folder");
+    require(!output.empty(), std::string(kSection) + "output", "is empty: give the rawlog to write");
+    require(!fs::is_directory(output), std::string(kSection) + "output", "'" + output + "' is a folder");
+    require(!stereo_sensor_label.empty(), std::string(kSection) + "stereo_sensor_label", "is empty");
+    require(!imu_sensor_label.empty(), std::string(kSection) + "imu_sensor_label", "is empty");
+    require(max_frames >= 0, std::string(kSection) + "max_frames", "must be >= 0 (0 = all)");
+    require(gt_margin_s >= 0, std::string(kSection) + "gt_margin_s", "must be >= 0");
+    require(gz_compression_level >= 0 && gz_compression_level <= 9, std::string(kSection) + "gz_compression_level",
+            "must be 0..9");
+}
+
+std::string Euroc2RawlogOptions::calibOutPath() const
+{
+    return calib_out.empty() ? besideOutput(output, "_calib.ini") : calib_out;
+}
+
+std::string Euroc2RawlogOptions::gtOutPath() const
+{
+    return gt_out.empty() ? besideOutput(output, "_gt_cam0.tum") : gt_out;
+}
+
+Euroc2RawlogResult convertEurocToRawlog(const Euroc2RawlogOptions& o, mrpt::system::CTimeLogger* timer)
+{
+    o.check();
+    std::optional<Stage> stage(std::in_place, timer, "read EuRoC folder");
+    const EurocSequence seq = readEurocSequence(o.input);
+    Euroc2RawlogResult r;
+    r.cam0_rows = seq.cam0_rows;
+    r.cam1_rows = seq.cam1_rows;
+    r.imu_rows = seq.imu.size();
+    r.skipped_rows = seq.numSkippedRows();
+    r.skipped_rows_report = seq.skippedRowsReport();
+
+    const size_t num_pairs = o.max_frames > 0 ? std::min<size_t>(o.max_frames, seq.pairs.size()) : seq.pairs.size();
+    size_t num_imu = seq.imu.size();
+    if (o.max_frames > 0)
+        num_imu = std::upper_bound(seq.imu_t_ns.begin(), seq.imu_t_ns.end(), seq.pairs[num_pairs - 1].t_ns) -
+                  seq.imu_t_ns.begin();
+    r.first_frame_t = nsToSeconds(seq.pairs.front().t_ns);
+    r.last_frame_t = nsToSeconds(seq.pairs[num_pairs - 1].t_ns);
+
+    // Everything that can fail on bad input is read before the first byte is written.
+    std::optional<GroundTruthFile> gt;
+    stage.emplace(timer, "read ground truth");
+    if (!o.groundtruth.empty())
+    {
+        gt = loadGroundTruth(o, seq, r.first_frame_t, r.last_frame_t);
+        r.gt_kind = gt->kind == GroundTruthFile::Kind::TumCam0 ? "TUM T_world_cam0" : "EuRoC body csv x T_body_cam0";
+        r.gt_duplicate_rows_dropped = gt->duplicate_rows_dropped;
+        r.gt_poses_written = gt->T_world_cam0.poses.size();
+        r.gt_first_t = gt->T_world_cam0.poses.front().t;
+        r.gt_last_t = gt->T_world_cam0.poses.back().t;
+        for (size_t i = 0; i < num_pairs; ++i)
+            if (poseAt(gt->T_world_cam0, nsToSeconds(seq.pairs[i].t_ns), 0.005)) ++r.frames_with_gt;
+    }
+
+    stage.emplace(timer, "write rawlog and images");
+    RawlogWriter::Options wo;
+    wo.stereo_sensor_label = o.stereo_sensor_label;
+    wo.imu_sensor_label = o.imu_sensor_label;
+    wo.gz_compression_level = o.gz_compression_level;
+    RawlogWriter writer(o.output, seq.rig, wo);
+    writeInterleaved(writer, seq, num_pairs, num_imu);
+    writer.close();
+    r.stereo_written = writer.numStereo();
+    r.imu_written = writer.numImu();
+    r.rawlog_path = writer.rawlogPath();
+    r.images_folder = writer.imagesFolder();
+
+    stage.emplace(timer, "write calibration and ground truth");
+    mrpt::config::CConfigFileMemory calib;
+    seq.rig.saveToIni(calib, "camera_");
+    r.calib_path = o.calibOutPath();
+    core::writeTextFileAtomically(
+        r.calib_path,
+        "# Stereo rig of " + seq.mav0_folder + " (cam0 = left, cam1 = right; body = IMU frame)\n" + calib.getContent());
+    if (gt)
+    {
+        r.gt_path = o.gtOutPath();
+        core::writeTum(r.gt_path, gt->T_world_cam0);
+    }
+    return r;
+}
+
+}  // namespace quasiloc::dataset
