@@ -18,6 +18,9 @@ class VisibilityIndex
     struct Options
     {
         double block_size_m = 1.0;
+        /// Blocks are grouped into cubic super-blocks of this many blocks per edge: a query first culls
+        /// super-blocks, then the blocks of the surviving ones (1 = a flat list of blocks).
+        int superblock_blocks = 8;
     };
     /** A contiguous run [begin, end) of the index's point arrays. */
     struct Range
@@ -29,9 +32,29 @@ class VisibilityIndex
     VisibilityIndex(const LidarMap& map, const Options& options);
 
     /** Ranges of all points possibly visible from T_world_cam with `camera` up to max_range_m (a
-     *  conservative superset: whole blocks that intersect the frustum). Clears `out` first. */
+     *  conservative superset: whole blocks that intersect the frustum). Clears `out` first.
+     *  max_range_m limits the depth (camera z), like a renderer's far plane. Adjacent blocks are merged
+     *  into one range. Points that only a non-monotonic (folding) distortion polynomial would bring into
+     *  the image from outside the lens's field of view are not considered. */
     void query(const mrpt::poses::CPose3D& T_world_cam, const core::CameraModel& camera, double max_range_m,
                std::vector<Range>& out) const;
+
+    /** The camera's viewing cone in the camera frame: half-spaces n . p_cam <= 0 (planes through the
+     *  optical centre) enclosing the rays of every image pixel, built from the unprojected border of the
+     *  image (so distortion is respected), plus the axis-aligned bounds of that region on the z = 1 plane. */
+    struct ViewCone
+    {
+        std::vector<Eigen::Vector3d> side_normals;
+        Eigen::Vector2d xn_min{0, 0}, xn_max{0, 0};
+        bool bounded = false;  ///< false: the border could not be unprojected; the cone is the half-space z >= 0
+    };
+    static ViewCone viewCone(const core::CameraModel& camera);
+    /** Same as query() with a precomputed cone (saves the border unprojection per query). */
+    void query(const mrpt::poses::CPose3D& T_world_cam, const ViewCone& cone, double max_range_m,
+               std::vector<Range>& out) const;
+
+    /** Number of points in `ranges`. */
+    static size_t countPoints(const std::vector<Range>& ranges);
 
     size_t size() const { return map_index_.size(); }
     size_t numBlocks() const { return blocks_.size(); }
@@ -49,8 +72,14 @@ class VisibilityIndex
         Eigen::Vector3f min, max;  ///< tight bounds of the block's points
         Range range;
     };
+    struct Superblock
+    {
+        Eigen::Vector3f min, max;  ///< tight bounds of its blocks
+        uint32_t first_block = 0, end_block = 0;
+    };
     Options options_;
     std::vector<Block> blocks_;
+    std::vector<Superblock> superblocks_;
     std::vector<float> x_, y_, z_, refl_;
     std::vector<uint32_t> map_index_;
 };

@@ -1,0 +1,256 @@
+// PCD (v0.7) reader: ascii, binary (point after point) and binary_compressed (LZF, field after field).
+#include <cmath>
+#include <cstring>
+#include <quasiloc/core/error.h>
+#include <quasiloc/map/lzf.h>
+#include <quasiloc/map/map_import.h>
+
+#include "file_bytes.h"
+#include "scalar_types.h"
+
+namespace quasiloc::map
+{
+namespace
+{
+using detail::ScalarType;
+
+struct PcdField
+{
+    std::string name;
+    int size = 4;
+    char type = 'F';
+    size_t count = 1;
+    ScalarType scalar = ScalarType::Float32;
+    size_t offset = 0;  ///< byte offset inside one point record (binary layout)
+};
+
+struct PcdHeader
+{
+    std::vector<PcdField> fields;
+    size_t width = 0, height = 1, points = 0;
+    bool have_points = false;
+    std::string data;  ///< ascii | binary | binary_compressed
+    size_t data_offset = 0;
+    size_t record_size = 0;
+};
+
+size_t parseCount(const std::string& s, const std::string& path, const std::string& key)
+{
+    double v = -1;
+    core::require(detail::parseNumber(s, v) && v >= 0 && v == std::floor(v), path,
+                  "PCD header: bad " + key + " value '" + s + "'");
+    return static_cast<size_t>(v);
+}
+
+void parseHeaderLine(const std::vector<std::string>& w, PcdHeader& h, std::vector<std::string>& sizes,
+                     std::vector<std::string>& types, std::vector<std::string>& counts, const std::string& path)
+{
+    const std::string key = detail::lowerCase(w[0]);
+    if (key == "version" || key == "viewpoint") return;
+    if (key == "fields" || key == "columns")
+        for (size_t k = 1; k < w.size(); ++k) h.fields.push_back({w[k]});
+    else if (key == "size") sizes.assign(w.begin() + 1, w.end());
+    else if (key == "type") types.assign(w.begin() + 1, w.end());
+    else if (key == "count") counts.assign(w.begin() + 1, w.end());
+    else if (key == "width" && w.size() == 2) h.width = parseCount(w[1], path, "WIDTH");
+    else if (key == "height" && w.size() == 2) h.height = parseCount(w[1], path, "HEIGHT");
+    else if (key == "points" && w.size() == 2)
+    {
+        h.points = parseCount(w[1], path, "POINTS");
+        h.have_points = true;
+    }
+    else if (key == "data" && w.size() == 2) h.data = detail::lowerCase(w[1]);
+    else throw core::InputError(path, "PCD header: unexpected line starting with '" + w[0] + "'");
+}
+
+/** Checks and completes the field list (SIZE/TYPE/COUNT per field, offsets, record size). */
+void finishFields(PcdHeader& h, const std::vector<std::string>& sizes, const std::vector<std::string>& types,
+                  const std::vector<std::string>& counts, const std::string& path)
+{
+    core::require(!h.fields.empty(), path, "PCD header has no FIELDS line");
+    const size_t n = h.fields.size();
+    core::require(sizes.size() == n, path, "PCD header: SIZE must list one value per field");
+    core::require(types.size() == n, path, "PCD header: TYPE must list one value per field");
+    core::require(counts.empty() || counts.size() == n, path, "PCD header: COUNT must list one value per field");
+    size_t offset = 0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        PcdField& f = h.fields[k];
+        f.size = static_cast<int>(parseCount(sizes[k], path, "SIZE"));
+        core::require(types[k].size() == 1, path, "PCD header: bad TYPE '" + types[k] + "'");
+        f.type = static_cast<char>(std::toupper(static_cast<unsigned char>(types[k][0])));
+        core::require(detail::pcdType(f.type, f.size, f.scalar), path,
+                      "PCD header: field '" + f.name + "' has an unsupported TYPE/SIZE " + types[k] + "/" + sizes[k]);
+        f.count = counts.empty() ? 1 : parseCount(counts[k], path, "COUNT");
+        f.offset = offset;
+        offset += static_cast<size_t>(f.size) * f.count;
+    }
+    h.record_size = offset;
+    if (!h.have_points) h.points = h.width * h.height;
+    core::require(h.points == h.width * h.height, path,
+                  "PCD header: POINTS (" + std::to_string(h.points) + ") != WIDTH * HEIGHT (" +
+                      std::to_string(h.width) + " * " + std::to_string(h.height) + ")");
+}
+
+PcdHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path)
+{
+    PcdHeader h;
+    std::vector<std::string> sizes, types, counts;
+    size_t pos = 0;
+    while (h.data.empty())
+    {
+        core::require(pos < bytes.size(), path, "PCD header has no DATA line (not a PCD file?)");
+        size_t eol = pos;
+        while (eol < bytes.size() && bytes[eol] != '\n') ++eol;
+        std::string line(reinterpret_cast<const char*>(bytes.data() + pos), eol - pos);
+        pos = std::min(eol + 1, bytes.size());
+        if (const auto hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+        const auto w = detail::splitWords(line);
+        if (w.empty()) continue;
+        parseHeaderLine(w, h, sizes, types, counts, path);
+    }
+    core::require(h.data == "ascii" || h.data == "binary" || h.data == "binary_compressed", path,
+                  "PCD header: unknown DATA encoding '" + h.data + "'");
+    finishFields(h, sizes, types, counts, path);
+    h.data_offset = pos;
+    return h;
+}
+
+/** Indices of the x, y, z and intensity fields. */
+struct FieldChoice
+{
+    int x = -1, y = -1, z = -1, intensity = -1;
+};
+
+FieldChoice chooseFields(const PcdHeader& h, const std::string& path, std::string& intensity_name)
+{
+    FieldChoice c;
+    int best_rank = 0;
+    std::string names;
+    for (size_t k = 0; k < h.fields.size(); ++k)
+    {
+        const std::string& n = h.fields[k].name;
+        names += (names.empty() ? "" : " ") + n;
+        if (n == "x") c.x = static_cast<int>(k);
+        if (n == "y") c.y = static_cast<int>(k);
+        if (n == "z") c.z = static_cast<int>(k);
+        const int rank = intensityFieldRank(n);
+        if (rank > 0 && (best_rank == 0 || rank < best_rank))
+        {
+            best_rank = rank;
+            c.intensity = static_cast<int>(k);
+            intensity_name = n;
+        }
+    }
+    core::require(c.x >= 0 && c.y >= 0 && c.z >= 0, path, "PCD fields lack x, y or z (fields: " + names + ")");
+    core::require(c.intensity >= 0, path,
+                  "no intensity field: the PCD has no field named intensity, reflectivity, reflectance, i or "
+                  "scalar_* (fields: " + names + ")");
+    return c;
+}
+
+void readAscii(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c,
+               const std::string& path, RawCloud& cloud)
+{
+    detail::TokenCursor cur(bytes.data() + h.data_offset, bytes.data() + bytes.size());
+    std::vector<double> first(h.fields.size(), 0.0);
+    cloud.reserve(h.points);
+    for (size_t i = 0; i < h.points; ++i)
+    {
+        for (size_t k = 0; k < h.fields.size(); ++k)
+            for (size_t j = 0; j < h.fields[k].count; ++j)
+            {
+                const double v = cur.number(path, "point", i);
+                if (j == 0) first[k] = v;
+            }
+        cloud.push(static_cast<float>(first[c.x]), static_cast<float>(first[c.y]), static_cast<float>(first[c.z]),
+                   static_cast<float>(first[c.intensity]));
+    }
+}
+
+/** Decodes the 4 wanted fields. Value of field f for point i is at base[f] + i * stride[f]. */
+void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c, const size_t base[4],
+                  const size_t stride[4], RawCloud& cloud)
+{
+    const bool swap = detail::hostIsBigEndian();  // PCD binary data is little-endian
+    const int idx[4] = {c.x, c.y, c.z, c.intensity};
+    ScalarType t[4];
+    for (int k = 0; k < 4; ++k) t[k] = h.fields[idx[k]].scalar;
+    cloud.reserve(h.points);
+    for (size_t i = 0; i < h.points; ++i)
+    {
+        float v[4];
+        for (int k = 0; k < 4; ++k)
+            v[k] = static_cast<float>(detail::decodeScalar(data + base[k] + i * stride[k], t[k], swap));
+        cloud.push(v[0], v[1], v[2], v[3]);
+    }
+}
+
+void readBinary(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c,
+                const std::string& path, RawCloud& cloud)
+{
+    const size_t need = h.points * h.record_size;
+    const size_t have = bytes.size() - h.data_offset;
+    core::require(have >= need, path,
+                  "truncated binary data: " + std::to_string(h.points) + " points need " + std::to_string(need) +
+                      " bytes, the file holds " + std::to_string(have));
+    const int idx[4] = {c.x, c.y, c.z, c.intensity};
+    size_t base[4], stride[4];
+    for (int k = 0; k < 4; ++k)
+    {
+        base[k] = h.fields[idx[k]].offset;
+        stride[k] = h.record_size;
+    }
+    decodeFields(bytes.data() + h.data_offset, h, c, base, stride, cloud);
+}
+
+void readCompressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c,
+                    const std::string& path, RawCloud& cloud)
+{
+    const size_t have = bytes.size() - h.data_offset;
+    core::require(have >= 8, path, "truncated binary_compressed data: no size header");
+    uint32_t sizes[2];  // compressed, uncompressed (little-endian)
+    for (int k = 0; k < 2; ++k)
+        sizes[k] = static_cast<uint32_t>(
+            detail::decodeScalar(bytes.data() + h.data_offset + 4 * k, ScalarType::UInt32, detail::hostIsBigEndian()));
+    const size_t need = h.points * h.record_size;
+    core::require(sizes[1] == need, path,
+                  "binary_compressed: uncompressed size " + std::to_string(sizes[1]) + " != " +
+                      std::to_string(h.points) + " points * " + std::to_string(h.record_size) + " bytes");
+    core::require(have - 8 >= sizes[0], path,
+                  "truncated binary_compressed data: " + std::to_string(sizes[0]) + " compressed bytes announced, " +
+                      std::to_string(have - 8) + " present");
+    std::vector<uint8_t> raw(need);
+    const auto n = lzfDecompress(bytes.data() + h.data_offset + 8, sizes[0], raw.data(), raw.size());
+    core::require(n.has_value() && *n == need, path, "binary_compressed: corrupt LZF data");
+    // Decompressed layout: each field's values for all points, one field after the other.
+    const int idx[4] = {c.x, c.y, c.z, c.intensity};
+    size_t base[4], stride[4];
+    for (int k = 0; k < 4; ++k)
+    {
+        const PcdField& f = h.fields[idx[k]];
+        base[k] = f.offset * h.points;
+        stride[k] = static_cast<size_t>(f.size) * f.count;
+    }
+    decodeFields(raw.data(), h, c, base, stride, cloud);
+}
+
+}  // namespace
+
+RawCloud readPcd(const std::string& path)
+{
+    const std::vector<uint8_t> bytes = detail::readFileBytes(path);
+    const PcdHeader h = parseHeader(bytes, path);
+    RawCloud cloud;
+    cloud.encoding = h.data;
+    const FieldChoice c = chooseFields(h, path, cloud.intensity_field);
+    if (h.data == "ascii")
+        readAscii(bytes, h, c, path, cloud);
+    else if (h.data == "binary")
+        readBinary(bytes, h, c, path, cloud);
+    else
+        readCompressed(bytes, h, c, path, cloud);
+    return cloud;
+}
+
+}  // namespace quasiloc::map
