@@ -1,0 +1,15 @@
+# Sourced by the e2e scripts: BIN, SHARED, a scratch folder removed on exit, and assertion helpers.
+set -euo pipefail
+BIN="$1"
+SHARED="$2"
+WORK="$(mktemp -d /tmp/quasiloc_e2e.XXXXXX)"
+trap 'rm -rf "$WORK"' EXIT
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+# expect_contains <file> <text>
+expect_contains() { grep -qF -- "$2" "$1" || { echo "---- $1:"; cat "$1"; fail "'$2' not found in $1"; }; }
+# expect_failure <logfile> <command...>: the command must exit non-zero
+expect_failure() {
+  local log="$1"; shift
+  if "$@" >"$log" 2>&1; then cat "$log"; fail "expected a non-zero exit from: $*"; fi
+}
