@@ -1,0 +1,67 @@
+#pragma once
+// sim-rawlog as a library call: one simulated EuRoC-like sequence written into [Simulation] output_dir:
+//   lidar_map.map            the survey LiDAR map (map::LidarMap file), [+ lidar_map_32beam.map]
+//   <sequence>.rawlog        stereo observations at camera_rate_hz and IMU observations, in time order
+//   <sequence>_Images/       the raw (distorted) 8-bit PNG images
+//   gt.tum                   T_world_cam0 at every camera frame
+//   gt_body.tum              T_world_body (IMU frame) at every IMU sample
+//   calib.ini                stereo rig (core::StereoRig INI, prefix camera_) and [imu] noise
+//   sim-rawlog.ini           the effective configuration
+//   inspection.png           a camera frame beside the map's reflectivity projected at the same pose
+//   README.txt               what the folder holds
+// Everything is staged (core::StagedOutputs): the folder appears complete or not at all.
+//
+// Decisions: relative paths in the INI are relative to the working directory; the trajectory defaults to
+// <shared_dir>/data/euroc/groundtruth/cam0/<sequence>.txt; the spline is fitted to it (simimu's
+// TrajectorySpline), camera frames start at tStart() + start_offset_s; IMU samples are generated on the
+// spline from the first to the last camera frame. The world keeps clear of every ground-truth trajectory of
+// its room and of the simulated one. Seeds: Simulation.seed drives world, textures, LiDAR and image noise;
+// the IMU's seed is [IMU] seed combined with Simulation.seed.
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <quasiloc/sim/imu_synthesizer.h>
+#include <quasiloc/sim/lidar_sampler.h>
+#include <quasiloc/sim/stereo_renderer.h>
+#include <quasiloc/sim/world_builder.h>
+#include <string>
+
+namespace quasiloc::sim
+{
+struct SimulationOptions : public mrpt::config::CLoadableOptions
+{
+    std::string output_dir;              ///< required
+    std::string sequence = "V1_01_easy"; ///< name of the rawlog and of the default trajectory
+    std::string shared_dir = "../shared";
+    std::string trajectory;              ///< TUM of T_world_cam0; empty = EuRoC ground truth of `sequence`
+    double duration_s = 0;               ///< 0 = the whole trajectory
+    double start_offset_s = 0;
+    double camera_rate_hz = 20;
+    uint64_t seed = 1;
+    std::string cam0_yaml, cam1_yaml;    ///< empty = <shared_dir>/data/euroc/calib/cam{0,1}_sensor.yaml
+    double spline_knot_spacing_s = 0.1;
+    bool write_map = true;
+    bool inspection_png = true;
+    bool verbose = true;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void check(const std::string& input) const;
+};
+
+struct SimulationResult
+{
+    size_t frames = 0, imu_samples = 0, map_points = 0, beam_map_points = 0;
+    WorldStats world;
+    double world_time_s = 0, map_time_s = 0, render_time_s = 0, total_time_s = 0;
+    double mean_render_ms = 0, max_render_ms = 0;  ///< per stereo frame
+    std::vector<std::string> files;                ///< final paths written
+};
+
+/** Runs the simulation from a merged configuration (sections Simulation, World, Appearance, Lidar, IMU;
+ *  unknown keys are errors). `config_name` names the configuration in error messages. With print_timing, the
+ *  per-stage CTimeLogger table is printed at the end (by the logger's destructor). */
+SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name,
+                               bool print_timing = false);
+
+}  // namespace quasiloc::sim

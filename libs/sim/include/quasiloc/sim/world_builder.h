@@ -1,0 +1,73 @@
+#pragma once
+// Builds the simulated EuRoC Vicon rooms ("v1", "v2") from the data that describes them:
+//  - the room shell (floor, ceiling, four walls) is an axis-aligned box whose extent comes from the GMM
+//    component means (0.5 / 99.5 percentiles of x, y and the floor z) and the 3D line map (ceiling: the
+//    99.5 percentile of line end-point heights: the Leica GMM stops below the ceiling, the wall-ceiling
+//    edges in the line map do not);
+//  - every GMM component that is not part of the shell becomes a flat elliptical patch (normal = smallest
+//    eigenvector, semi-axes = sigma_scale * sqrt of the two larger eigenvalues): the clutter of the real
+//    rooms at its real place;
+//  - procedural objects (boxes, mattress-like slabs, poles, wall posters and calibration boards) add
+//    structure of known shape;
+//  - clearance: every trajectory sample given (the ground truth of all sequences of the room) must stay at
+//    least clearance_m from every triangle: a GMM patch too close is shrunk (x0.6, up to 3 times) and then
+//    dropped; a procedural object too close is not placed.
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <quasiloc/sim/euroc_room_data.h>
+#include <quasiloc/sim/world.h>
+#include <string>
+#include <vector>
+
+namespace quasiloc::sim
+{
+struct WorldOptions : public mrpt::config::CLoadableOptions
+{
+    std::string world = "v1";            ///< v1 | v2 (EuRoC Vicon room 1 or 2)
+    bool gmm_patches = true;             ///< interior GMM components as elliptical patches
+    double gmm_sigma_scale = 2.0;        ///< patch semi-axis = scale * sigma
+    double gmm_min_semi_axis_m = 0.04;   ///< smaller components are skipped (noise-sized)
+    double gmm_max_semi_axis_m = 1.2;
+    double shell_margin_m = 0.15;        ///< components closer than this to the shell belong to it
+    int num_boxes = 10;
+    int num_slabs = 4;
+    int num_poles = 6;
+    int num_wall_posters = 10;
+    double clearance_m = 0.3;
+    double max_cell_m = 0.3;             ///< triangle size (lighting resolution)
+    int num_lights = 6;
+    double light_intensity = 1.2;
+    double ambient = 0.05;
+    int texture_size_px = 512;
+    int shadow_map_px = 512;             ///< cube-map size for light shadows; 0 = no shadows
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void check(const std::string& input) const;
+};
+
+struct WorldStats
+{
+    size_t gmm_components = 0, gmm_shell = 0, gmm_small = 0, gmm_patches = 0, gmm_shrunk = 0, gmm_dropped = 0;
+    size_t objects_placed = 0, objects_rejected = 0;
+    size_t triangles = 0, vertices = 0;
+    double area_m2 = 0;
+    double min_clearance_m = 0;  ///< over all given trajectory samples and all triangles (capped at 5 m)
+};
+
+/** Paths of the EuRoC room data below shared_dir: data/euroc/maps/gmm/<world>.gmm, .../lines/<world>_line_3d.txt. */
+std::string gmmPath(const std::string& shared_dir, const std::string& world);
+std::string linesPath(const std::string& shared_dir, const std::string& world);
+/** The three EuRoC sequences flown in a room ("v1" -> V1_01_easy, V1_02_medium, V1_03_difficult). */
+std::vector<std::string> roomSequences(const std::string& world);
+/** cam0 positions of all ground-truth samples of the room's sequences (shared_dir/data/euroc/groundtruth/cam0). */
+std::vector<Eigen::Vector3f> loadRoomTrajectoryPositions(const std::string& shared_dir, const std::string& world);
+
+/** Builds the world; `keep_clear` are positions every triangle must stay clearance_m away from. */
+World buildWorld(const WorldOptions& options, const std::string& shared_dir, uint64_t seed,
+                 const std::vector<Eigen::Vector3f>& keep_clear, WorldStats* stats = nullptr);
+
+/** Minimum distance between any position and any triangle, searched up to max_search_m (returned if none closer). */
+double minClearance(const Mesh& mesh, const std::vector<Eigen::Vector3f>& positions, double max_search_m = 5.0);
+
+}  // namespace quasiloc::sim

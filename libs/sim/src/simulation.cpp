@@ -1,0 +1,290 @@
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/system/CTimeLogger.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/program_options.h>
+#include <quasiloc/core/staged_output.h>
+#include <quasiloc/core/trajectory_io.h>
+#include <quasiloc/dataset/rawlog_writer.h>
+#include <quasiloc/sim/inspection.h>
+#include <quasiloc/sim/simulation.h>
+#include <quasiloc/sim/trajectory_spline.h>
+#include <sstream>
+
+namespace quasiloc::sim
+{
+namespace fs = std::filesystem;
+
+void SimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    MRPT_LOAD_CONFIG_VAR(output_dir, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(sequence, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(shared_dir, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(trajectory, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(duration_s, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(start_offset_s, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(camera_rate_hz, double, c, s);
+    seed = c.read_uint64_t(s, "seed", seed);
+    MRPT_LOAD_CONFIG_VAR(cam0_yaml, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(cam1_yaml, string, c, s);
+    MRPT_LOAD_CONFIG_VAR(spline_knot_spacing_s, double, c, s);
+    MRPT_LOAD_CONFIG_VAR(write_map, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(inspection_png, bool, c, s);
+    MRPT_LOAD_CONFIG_VAR(verbose, bool, c, s);
+}
+
+void SimulationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    MRPT_SAVE_CONFIG_VAR(output_dir, c, s);
+    MRPT_SAVE_CONFIG_VAR(sequence, c, s);
+    MRPT_SAVE_CONFIG_VAR(shared_dir, c, s);
+    MRPT_SAVE_CONFIG_VAR(trajectory, c, s);
+    MRPT_SAVE_CONFIG_VAR(duration_s, c, s);
+    MRPT_SAVE_CONFIG_VAR(start_offset_s, c, s);
+    MRPT_SAVE_CONFIG_VAR(camera_rate_hz, c, s);
+    c.write(s, "seed", std::to_string(seed));
+    MRPT_SAVE_CONFIG_VAR(cam0_yaml, c, s);
+    MRPT_SAVE_CONFIG_VAR(cam1_yaml, c, s);
+    MRPT_SAVE_CONFIG_VAR(spline_knot_spacing_s, c, s);
+    MRPT_SAVE_CONFIG_VAR(write_map, c, s);
+    MRPT_SAVE_CONFIG_VAR(inspection_png, c, s);
+    MRPT_SAVE_CONFIG_VAR(verbose, c, s);
+}
+
+void SimulationOptions::check(const std::string& in) const
+{
+    core::require(!output_dir.empty(), in + " output_dir", "is required");
+    core::require(!sequence.empty() && sequence.find('/') == std::string::npos, in + " sequence",
+                  "must be a plain name (it names the rawlog)");
+    core::require(std::isfinite(duration_s) && duration_s >= 0, in + " duration_s", "must be >= 0 (0 = all)");
+    core::require(std::isfinite(start_offset_s) && start_offset_s >= 0, in + " start_offset_s", "must be >= 0");
+    core::require(camera_rate_hz > 0 && camera_rate_hz <= 1000, in + " camera_rate_hz", "must be in (0, 1000]");
+    core::require(spline_knot_spacing_s >= 0.005 && spline_knot_spacing_s <= 2, in + " spline_knot_spacing_s",
+                  "must be in [0.005, 2]");
+}
+
+namespace
+{
+double seconds(std::chrono::steady_clock::time_point a)
+{
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
+}
+
+std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam)
+{
+    std::ostringstream s;
+    s << "Simulated EuRoC-like sequence written by sim-rawlog (quasiloc sim library).\n\n"
+      << "World: EuRoC Vicon room " << wo.world << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
+      << "procedural objects), trajectory: " << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory)
+      << ", seed " << o.seed << ".\n" << r.frames << " stereo frames at " << o.camera_rate_hz << " Hz, " << r.imu_samples
+      << " IMU samples. Map: " << r.map_points << " points. Minimum clearance between the room's trajectories\n"
+      << "and the geometry: " << r.world.min_clearance_m << " m.\n\nFiles:\n"
+      << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity [0,1]\n"
+      << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "")
+      << "  " << o.sequence << ".rawlog   MRPT rawlog: CObservationStereoImages 'stereo' + CObservationIMU 'imu', time order\n"
+      << "  " << o.sequence << "_Images/  raw (distorted) 752x480 8-bit PNG images referenced by the rawlog\n"
+      << "  gt.tum               ground truth T_world_cam0 (TUM: t x y z qx qy qz qw) at every camera frame\n"
+      << "  gt_body.tum          ground truth T_world_body (IMU frame) at every IMU sample\n"
+      << "  calib.ini            stereo rig (sections camera_left, camera_right, camera_rig) and [imu] noise\n"
+      << "  sim-rawlog.ini       the effective configuration (re-run sim-rawlog with it to reproduce the folder)\n"
+      << "  inspection.png       camera frame | LiDAR reflectivity projected at the same pose | edges overlay\n\n"
+      << "The camera sees albedo x lighting; the LiDAR reflectivity is a different material response with its own\n"
+      << "detail, range and incidence falloff and noise: the two are correlated, not equal.\n";
+    return s.str();
+}
+}  // namespace
+
+SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name,
+                               bool print_timing)
+{
+    const auto t_total = std::chrono::steady_clock::now();
+    mrpt::system::CTimeLogger timer(print_timing, "sim-rawlog");
+    SimulationOptions so;
+    WorldOptions wo;
+    AppearanceOptions ao;
+    LidarOptions lo;
+    ImuNoiseOptions io;
+    core::loadOptionsChecked(so, cfg, "Simulation", config_name);
+    core::loadOptionsChecked(wo, cfg, "World", config_name);
+    core::loadOptionsChecked(ao, cfg, "Appearance", config_name);
+    core::loadOptionsChecked(lo, cfg, "Lidar", config_name);
+    core::loadOptionsChecked(io, cfg, "IMU", config_name);
+    so.check(config_name + " [Simulation]");
+    wo.check(config_name + " [World]");
+    ao.check(config_name + " [Appearance]");
+    lo.check(config_name + " [Lidar]");
+    io.check(config_name + " [IMU]");
+    auto log = [&](const std::string& msg) {
+        if (so.verbose) std::cout << msg << std::endl;
+    };
+
+    // Inputs: calibration, trajectory, spline.
+    const std::string calib_dir = so.shared_dir + "/data/euroc/calib/";
+    const core::StereoRig rig = core::StereoRig::fromEuroc(so.cam0_yaml.empty() ? calib_dir + "cam0_sensor.yaml" : so.cam0_yaml,
+                                                           so.cam1_yaml.empty() ? calib_dir + "cam1_sensor.yaml" : so.cam1_yaml);
+    const std::string traj_path =
+        so.trajectory.empty() ? so.shared_dir + "/data/euroc/groundtruth/cam0/" + so.sequence + ".txt" : so.trajectory;
+    const core::Trajectory traj = core::readTum(traj_path);
+    TrajectorySplineOptions spo;
+    spo.knot_spacing_s = so.spline_knot_spacing_s;
+    const TrajectorySpline spline = TrajectorySpline::fitCameraTrajectory(traj, rig.T_body_left, spo);
+    const mrpt::poses::CPose3D T_body_cam0 = rig.T_body_left;
+    auto T_world_cam0 = [&](double t) { return spline.T_world_body(t) + T_body_cam0; };
+
+    const auto t0_ns = static_cast<int64_t>(std::llround((spline.tStart() + so.start_offset_s) * 1e9));
+    const auto end_ns = static_cast<int64_t>(std::floor(spline.tEnd() * 1e9));
+    const int64_t last_ns = so.duration_s > 0 ? std::min(end_ns, t0_ns + static_cast<int64_t>(so.duration_s * 1e9)) : end_ns;
+    const double period_ns = 1e9 / so.camera_rate_hz;
+    std::vector<int64_t> frame_ns;
+    for (int64_t k = 0;; ++k)
+    {
+        const auto t = t0_ns + static_cast<int64_t>(std::llround(k * period_ns));
+        if (t > last_ns) break;
+        frame_ns.push_back(t);
+    }
+    core::require(!frame_ns.empty(), config_name + " [Simulation] start_offset_s",
+                  "leaves no camera frame inside the trajectory " + traj_path);
+
+    // World: clear of every trajectory of the room and of the simulated one.
+    auto clock = std::chrono::steady_clock::now();
+    std::vector<Eigen::Vector3f> keep_clear = loadRoomTrajectoryPositions(so.shared_dir, wo.world);
+    for (int64_t t : frame_ns)
+    {
+        const mrpt::poses::CPose3D T = T_world_cam0(t * 1e-9);
+        keep_clear.emplace_back(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z()));
+    }
+    SimulationResult r;
+    timer.enter("world");
+    const World world = buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
+    timer.leave("world");
+    r.world_time_s = seconds(clock);
+    log("world " + wo.world + ": " + std::to_string(r.world.triangles) + " triangles, " + std::to_string(r.world.gmm_patches) +
+        " GMM patches, " + std::to_string(r.world.objects_placed) + " objects, min clearance " +
+        std::to_string(r.world.min_clearance_m) + " m (" + std::to_string(r.world_time_s) + " s)");
+
+    core::StagedOutputs staged;
+    const fs::path out_final(so.output_dir);
+    const fs::path dir(staged.addFolder(so.output_dir));
+
+    // LiDAR map(s).
+    clock = std::chrono::steady_clock::now();
+    map::LidarMap lidar_map;
+    LidarStats ls;
+    if (so.write_map || so.inspection_png)
+    {
+        timer.enter("lidar map");
+        lidar_map = sampleSurveyMap(world, lo, so.seed, &ls);
+        timer.leave("lidar map");
+    }
+    if (so.write_map)
+    {
+        lidar_map.save((dir / "lidar_map.map").string());
+        r.files.push_back((out_final / "lidar_map.map").string());
+        if (lo.beam_map)
+        {
+            const map::LidarMap beam = sampleBeamMap(world, lo, so.seed);
+            beam.save((dir / "lidar_map_32beam.map").string());
+            r.beam_map_points = beam.size();
+            r.files.push_back((out_final / "lidar_map_32beam.map").string());
+        }
+    }
+    r.map_points = lidar_map.size();
+    r.map_time_s = seconds(clock);
+    log("LiDAR map: " + std::to_string(r.map_points) + " points of " + std::to_string(ls.sampled) + " sampled (" +
+        std::to_string(ls.not_visible) + " not seen by any of " + std::to_string(ls.stations.size()) + " stations), " +
+        std::to_string(r.map_time_s) + " s");
+
+    // IMU on [first frame, last frame].
+    ImuNoiseOptions imu_opt = io;
+    imu_opt.seed = io.seed * 0x9E3779B97F4A7C15ull + so.seed;
+    ImuSynthesizer imu(spline, imu_opt);
+    timer.enter("imu");
+    const std::vector<dataset::ImuSample> imu_samples = imu.generate(frame_ns.front() * 1e-9, frame_ns.back() * 1e-9);
+    timer.leave("imu");
+
+    // Rawlog: IMU samples interleaved in time order with the rendered stereo frames.
+    const std::string rawlog_path = (dir / (so.sequence + ".rawlog")).string();
+    dataset::RawlogWriter writer(rawlog_path, rig);
+    StereoRenderer renderer(world, rig, ao, so.seed);
+    core::Trajectory gt_cam, gt_body;
+    gt_cam.header = "T_world_cam0 of the simulated sequence " + so.sequence;
+    gt_body.header = "T_world_body (IMU frame) of the simulated sequence " + so.sequence;
+    size_t k_imu = 0;
+    cv::Mat inspect_left;
+    const size_t inspect_frame = frame_ns.size() / 2;
+    double render_total = 0;
+    for (size_t f = 0; f < frame_ns.size(); ++f)
+    {
+        // Episodes (illumination, occluder) are tied to the trajectory's clock, not to start_offset_s.
+        const double t = frame_ns[f] * 1e-9, t_rel = t - spline.tStart();
+        for (; k_imu < imu_samples.size() && imu_samples[k_imu].t <= t + 1e-9; ++k_imu)
+        {
+            writer.writeImuNs(static_cast<int64_t>(std::llround(imu_samples[k_imu].t * 1e9)), imu_samples[k_imu]);
+            gt_body.poses.push_back({imu_samples[k_imu].t, spline.T_world_body(imu_samples[k_imu].t)});
+        }
+        std::vector<mrpt::poses::CPose3D> poses;
+        const int n_blur = ao.motion_blur_samples;
+        for (int b = 0; b < n_blur; ++b)
+        {
+            const double dt = n_blur > 1 ? (static_cast<double>(b) / (n_blur - 1) - 0.5) * ao.exposure_time_ms * 1e-3 : 0.0;
+            poses.push_back(T_world_cam0(std::clamp(t + dt, spline.tStart(), spline.tEnd())));
+        }
+        cv::Mat left, right;
+        const auto c = std::chrono::steady_clock::now();
+        timer.enter("render stereo frame");
+        renderer.render(poses, t_rel, f, left, right);
+        timer.leave("render stereo frame");
+        const double ms = seconds(c) * 1e3;
+        render_total += ms;
+        r.max_render_ms = std::max(r.max_render_ms, ms);
+        writer.writeStereoNs(frame_ns[f], left, right);
+        gt_cam.poses.push_back({t, T_world_cam0(t)});
+        if (f == inspect_frame) inspect_left = left;
+        if (so.verbose && (f % 100 == 0 || f + 1 == frame_ns.size()))
+            std::cout << "frame " << f + 1 << "/" << frame_ns.size() << " (" << ms << " ms)" << std::endl;
+    }
+    for (; k_imu < imu_samples.size(); ++k_imu)
+    {
+        writer.writeImuNs(static_cast<int64_t>(std::llround(imu_samples[k_imu].t * 1e9)), imu_samples[k_imu]);
+        gt_body.poses.push_back({imu_samples[k_imu].t, spline.T_world_body(imu_samples[k_imu].t)});
+    }
+    writer.close();
+    r.frames = writer.numStereo();
+    r.imu_samples = writer.numImu();
+    r.render_time_s = render_total * 1e-3;
+    r.mean_render_ms = render_total / static_cast<double>(frame_ns.size());
+    r.files.push_back((out_final / (so.sequence + ".rawlog")).string());
+    r.files.push_back((out_final / (so.sequence + "_Images")).string() + "/");
+
+    core::writeTum((dir / "gt.tum").string(), gt_cam);
+    core::writeTum((dir / "gt_body.tum").string(), gt_body);
+    mrpt::config::CConfigFileMemory calib;
+    rig.saveToIni(calib, "camera_");
+    io.saveToConfigFile(calib, "imu");
+    core::writeTextFileAtomically((dir / "calib.ini").string(),
+                                  "# Simulated EuRoC stereo rig (cam0 = left, cam1 = right; body = IMU frame) and IMU noise\n" +
+                                      calib.getContent());
+    core::writeEffectiveConfig((dir / "sim-rawlog.ini").string(),
+                               {{"Simulation", &so}, {"World", &wo}, {"Appearance", &ao}, {"Lidar", &lo}, {"IMU", &io}},
+                               "Effective configuration of sim-rawlog (" + config_name + ")");
+    for (const char* f : {"gt.tum", "gt_body.tum", "calib.ini", "sim-rawlog.ini"}) r.files.push_back((out_final / f).string());
+    if (so.inspection_png && !inspect_left.empty())
+    {
+        const cv::Mat refl = projectReflectivity(lidar_map, rig.left, gt_cam.poses[inspect_frame].pose);
+        core::require(cv::imwrite((dir / "inspection.png").string(), makeInspectionImage(inspect_left, refl)),
+                      (out_final / "inspection.png").string(), "cannot write PNG");
+        r.files.push_back((out_final / "inspection.png").string());
+    }
+    r.total_time_s = seconds(t_total);
+    core::writeTextFileAtomically((dir / "README.txt").string(), readme(so, wo, r, lo.beam_map && so.write_map));
+    r.files.push_back((out_final / "README.txt").string());
+    staged.commit();
+    return r;
+}
+
+}  // namespace quasiloc::sim
