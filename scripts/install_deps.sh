@@ -8,7 +8,7 @@ PACKAGES=(
   libmrpt-system-dev libmrpt-io-dev libmrpt-config-dev libmrpt-math-dev libmrpt-poses-dev
   libmrpt-img-dev libmrpt-obs-dev libmrpt-maps-dev mrpt-apps
   libgtest-dev libbenchmark-dev
-  python3-numpy python3-matplotlib
+  python3-numpy python3-matplotlib python3-opencv
 )
 
 missing=()
