@@ -1,0 +1,217 @@
+#include <atomic>
+#include <chrono>
+#include <ctime>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+#include <quasiloc/core/error.h>
+#include <quasiloc/quasi/quasi_renderer.h>
+
+#include "render_stages.h"
+
+namespace quasiloc::quasi
+{
+
+struct QuasiRenderer::Buffers
+{
+    std::optional<detail::FastProjector> cam;
+    map::VisibilityIndex::ViewCone cone;
+    std::vector<map::VisibilityIndex::Range> ranges;
+    std::vector<detail::ZBuffer> zbs;        ///< one per projection stripe
+    detail::SparsePlanes sparse;                    ///< the z-buffer image
+    cv::Mat window_min;                             ///< its minimum over the see-through window
+    std::vector<std::vector<int32_t>> hidden;       ///< per row stripe: pixels the see-through filter drops
+    std::vector<std::vector<uint32_t>> histograms;  ///< per row stripe
+    std::vector<size_t> counts;                     ///< per row stripe
+    detail::HueTable hue;
+    int num_threads = 1;
+};
+
+namespace
+{
+/** Wall and process-CPU clocks for the per-stage split. */
+struct StageClock
+{
+    std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
+    double cpu = cpuMs();
+    static double cpuMs()
+    {
+        timespec ts;
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+        return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+    }
+    /** Milliseconds (wall, cpu) since the previous lap. */
+    void lap(double& wall_ms, double& cpu_ms)
+    {
+        const auto now = std::chrono::steady_clock::now();
+        const double c = cpuMs();
+        wall_ms = std::chrono::duration<double, std::milli>(now - wall).count();
+        cpu_ms = c - cpu;
+        wall = now;
+        cpu = c;
+    }
+};
+
+/** Runs f(y0, y1, stripe) over `stripes` row stripes of an image of `height` rows in parallel. */
+template <class F>
+void parallelRows(int height, int stripes, F&& f)
+{
+    cv::parallel_for_(
+        cv::Range(0, stripes),
+        [&](const cv::Range& r) {
+            for (int s = r.start; s < r.end; ++s) f(height * s / stripes, height * (s + 1) / stripes, s);
+        },
+        stripes);
+}
+
+size_t sum(const std::vector<size_t>& v)
+{
+    size_t n = 0;
+    for (size_t x : v) n += x;
+    return n;
+}
+}  // namespace
+
+QuasiRenderer::QuasiRenderer(const map::LidarMap& map, map::VisibilityIndex index, const QuasiOptions& options)
+    : map_(map), index_(std::move(index)), options_(options), buf_(std::make_unique<Buffers>())
+{
+    options_.check("QuasiRenderer options");
+    core::require(!map.empty(), "QuasiRenderer map", "the map is empty");
+    core::require(map.size() < (size_t(1) << 31), "QuasiRenderer map", "more than 2^31 points");
+    core::require(index_.size() == map.size(), "QuasiRenderer visibility index",
+                  "holds " + std::to_string(index_.size()) + " points but the map " + std::to_string(map.size()));
+    buf_->num_threads = options_.num_threads > 0 ? options_.num_threads : std::max(1, cv::getNumThreads());
+    buf_->hue = detail::HueTable::make(options_);
+    buf_->histograms.assign(4 * buf_->num_threads, std::vector<uint32_t>(detail::kReflHistogramBins, 0));
+    buf_->counts.assign(4 * buf_->num_threads, 0);
+    buf_->hidden.resize(4 * buf_->num_threads);
+
+    std::vector<uint32_t> hist(detail::kReflHistogramBins, 0);
+    const float* r = index_.reflectivities();
+    for (size_t i = 0; i < index_.size(); ++i)
+        ++hist[std::min(detail::kReflHistogramBins - 1, std::max(0, int(r[i] * detail::kReflHistogramBins)))];
+    detail::reflectivityPercentiles(hist, options_, map_refl_lo_, map_refl_hi_);
+}
+
+QuasiRenderer::QuasiRenderer(const map::LidarMap& map, const QuasiOptions& options)
+    : QuasiRenderer(map, map::VisibilityIndex(map, {options.visibility_block_size_m}), options)
+{
+}
+
+QuasiRenderer::~QuasiRenderer() = default;
+
+void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::CameraModel& camera, QuasiImage& out)
+{
+    Buffers& b = *buf_;
+    const QuasiOptions& o = options_;
+    StageClock clock;
+    const detail::PoseF pose = detail::PoseF::camFromWorld(T_world_cam);
+
+    // Image-sized buffers follow the camera; they are (re)allocated only when it changes.
+    if (!b.cam || !b.cam->sameCamera(camera))
+    {
+        b.cam = detail::FastProjector::fromCamera(camera);
+        b.cone = map::VisibilityIndex::viewCone(camera);
+        const size_t n = size_t(camera.width) * camera.height;
+        b.zbs.resize(b.num_threads);
+        for (auto& zb : b.zbs)
+        {
+            zb.key.assign(n, detail::kEmptyKey);
+            zb.refl.assign(n, 0.f);
+        }
+        b.sparse.create(camera.width, camera.height);
+    }
+    const int W = camera.width, H = camera.height;
+    out.T_world_cam = T_world_cam;
+    out.camera = camera;
+    out.stats = RenderStats{};
+    RenderStats& st = out.stats;
+
+    index_.query(T_world_cam, b.cone, o.max_depth_m, b.ranges);
+    st.candidate_points = map::VisibilityIndex::countPoints(b.ranges);
+    clock.lap(st.ms_culling, st.cpu_ms_culling);
+
+    // Projection: the candidates split evenly into one chunk per z-buffer.
+    const int S = b.num_threads;
+    const size_t total = st.candidate_points;
+    cv::parallel_for_(
+        cv::Range(0, S),
+        [&](const cv::Range& r) {
+            for (int s = r.start; s < r.end; ++s)
+                detail::projectPoints(index_, b.ranges, total * s / S, total * (s + 1) / S, *b.cam, pose,
+                                      float(o.min_depth_m), float(o.max_depth_m), b.zbs[s]);
+        },
+        S);
+    for (const auto& zb : b.zbs) st.projected_points += zb.projected;
+    const int row_stripes = int(b.counts.size());
+    parallelRows(H, row_stripes, [&](int y0, int y1, int) { detail::mergeZBuffers(b.zbs, y0, y1, b.sparse); });
+    clock.lap(st.ms_projection, st.cpu_ms_projection);
+
+    // See-through filter, then completion into the output images.
+    out.depth.create(H, W, CV_32FC1);
+    out.reflectivity.create(H, W, CV_32FC1);
+    out.valid.create(H, W, CV_8UC1);
+    out.sparse.create(H, W, CV_8UC1);
+    out.provenance.create(H, W, CV_32SC1);
+    if (o.occlusion_radius_px > 0)
+    {
+        const int D = 2 * o.occlusion_radius_px + 1;
+        cv::erode(b.sparse.depth, b.window_min, cv::Mat::ones(D, D, CV_8U), cv::Point(-1, -1), 1,
+                  cv::BORDER_CONSTANT, cv::Scalar(detail::kNoDepth));
+        parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
+            b.hidden[s].clear();
+            detail::findSeeThrough(b.sparse, b.window_min, y0, y1, o, b.hidden[s]);
+        });
+        // Applied after every stripe has decided: the decisions read the unfiltered image.
+        for (const auto& hidden : b.hidden)
+        {
+            for (const int32_t p : hidden)
+            {
+                b.sparse.depth.ptr<float>()[p] = detail::kNoDepth;
+                b.sparse.index.ptr<int32_t>()[p] = -1;
+            }
+            st.occluded_pixels += hidden.size();
+        }
+    }
+    parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
+        b.counts[s] = detail::completeRows(b.sparse, y0, y1, o, out);
+    });
+    st.completed_pixels = sum(b.counts);
+    clock.lap(st.ms_completion, st.cpu_ms_completion);
+
+    // Encoding (histogram of the completed reflectivity for reflectivity_scope = image).
+    out.bgr.create(H, W, CV_8UC3);
+    out.gray.create(H, W, CV_8UC1);
+    float lo = map_refl_lo_, hi = map_refl_hi_;
+    if (o.reflectivityScope() == ReflectivityScope::Image)
+    {
+        parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
+            auto& h = b.histograms[s];
+            std::fill(h.begin(), h.end(), 0u);
+            size_t sparse_count = 0;
+            for (int y = y0; y < y1; ++y)
+            {
+                const float* r = out.reflectivity.ptr<float>(y);
+                const uint8_t* v = out.valid.ptr<uint8_t>(y);
+                const uint8_t* sp = out.sparse.ptr<uint8_t>(y);
+                for (int x = 0; x < W; ++x)
+                {
+                    if (!v[x]) continue;
+                    ++h[std::min(detail::kReflHistogramBins - 1, std::max(0, int(r[x] * detail::kReflHistogramBins)))];
+                    sparse_count += sp[x] != 0;
+                }
+            }
+            b.counts[s] = sparse_count;
+        });
+        for (size_t s = 1; s < b.histograms.size(); ++s)
+            for (int i = 0; i < detail::kReflHistogramBins; ++i) b.histograms[0][i] += b.histograms[s][i];
+        detail::reflectivityPercentiles(b.histograms[0], o, lo, hi);
+        st.sparse_pixels = sum(b.counts);
+    }
+    else
+        st.sparse_pixels = size_t(cv::countNonZero(out.sparse));
+    parallelRows(H, row_stripes, [&](int y0, int y1, int) { detail::encodeRows(out, y0, y1, lo, hi, b.hue, o); });
+    clock.lap(st.ms_encoding, st.cpu_ms_encoding);
+}
+
+}  // namespace quasiloc::quasi
