@@ -19,4 +19,7 @@ RAWLOG="$(ls "$SIM_DIR"/*.rawlog | head -1)"
 echo "== rawlog-edit --info (MRPT reads what we wrote)"
 (cd "$(dirname "$RAWLOG")" && rawlog-edit --info -i "$(basename "$RAWLOG")" 2>&1 | grep -E "objects|labels|Sensor")
 
-echo "== done: outputs in $SIM_DIR"
+echo "== rawlog-quasi: quasi-images with provenance at every ground-truth pose"
+"$BIN/rawlog-quasi" "$CONFIG"
+
+echo "== done: outputs in $SIM_DIR and out/quasi (open the rawlogs with RawLogViewer)"
