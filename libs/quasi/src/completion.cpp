@@ -1,107 +1,18 @@
-// See-through filter and cross-guided completion of the sparse z-buffer image.
+// Cross-guided completion of the sparse z-buffer image.
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 #include "render_stages.h"
 
 namespace quasiloc::quasi::detail
 {
-namespace
-{
-/** The see-through window: each offset's angular sector (16 sectors of 22.5 deg around the pixel) and, per
- *  16-bit mask of occupied sectors, the longest circular run of empty sectors. With 16 sectors, nearer pixels
- *  filling a half-plane that does not contain the pixel occupy at most 9 sectors (7 or more stay empty,
- *  157.5 deg), whatever the half-plane's direction. */
-struct SectorWindow
-{
-    static constexpr int kSectors = 16;
-    static constexpr float kSectorDeg = 360.0f / kSectors;
-    int R = 0;
-    std::vector<int> dx, dy;
-    std::vector<uint16_t> bit;
-    explicit SectorWindow(int radius) : R(radius)
-    {
-        for (int y = -R; y <= R; ++y)
-            for (int x = -R; x <= R; ++x)
-            {
-                if (!x && !y) continue;
-                double a = std::atan2(double(y), double(x)) * 180.0 / M_PI;
-                if (a < 0) a += 360.0;
-                dx.push_back(x);
-                dy.push_back(y);
-                bit.push_back(uint16_t(1u << std::min(kSectors - 1, int(a / kSectorDeg))));
-            }
-    }
-};
-
-struct EmptyRunTable
-{
-    std::vector<uint8_t> run;  ///< [mask]: longest circular run of empty sectors (16 for an empty mask)
-    EmptyRunTable() : run(1u << SectorWindow::kSectors)
-    {
-        constexpr int S = SectorWindow::kSectors;
-        for (uint32_t m = 0; m < run.size(); ++m)
-        {
-            int best = 0, cur = 0;
-            for (int i = 0; i < 2 * S; ++i)  // twice around: circular runs
-            {
-                cur = (m >> (i % S)) & 1 ? 0 : cur + 1;
-                best = std::max(best, std::min(cur, S));
-            }
-            run[m] = uint8_t(best);
-        }
-    }
-};
-}  // namespace
-
-void findSeeThrough(const SparsePlanes& sparse, const cv::Mat& window_min, int y0, int y1, const QuasiOptions& o,
-                    std::vector<int32_t>& hidden)
-{
-    static const EmptyRunTable empty_runs;
-    const SectorWindow win(o.occlusion_radius_px);
-    const int R = win.R, width = sparse.depth.cols, height = sparse.depth.rows;
-    const size_t n_off = win.dx.size();
-    const float keep_factor = float(1.0 - o.occlusion_depth_rel);
-    // Surrounded: no run of empty sectors wider than the allowed gap.
-    const int max_empty = int(std::floor(o.occlusion_max_gap_deg / SectorWindow::kSectorDeg + 1e-6));
-    std::vector<ptrdiff_t> linear(n_off);  // offsets in floats, for pixels whose window is inside the image
-    const ptrdiff_t stride = ptrdiff_t(sparse.depth.step1());
-    for (size_t k = 0; k < n_off; ++k) linear[k] = win.dy[k] * stride + win.dx[k];
-    for (int y = y0; y < y1; ++y)
-    {
-        const float* depth = sparse.depth.ptr<float>(y);
-        const float* wmin = window_min.ptr<float>(y);
-        const bool rows_inside = y >= R && y + R < height;
-        for (int x = 0; x < width; ++x)
-        {
-            if (!(depth[x] < kNoDepth)) continue;
-            // Pre-test: nothing in the window is nearer by the margin (true for most pixels).
-            const float threshold = depth[x] * keep_factor;
-            if (!(wmin[x] < threshold)) continue;
-            // Hidden: the nearer pixels surround it (it shows through a gap of a nearer surface). Beside a
-            // nearer surface's edge they lie in a half-plane that does not contain the pixel.
-            unsigned mask = 0;
-            if (rows_inside && x >= R && x + R < width)
-            {
-                const float* c = depth + x;
-                for (size_t k = 0; k < n_off; ++k) mask |= win.bit[k] & (0u - unsigned(c[linear[k]] < threshold));
-            }
-            else
-                for (size_t k = 0; k < n_off; ++k)
-                {
-                    const int xx = x + win.dx[k], yy = y + win.dy[k];
-                    if (xx >= 0 && yy >= 0 && xx < width && yy < height && sparse.depth.ptr<float>(yy)[xx] < threshold)
-                        mask |= win.bit[k];
-                }
-            if (mask != 0 && empty_runs.run[mask] <= max_empty) hidden.push_back(y * width + x);
-        }
-    }
-}
-
 namespace
 {
 /** The completion window: offsets grouped by squared distance (for the nearest-neighbour searches) and,
@@ -294,6 +205,223 @@ int32_t provenanceOf(const Planes& P, const CompletionWindow& w, int x, int y, f
     }
     return best_i;
 }
+/** Output rows of completeRows. */
+struct OutRow
+{
+    float* depth;
+    float* refl;
+    int32_t* prov;
+    uint8_t* valid;
+    uint8_t* sparse;
+};
+
+/** The per-pixel path: pixel x of row y (any position; the window may leave the image). */
+bool completePixel(const Planes& P, const CompletionWindow& win, int x, int y, float depth_rel, float rtol,
+                   bool allow_simd, const OutRow& o)
+{
+    const int32_t si = P.index(x, y);
+    if (si >= 0)
+    {
+        o.depth[x] = P.depth(x, y), o.refl[x] = P.refl(x, y), o.prov[x] = si, o.valid[x] = 255, o.sparse[x] = 255;
+        return false;
+    }
+    o.depth[x] = 0, o.refl[x] = 0, o.prov[x] = -1, o.valid[x] = 0, o.sparse[x] = 0;
+    const int R = win.R;
+    const bool rows_inside = y - R >= 0 && y + R < P.height;
+    const bool inside = rows_inside && x >= R && x + R < P.width;
+    float d_ref;
+    if (R == 0 || !referenceDepth(P, win, x, y, inside, d_ref)) return false;
+
+    // Reflectivity: the max over the neighbours on the reference's surface (depth-consistent); depth: the mean
+    // over those also consistent in reflectivity with that max. Never mixes the two sides of a depth step:
+    // every contributor lies within d_tol of d_ref.
+    const float d_tol = depth_rel * d_ref, lo = d_ref - d_tol, hi = d_ref + d_tol;
+    WindowStats s;
+#if defined(__SSE2__)
+    if (allow_simd && rows_inside && x - R >= 0 && x - R + 4 * win.chunks <= P.width)
+        s = statsSse2(P, win, x, y, lo, hi, rtol);
+    else
+#endif
+        s = statsScalar(P, win, x, y, lo, hi, rtol);
+    (void)allow_simd;
+    // count >= 1: the neighbour holding i_max qualifies.
+    o.depth[x] = float(s.depth_sum / s.count);
+    o.refl[x] = s.i_max;
+    o.prov[x] = provenanceOf(P, win, x, y, lo, hi, rtol, s);
+    o.valid[x] = 255;
+    return true;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define QUASILOC_COMPLETION_AVX2 1
+
+/** [8-bit lane mask] -> 8 bytes of 0 / 255. */
+struct ByteMasks
+{
+    uint64_t bytes[256];
+    ByteMasks()
+    {
+        for (int m = 0; m < 256; ++m)
+        {
+            bytes[m] = 0;
+            for (int l = 0; l < 8; ++l)
+                if (m >> l & 1) bytes[m] |= uint64_t(0xff) << (8 * l);
+        }
+    }
+};
+const ByteMasks kByteMasks;
+
+/** (best_d, best_i) = the lexicographic minimum of itself and (d, i) in the lanes of `m`. */
+__attribute__((target("avx2"), always_inline)) inline void lexMinUpdate(__m256& best_d, __m256i& best_i, __m256 d,
+                                                                         __m256i i, __m256 m)
+{
+    const __m256 smaller_i = _mm256_castsi256_ps(_mm256_cmpgt_epi32(best_i, i));
+    const __m256 better = _mm256_or_ps(_mm256_cmp_ps(d, best_d, _CMP_LT_OQ),
+                                       _mm256_and_ps(_mm256_cmp_ps(d, best_d, _CMP_EQ_OQ), smaller_i));
+    const __m256 upd = _mm256_and_ps(m, better);
+    best_d = _mm256_blendv_ps(best_d, d, upd);
+    best_i = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(best_i), _mm256_castsi256_ps(i), upd));
+}
+
+/** The same rule as completePixel, vectorised over 8 pixels of a row instead of over the window: one lane per
+ *  pixel, so every window offset is one unaligned load per plane and nothing is reduced across lanes. Pixels
+ *  [x0, x1) of row y, x1 - x0 a multiple of 8; every window read must be readable (inside the plane or its
+ *  margin, whose empty pixels need no test), the three planes must share one stride, and every distance group
+ *  must have an even number of offsets (they go in pairs). Every operation is the scalar one lane by lane (no
+ *  FMA: the target is plain AVX2), so the result is bit-identical. Depth sums are in double like the scalar
+ *  path's (exact, so their order does not matter). `masks`: 8 floats per offset, 32-byte aligned (scratch).
+ *  Returns the completed count. */
+__attribute__((target("avx2"))) size_t completeSpanAvx2(const SparsePlanes& sp, const CompletionWindow& win,
+                                                         int y, int x0, int x1, float depth_rel, float rtol,
+                                                         float* masks, const OutRow& o)
+{
+    const float* D = sp.depth.ptr<float>(y);
+    const float* RF = sp.refl.ptr<float>(y);
+    const int32_t* I = sp.index.ptr<int32_t>(y);
+    const ptrdiff_t* lin = win.linear.data();
+    const size_t n_off = win.linear.size(), n_groups = win.group_end.size();
+    const __m256 inf = _mm256_set1_ps(kNoDepth), minus1 = _mm256_set1_ps(-1.0f), zero = _mm256_setzero_ps();
+    const __m256 vrel = _mm256_set1_ps(depth_rel), vrtol = _mm256_set1_ps(rtol);
+    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256i minus1i = _mm256_set1_epi32(-1);
+    size_t completed = 0;
+    for (int x = x0; x < x1; x += 8)
+    {
+        const float* dc = D + x;
+        const float* rc = RF + x;
+        const int32_t* ic = I + x;
+        const __m256i ci = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ic));
+        const __m256 is_sparse = _mm256_castsi256_ps(_mm256_cmpgt_epi32(ci, minus1i));
+        const int sparse_bits = _mm256_movemask_ps(is_sparse);
+
+        // Reference depth: the first distance group holding a sparse pixel, its minimum depth.
+        __m256 d_ref = inf, found = zero;
+        int found_bits = 0;
+        for (size_t g = 0, k = 0; g < n_groups && (found_bits | sparse_bits) != 0xff; ++g)
+        {
+            __m256 gmin = inf;
+            for (; k < win.group_end[g]; ++k) gmin = _mm256_min_ps(gmin, _mm256_loadu_ps(dc + lin[k]));
+            const __m256 has = _mm256_cmp_ps(gmin, inf, _CMP_LT_OQ);
+            d_ref = _mm256_blendv_ps(d_ref, gmin, _mm256_andnot_ps(found, has));
+            found = _mm256_or_ps(found, has);
+            found_bits = _mm256_movemask_ps(found);
+        }
+        const int completed_bits = found_bits & ~sparse_bits;
+        const __m256 is_completed = _mm256_andnot_ps(is_sparse, found);
+        __m256 depth_c = zero, refl_c = zero;
+        __m256i prov_c = minus1i;
+        if (completed_bits != 0)
+        {
+            const __m256 d_tol = _mm256_mul_ps(vrel, d_ref);
+            const __m256 lo = _mm256_sub_ps(d_ref, d_tol), hi = _mm256_add_ps(d_ref, d_tol);
+            // Every reduction below runs on two accumulators (even and odd offsets), combined at the end: the
+            // loop-carried latency, not the throughput, bounds a single chain. The reductions are exact
+            // (max, min, sums exact in double), so the split does not change the result.
+            // i_max over the depth-consistent neighbours.
+            __m256 i_max2[2] = {minus1, minus1};
+            for (size_t k0 = 0; k0 < n_off; k0 += 2)
+#pragma GCC unroll 2
+                for (size_t j = 0; j < 2; ++j)
+                {
+                    const size_t k = k0 + j;
+                    const __m256 d = _mm256_loadu_ps(dc + lin[k]), r = _mm256_loadu_ps(rc + lin[k]);
+                    const __m256 m =
+                        _mm256_and_ps(_mm256_cmp_ps(d, lo, _CMP_GE_OQ), _mm256_cmp_ps(d, hi, _CMP_LE_OQ));
+                    _mm256_store_ps(masks + 8 * k, m);  // depth-consistent, reused below
+                    i_max2[j] = _mm256_max_ps(i_max2[j], _mm256_blendv_ps(minus1, r, m));
+                }
+            const __m256 i_max = _mm256_max_ps(i_max2[0], i_max2[1]);
+            // Sum and count over the neighbours consistent in depth and reflectivity.
+            __m256d sum_lo2[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
+            __m256d sum_hi2[2] = {_mm256_setzero_pd(), _mm256_setzero_pd()};
+            __m256i count = _mm256_setzero_si256();
+            for (size_t k0 = 0; k0 < n_off; k0 += 2)
+#pragma GCC unroll 2
+                for (size_t j = 0; j < 2; ++j)
+                {
+                    const size_t k = k0 + j;
+                    const __m256 d = _mm256_loadu_ps(dc + lin[k]), r = _mm256_loadu_ps(rc + lin[k]);
+                    const __m256 di = _mm256_and_ps(abs_mask, _mm256_sub_ps(r, i_max));
+                    const __m256 m =
+                        _mm256_and_ps(_mm256_load_ps(masks + 8 * k), _mm256_cmp_ps(di, vrtol, _CMP_LE_OQ));
+                    _mm256_store_ps(masks + 8 * k, m);  // consistent in both, for the provenance
+                    const __m256 dm = _mm256_and_ps(m, d);
+                    sum_lo2[j] = _mm256_add_pd(sum_lo2[j], _mm256_cvtps_pd(_mm256_castps256_ps128(dm)));
+                    sum_hi2[j] = _mm256_add_pd(sum_hi2[j], _mm256_cvtps_pd(_mm256_extractf128_ps(dm, 1)));
+                    count = _mm256_sub_epi32(count, _mm256_castps_si256(m));
+                }
+            const __m256d sum_lo = _mm256_add_pd(sum_lo2[0], sum_lo2[1]);
+            const __m256d sum_hi = _mm256_add_pd(sum_hi2[0], sum_hi2[1]);
+            // Provenance: in the nearest distance group holding a consistent neighbour, the minimum of
+            // (depth, map index). Most pixels find it in the first groups.
+            __m256 settled = _mm256_castsi256_ps(_mm256_castps_si256(is_completed) ^ minus1i);
+            __m256 best_d[2] = {inf, inf};
+            __m256i best_i[2] = {minus1i, minus1i};
+            for (size_t g = 0, k = 0; g < n_groups && _mm256_movemask_ps(settled) != 0xff; ++g)
+            {
+                __m256 in_group = zero;
+                for (; k < win.group_end[g]; k += 2)
+#pragma GCC unroll 2
+                    for (size_t j = 0; j < 2; ++j)
+                    {
+                        const __m256 d = _mm256_loadu_ps(dc + lin[k + j]);
+                        const __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(ic + lin[k + j]));
+                        const __m256 m = _mm256_andnot_ps(settled, _mm256_load_ps(masks + 8 * (k + j)));
+                        lexMinUpdate(best_d[j], best_i[j], d, i, m);
+                        in_group = _mm256_or_ps(in_group, m);
+                    }
+                settled = _mm256_or_ps(settled, in_group);
+            }
+            lexMinUpdate(best_d[0], best_i[0], best_d[1], best_i[1], _mm256_castsi256_ps(minus1i));
+            const __m256d mean_lo = _mm256_div_pd(sum_lo, _mm256_cvtepi32_pd(_mm256_castsi256_si128(count)));
+            const __m256d mean_hi = _mm256_div_pd(sum_hi, _mm256_cvtepi32_pd(_mm256_extracti128_si256(count, 1)));
+            depth_c = _mm256_set_m128(_mm256_cvtpd_ps(mean_hi), _mm256_cvtpd_ps(mean_lo));
+            refl_c = i_max;
+            prov_c = best_i[0];
+            completed += size_t(__builtin_popcount(unsigned(completed_bits)));
+        }
+        // Sparse pixels keep their values; completed ones take the statistics; the others are empty.
+        const __m256 depth_out =
+            _mm256_blendv_ps(_mm256_and_ps(is_completed, depth_c), _mm256_loadu_ps(dc), is_sparse);
+        const __m256 refl_out = _mm256_blendv_ps(_mm256_and_ps(is_completed, refl_c), _mm256_loadu_ps(rc), is_sparse);
+        const __m256 prov_out = _mm256_blendv_ps(
+            _mm256_blendv_ps(_mm256_castsi256_ps(minus1i), _mm256_castsi256_ps(prov_c), is_completed),
+            _mm256_castsi256_ps(ci), is_sparse);
+        _mm256_storeu_ps(o.depth + x, depth_out);
+        _mm256_storeu_ps(o.refl + x, refl_out);
+        _mm256_storeu_ps(reinterpret_cast<float*>(o.prov + x), prov_out);
+        std::memcpy(o.valid + x, &kByteMasks.bytes[sparse_bits | completed_bits], 8);
+        std::memcpy(o.sparse + x, &kByteMasks.bytes[sparse_bits], 8);
+    }
+    return completed;
+}
+
+bool cpuHasAvx2()
+{
+    static const bool has = __builtin_cpu_supports("avx2");
+    return has;
+}
+#endif
 }  // namespace
 
 size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptions& o, QuasiImage& out,
@@ -302,51 +430,37 @@ size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptio
     CompletionWindow win(o.completion_radius_px);
     win.setStride(ptrdiff_t(sparse.depth.step1()));
     const Planes P{sparse, sparse.depth.cols, sparse.depth.rows};
-    const int R = win.R;
+    const int R = win.R, M = sparse.margin, W = P.width;
     const float depth_rel = float(o.completion_depth_rel);
     const float rtol = float(o.completion_reflectivity_abs);
+#if defined(QUASILOC_COMPLETION_AVX2)
+    bool even_groups = true;  // the square window is symmetric: every distance group has 4 or 8 offsets
+    for (size_t g = 0; g < win.group_end.size(); ++g) even_groups &= (win.group_end[g] - win.groupBegin(g)) % 2 == 0;
+    const bool vector_rows = allow_simd && R > 0 && even_groups && cpuHasAvx2() &&
+                             sparse.refl.step == sparse.depth.step && sparse.index.step == sparse.depth.step;
+    // Pixels whose window columns are readable: x - R >= -M and x + R < W + M.
+    const int xa = std::max(0, R - M);
+    const int span_end = std::min(W, W + M - R);
+    const int xb = xa + std::max(0, span_end - xa) / 8 * 8;
+    // Per window offset, 8 lanes of consistency masks (32-byte aligned).
+    std::vector<float> mask_buffer(8 * win.linear.size() + 8);
+    float* masks = mask_buffer.data() + (8 - (reinterpret_cast<uintptr_t>(mask_buffer.data()) / sizeof(float)) % 8) % 8;
+#endif
     size_t completed = 0;
     for (int y = y0; y < y1; ++y)
     {
-        const float* sd = sparse.depth.ptr<float>(y);
-        const float* sr = sparse.refl.ptr<float>(y);
-        const int32_t* si = sparse.index.ptr<int32_t>(y);
-        float* depth = out.depth.ptr<float>(y);
-        float* refl = out.reflectivity.ptr<float>(y);
-        uint8_t* valid = out.valid.ptr<uint8_t>(y);
-        uint8_t* is_sparse = out.sparse.ptr<uint8_t>(y);
-        int32_t* prov = out.provenance.ptr<int32_t>(y);
-        const bool rows_inside = y - R >= 0 && y + R < P.height;
-        for (int x = 0; x < P.width; ++x)
+        const OutRow row{out.depth.ptr<float>(y), out.reflectivity.ptr<float>(y), out.provenance.ptr<int32_t>(y),
+                         out.valid.ptr<uint8_t>(y), out.sparse.ptr<uint8_t>(y)};
+        int x = 0;
+#if defined(QUASILOC_COMPLETION_AVX2)
+        if (vector_rows && y - R >= -M && y + R < P.height + M && xb > xa)
         {
-            if (si[x] >= 0)
-            {
-                depth[x] = sd[x], refl[x] = sr[x], prov[x] = si[x], valid[x] = 255, is_sparse[x] = 255;
-                continue;
-            }
-            depth[x] = 0, refl[x] = 0, prov[x] = -1, valid[x] = 0, is_sparse[x] = 0;
-            float d_ref;
-            const bool inside = rows_inside && x >= R && x + R < P.width;
-            if (R == 0 || !referenceDepth(P, win, x, y, inside, d_ref)) continue;
-
-            // Reflectivity: the max over the neighbours on the reference's surface (depth-consistent); depth:
-            // the mean over those also consistent in reflectivity with that max. Never mixes the two sides
-            // of a depth step: every contributor lies within d_tol of d_ref.
-            const float d_tol = depth_rel * d_ref, lo = d_ref - d_tol, hi = d_ref + d_tol;
-            WindowStats s;
-#if defined(__SSE2__)
-            if (allow_simd && rows_inside && x - R >= 0 && x - R + 4 * win.chunks <= P.width)
-                s = statsSse2(P, win, x, y, lo, hi, rtol);
-            else
-#endif
-                s = statsScalar(P, win, x, y, lo, hi, rtol);
-            // count >= 1: the neighbour holding i_max qualifies.
-            depth[x] = float(s.depth_sum / s.count);
-            refl[x] = s.i_max;
-            prov[x] = provenanceOf(P, win, x, y, lo, hi, rtol, s);
-            valid[x] = 255;
-            ++completed;
+            for (; x < xa; ++x) completed += completePixel(P, win, x, y, depth_rel, rtol, allow_simd, row);
+            completed += completeSpanAvx2(sparse, win, y, xa, xb, depth_rel, rtol, masks, row);
+            x = xb;
         }
+#endif
+        for (; x < W; ++x) completed += completePixel(P, win, x, y, depth_rel, rtol, allow_simd, row);
     }
     return completed;
 }

@@ -1,6 +1,11 @@
 // Encoding of completed depth and reflectivity: H = h(I), S = s0, V = b1 + b2 * h(F(D)).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "render_stages.h"
 
@@ -31,6 +36,8 @@ HueTable HueTable::make(const QuasiOptions& o)
         t.bgr[l][1] = float(g + m);
         t.bgr[l][2] = float(r + m);
         t.luminance[l] = float(0.299 * (r + m) + 0.587 * (g + m) + 0.114 * (b + m));
+        for (int c = 0; c < 3; ++c) t.bgrl[l][c] = t.bgr[l][c];
+        t.bgrl[l][3] = t.luminance[l];
     }
     return t;
 }
@@ -59,27 +66,117 @@ void reflectivityPercentiles(const std::vector<uint32_t>& histogram, const Quasi
 
 namespace
 {
-/** F(D) at (x, y), relative to the pixel's depth; invalid neighbours are ignored. */
-inline float depthVariation(const float* up, const float* mid, const float* down, const uint8_t* vup,
-                            const uint8_t* vmid, const uint8_t* vdown, int x, int width, bool laplacian)
+/** Histogram bins of a row's reflectivities (vectorised). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void reflectivityBins(const float* __restrict refl, int width, int32_t* __restrict bin)
 {
-    const float d = mid[x];
+    for (int x = 0; x < width; ++x)
+        bin[x] = std::min(kReflHistogramBins - 1, std::max(0, int(refl[x] * kReflHistogramBins)));
+}
+}  // namespace
+
+size_t reflectivityHistogramRows(const QuasiImage& q, int y0, int y1, std::vector<uint32_t>& histogram)
+{
+    const int width = q.reflectivity.cols;
+    // Four interleaved histograms: neighbouring pixels often share a bin, and one histogram would chain every
+    // increment on the previous one through memory. Invalid pixels add 0 (no branch).
+    std::vector<uint32_t> h4(4 * kReflHistogramBins, 0);
+    std::vector<int32_t> bin(width);
+    size_t sparse_count = 0;
+    for (int y = y0; y < y1; ++y)
+    {
+        const uint8_t* v = q.valid.ptr<uint8_t>(y);
+        const uint8_t* sp = q.sparse.ptr<uint8_t>(y);
+        reflectivityBins(q.reflectivity.ptr<float>(y), width, bin.data());
+        for (int x = 0; x < width; ++x) h4[(x & 3) * kReflHistogramBins + bin[x]] += v[x] != 0;
+        for (int x = 0; x < width; ++x) sparse_count += sp[x] != 0;
+    }
+    histogram.assign(kReflHistogramBins, 0);
+    for (int i = 0; i < kReflHistogramBins; ++i)
+    {
+        const uint32_t* h = h4.data() + i;
+        histogram[i] = h[0] + h[kReflHistogramBins] + h[2 * kReflHistogramBins] + h[3 * kReflHistogramBins];
+    }
+    return sparse_count;
+}
+
+namespace
+{
+/** F(D) of one pixel relative to its depth d; the neighbours' depths and validity (l, r, u, b) given. */
+template <bool Laplacian>
+inline float depthVariation(float d, float dl, float dr, float du, float db, bool l, bool r, bool u, bool b)
+{
+    if (Laplacian)
+    {
+        const float fx = (l & r) ? std::abs(dl + dr - 2 * d) : 0.0f;
+        const float fy = (u & b) ? std::abs(du + db - 2 * d) : 0.0f;
+        return std::max(fx, fy) / d;
+    }
+    const float fl = l ? std::abs(dl - d) : 0.0f, fr = r ? std::abs(dr - d) : 0.0f;
+    const float fu = u ? std::abs(du - d) : 0.0f, fb = b ? std::abs(db - d) : 0.0f;
+    return std::max(std::max(fl, fr), std::max(fu, fb)) / d;
+}
+
+struct EncodeParams
+{
+    float refl_lo, inv_span, inv_edge, b1, b2;
+};
+
+/** Pixels [x0, x1) of a row: the level of h(I) and 255 * V (0 where invalid, so that the colour loop needs no
+ *  test) from F(D) (invalid neighbours ignored). Branch-free, so that the compiler vectorises it; the same
+ *  float operations as the per-pixel rule. The caller makes x0 - 1 and x1 readable; `up`/`down` (and their
+ *  masks) are an invalid row at the image border. */
+template <bool Laplacian>
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void levelsAndScales(const float* __restrict up, const float* __restrict mid, const float* __restrict down,
+                     const uint8_t* __restrict vup, const uint8_t* __restrict vmid, const uint8_t* __restrict vdown,
+                     const float* __restrict refl, int x0, int x1, EncodeParams p, int32_t* __restrict level,
+                     float* __restrict scale, float* __restrict hI_out)
+{
+    for (int x = x0; x < x1; ++x)
+    {
+        const float F = depthVariation<Laplacian>(mid[x], mid[x - 1], mid[x + 1], up[x], down[x], vmid[x - 1] != 0,
+                                                  vmid[x + 1] != 0, vup[x] != 0, vdown[x] != 0);
+        const float V = p.b1 + p.b2 * std::min(1.0f, F * p.inv_edge);
+        const float hI = std::clamp((refl[x] - p.refl_lo) * p.inv_span, 0.0f, 1.0f);
+        const bool valid = vmid[x] != 0;
+        level[x] = valid ? int32_t(hI * 255.0f + 0.5f) : 0;
+        scale[x] = valid ? 255.0f * V : 0.0f;
+        hI_out[x] = hI;
+    }
+}
+
+/** The first and last pixel of a row (a neighbour beyond the row end is invalid). */
+template <bool Laplacian>
+void levelAndScaleAt(const float* up, const float* mid, const float* down, const uint8_t* vup, const uint8_t* vmid,
+                     const uint8_t* vdown, const float* refl, int x, int width, EncodeParams p, int32_t* level,
+                     float* scale, float* hI_out)
+{
     const bool l = x > 0 && vmid[x - 1], r = x + 1 < width && vmid[x + 1];
-    const bool u = vup && vup[x], b = vdown && vdown[x];
-    float f = 0;
-    if (laplacian)
-    {
-        if (l && r) f = std::max(f, std::abs(mid[x - 1] + mid[x + 1] - 2 * d));
-        if (u && b) f = std::max(f, std::abs(up[x] + down[x] - 2 * d));
-    }
-    else
-    {
-        if (l) f = std::max(f, std::abs(mid[x - 1] - d));
-        if (r) f = std::max(f, std::abs(mid[x + 1] - d));
-        if (u) f = std::max(f, std::abs(up[x] - d));
-        if (b) f = std::max(f, std::abs(down[x] - d));
-    }
-    return f / d;
+    const float F = depthVariation<Laplacian>(mid[x], l ? mid[x - 1] : 0.0f, r ? mid[x + 1] : 0.0f, up[x], down[x], l,
+                                              r, vup[x] != 0, vdown[x] != 0);
+    const float V = p.b1 + p.b2 * std::min(1.0f, F * p.inv_edge);
+    const float hI = std::clamp((refl[x] - p.refl_lo) * p.inv_span, 0.0f, 1.0f);
+    const bool valid = vmid[x] != 0;
+    level[x] = valid ? int32_t(hI * 255.0f + 0.5f) : 0;
+    scale[x] = valid ? 255.0f * V : 0.0f;
+    hI_out[x] = hI;
+}
+
+template <bool Laplacian>
+void levelsAndScalesRow(const float* up, const float* mid, const float* down, const uint8_t* vup,
+                        const uint8_t* vmid, const uint8_t* vdown, const float* refl, int width, EncodeParams p,
+                        int32_t* level, float* scale, float* hI)
+{
+    levelAndScaleAt<Laplacian>(up, mid, down, vup, vmid, vdown, refl, 0, width, p, level, scale, hI);
+    if (width > 2)
+        levelsAndScales<Laplacian>(up, mid, down, vup, vmid, vdown, refl, 1, width - 1, p, level, scale, hI);
+    if (width > 1)
+        levelAndScaleAt<Laplacian>(up, mid, down, vup, vmid, vdown, refl, width - 1, width, p, level, scale, hI);
 }
 }  // namespace
 
@@ -89,44 +186,64 @@ void encodeRows(QuasiImage& q, int y0, int y1, float refl_lo, float refl_hi, con
     const int width = q.depth.cols, height = q.depth.rows;
     const bool laplacian = o.edgeOperator() == EdgeOperator::Laplacian;
     const GrayMode gray_mode = o.grayMode();
-    const float inv_span = 1.0f / (refl_hi - refl_lo);
-    const float inv_edge = float(1.0 / o.edge_scale_rel);
-    const float b1 = float(o.value_base), b2 = float(o.value_gain);
+    const EncodeParams p{refl_lo, 1.0f / (refl_hi - refl_lo), float(1.0 / o.edge_scale_rel), float(o.value_base),
+                         float(o.value_gain)};
+    // Row scratch (image-width, per call): levels, scales, h(I), and an all-invalid row for the borders.
+    std::vector<int32_t> level(width);
+    std::vector<float> scale(width), hI(width), zero_depth(width, 0.0f);
+    std::vector<uint8_t> invalid(width, 0);
     for (int y = y0; y < y1; ++y)
     {
-        const float* mid = q.depth.ptr<float>(y);
-        const float* up = y > 0 ? q.depth.ptr<float>(y - 1) : nullptr;
-        const float* down = y + 1 < height ? q.depth.ptr<float>(y + 1) : nullptr;
-        const uint8_t* vmid = q.valid.ptr<uint8_t>(y);
-        const uint8_t* vup = y > 0 ? q.valid.ptr<uint8_t>(y - 1) : nullptr;
-        const uint8_t* vdown = y + 1 < height ? q.valid.ptr<uint8_t>(y + 1) : nullptr;
-        const float* refl = q.reflectivity.ptr<float>(y);
+        const bool has_up = y > 0, has_down = y + 1 < height;
+        const float* up = has_up ? q.depth.ptr<float>(y - 1) : zero_depth.data();
+        const float* down = has_down ? q.depth.ptr<float>(y + 1) : zero_depth.data();
+        const uint8_t* vup = has_up ? q.valid.ptr<uint8_t>(y - 1) : invalid.data();
+        const uint8_t* vdown = has_down ? q.valid.ptr<uint8_t>(y + 1) : invalid.data();
+        (laplacian ? levelsAndScalesRow<true> : levelsAndScalesRow<false>)(
+            up, q.depth.ptr<float>(y), down, vup, q.valid.ptr<uint8_t>(y), vdown, q.reflectivity.ptr<float>(y), width,
+            p, level.data(), scale.data(), hI.data());
         uint8_t* bgr = q.bgr.ptr<uint8_t>(y);
         uint8_t* gray = q.gray.ptr<uint8_t>(y);
-        for (int x = 0; x < width; ++x)
+        // Invalid pixels have scale 0: colour and gray round to 0.
+        int x0 = 0;
+#if defined(__SSE2__)
+        // 4 lanes (b, g, r, luminance) per pixel: the same float operations, the truncation by cvtt and the
+        // saturating packs (the luminance's min(255)). The 4-byte store also writes the next pixel's first
+        // byte, which that pixel overwrites; the row's last pixel takes the scalar path (another thread's row
+        // follows).
+        const __m128 half = _mm_set1_ps(0.5f);
+        for (; x0 + 1 < width; ++x0)
         {
-            if (!vmid[x])
-            {
-                bgr[3 * x] = bgr[3 * x + 1] = bgr[3 * x + 2] = 0;
-                gray[x] = 0;
-                continue;
-            }
-            const float hI = std::clamp((refl[x] - refl_lo) * inv_span, 0.0f, 1.0f);
-            const int level = int(hI * 255.0f + 0.5f);
-            const float F = depthVariation(up, mid, down, vup, vmid, vdown, x, width, laplacian);
-            const float V = b1 + b2 * std::min(1.0f, F * inv_edge);
-            const float scale = 255.0f * V;
-            bgr[3 * x] = uint8_t(hue.bgr[level][0] * scale + 0.5f);
-            bgr[3 * x + 1] = uint8_t(hue.bgr[level][1] * scale + 0.5f);
-            bgr[3 * x + 2] = uint8_t(hue.bgr[level][2] * scale + 0.5f);
-            float g = 0;
-            switch (gray_mode)
-            {
-                case GrayMode::Luminance: g = hue.luminance[level] * scale; break;
-                case GrayMode::Value: g = scale; break;
-                case GrayMode::ShadedReflectivity: g = (0.25f + 0.75f * hI) * scale; break;
-            }
-            gray[x] = uint8_t(std::min(255.0f, g + 0.5f));
+            const __m128 v = _mm_add_ps(_mm_mul_ps(_mm_load_ps(hue.bgrl[level[x0]]), _mm_set1_ps(scale[x0])), half);
+            __m128i i = _mm_cvttps_epi32(v);
+            i = _mm_packs_epi32(i, i);
+            i = _mm_packus_epi16(i, i);
+            const uint32_t w = uint32_t(_mm_cvtsi128_si32(i));
+            std::memcpy(bgr + 3 * x0, &w, sizeof w);
+            gray[x0] = uint8_t(w >> 24);  // luminance mode; the other modes overwrite it below
+        }
+#endif
+        for (int x = x0; x < width; ++x)
+        {
+            const float* c = hue.bgr[level[x]];
+            const float sc = scale[x];
+            bgr[3 * x] = uint8_t(c[0] * sc + 0.5f);
+            bgr[3 * x + 1] = uint8_t(c[1] * sc + 0.5f);
+            bgr[3 * x + 2] = uint8_t(c[2] * sc + 0.5f);
+        }
+        switch (gray_mode)
+        {
+            case GrayMode::Luminance:
+                for (int x = x0; x < width; ++x)
+                    gray[x] = uint8_t(std::min(255.0f, hue.luminance[level[x]] * scale[x] + 0.5f));
+                break;
+            case GrayMode::Value:
+                for (int x = 0; x < width; ++x) gray[x] = uint8_t(std::min(255.0f, scale[x] + 0.5f));
+                break;
+            case GrayMode::ShadedReflectivity:
+                for (int x = 0; x < width; ++x)
+                    gray[x] = uint8_t(std::min(255.0f, (0.25f + 0.75f * hI[x]) * scale[x] + 0.5f));
+                break;
         }
     }
 }

@@ -104,11 +104,14 @@ PoseF PoseF::camFromWorld(const mrpt::poses::CPose3D& T_world_cam)
     return p;
 }
 
-void SparsePlanes::create(int width, int height)
+void SparsePlanes::create(int width, int height, int margin_px)
 {
-    depth.create(height, width, CV_32FC1);
-    refl.create(height, width, CV_32FC1);
-    index.create(height, width, CV_32SC1);
+    margin = margin_px;
+    const cv::Rect inner(margin, margin, width, height);
+    const int W = width + 2 * margin, H = height + 2 * margin;
+    depth = cv::Mat(H, W, CV_32FC1, cv::Scalar(kNoDepth))(inner);
+    refl = cv::Mat(H, W, CV_32FC1, cv::Scalar(0))(inner);
+    index = cv::Mat(H, W, CV_32SC1, cv::Scalar(-1))(inner);
 }
 
 namespace
@@ -123,7 +126,8 @@ template <core::DistortionModel Model>
 __attribute__((target_clones("avx2", "default")))
 #endif
 void projectBatch(const float* X, const float* Y, const float* Z, int m, const FastProjector& cam,
-                  const PoseF& pose, float min_depth, float max_depth, int32_t* pix, float* depth)
+                  const PoseF& pose, float min_depth, float max_depth, int32_t pix_begin, int32_t pix_end,
+                  int32_t* pix, float* depth)
 {
     const float r0 = pose.R[0], r1 = pose.R[1], r2c = pose.R[2], r3 = pose.R[3], r4 = pose.R[4], r5 = pose.R[5];
     const float r6 = pose.R[6], r7 = pose.R[7], r8 = pose.R[8], t0 = pose.t[0], t1 = pose.t[1], t2 = pose.t[2];
@@ -161,50 +165,73 @@ void projectBatch(const float* X, const float* Y, const float* Z, int m, const F
         const float u = cam.fx * xd + cam.cx + 0.5f, v = cam.fy * yd + cam.cy + 0.5f;
         ok = ok & (u >= 0.0f) & (v >= 0.0f) & (u < W) & (v < H);
         const int iu = int(ok ? u : 0.0f), iv = int(ok ? v : 0.0f);
-        pix[j] = ok ? iv * width + iu : -1;
+        const int p = iv * width + iu;
+        pix[j] = (ok & (p >= pix_begin) & (p < pix_end)) ? p : -1;
         depth[j] = z;
     }
 }
 
+/** Phase B of one batch: the z-buffer test of the points with pix >= 0, branch-free (which of two points wins
+ *  a pixel is unpredictable, and a mispredicted branch would serialise the cache misses on the z-buffer), with
+ *  the slots prefetched. M, I: the batch's map indices and reflectivities. Returns the points tested. */
+size_t zTestBatch(const int32_t* pix, const float* depth, int m, const uint32_t* M, const float* I, ZBuffer& zb)
+{
+    uint64_t* key = zb.key.data();
+    float* refl = zb.refl.data();
+    size_t projected = 0;
+    constexpr int kAhead = 16;
+    for (int j = 0; j < std::min(m, kAhead); ++j)
+        if (pix[j] >= 0) __builtin_prefetch(&key[pix[j]], 1);
+    for (int j = 0; j < m; ++j)
+    {
+        if (j + kAhead < m && pix[j + kAhead] >= 0) __builtin_prefetch(&key[pix[j + kAhead]], 1);
+        if (pix[j] < 0) continue;
+        uint32_t zbits, rnew, rold;
+        std::memcpy(&zbits, &depth[j], sizeof zbits);
+        const uint64_t kk = (uint64_t(zbits) << 32) | M[j];
+        const uint64_t old = key[pix[j]];
+        const uint64_t win = uint64_t(0) - uint64_t(kk < old);  // all ones when the point wins
+        key[pix[j]] = (kk & win) | (old & ~win);
+        std::memcpy(&rnew, &I[j], sizeof rnew);
+        std::memcpy(&rold, &refl[pix[j]], sizeof rold);
+        const uint32_t r = (rnew & uint32_t(win)) | (rold & ~uint32_t(win));
+        std::memcpy(&refl[pix[j]], &r, sizeof r);
+        ++projected;
+    }
+    return projected;
+}
+
 template <core::DistortionModel Model>
 size_t projectRun(const map::VisibilityIndex& index, size_t k_begin, size_t k_end, const FastProjector& cam,
-                  const PoseF& pose, float min_depth, float max_depth, ZBuffer& zb)
+                  const PoseF& pose, float min_depth, float max_depth, int32_t pix_begin, int32_t pix_end,
+                  ZBuffer& zb)
 {
     alignas(64) int32_t pix[kBatch];
     alignas(64) float depth[kBatch];
-    const float* I = index.reflectivities();
-    const uint32_t* M = index.mapIndex();
-    uint64_t* key = zb.key.data();
-    float* refl = zb.refl.data();
     size_t projected = 0;
     for (size_t k0 = k_begin; k0 < k_end; k0 += kBatch)
     {
         const int m = int(std::min<size_t>(kBatch, k_end - k0));
         projectBatch<Model>(index.xs() + k0, index.ys() + k0, index.zs() + k0, m, cam, pose, min_depth, max_depth,
-                            pix, depth);
-        // Phase B: the z-buffer test, branch-free (which of two points wins a pixel is unpredictable, and a
-        // mispredicted branch would serialise the cache misses on the z-buffer), with the slots prefetched.
-        constexpr int kAhead = 16;
-        for (int j = 0; j < std::min(m, kAhead); ++j)
-            if (pix[j] >= 0) __builtin_prefetch(&key[pix[j]], 1);
-        for (int j = 0; j < m; ++j)
-        {
-            if (j + kAhead < m && pix[j + kAhead] >= 0) __builtin_prefetch(&key[pix[j + kAhead]], 1);
-            if (pix[j] < 0) continue;
-            uint32_t zbits, rnew, rold;
-            std::memcpy(&zbits, &depth[j], sizeof zbits);
-            const uint64_t kk = (uint64_t(zbits) << 32) | M[k0 + j];
-            const uint64_t old = key[pix[j]];
-            const uint64_t win = uint64_t(0) - uint64_t(kk < old);  // all ones when the point wins
-            key[pix[j]] = (kk & win) | (old & ~win);
-            std::memcpy(&rnew, &I[k0 + j], sizeof rnew);
-            std::memcpy(&rold, &refl[pix[j]], sizeof rold);
-            const uint32_t r = (rnew & uint32_t(win)) | (rold & ~uint32_t(win));
-            std::memcpy(&refl[pix[j]], &r, sizeof r);
-            ++projected;
-        }
+                            pix_begin, pix_end, pix, depth);
+        projected += zTestBatch(pix, depth, m, index.mapIndex() + k0, index.reflectivities() + k0, zb);
     }
     return projected;
+}
+
+/** Calls f(k_begin, k_end, position) for the pieces of `ranges` within [first, last) of their concatenation
+ *  (position: where the piece starts in the concatenation). */
+template <class F>
+void forRangePieces(const std::vector<map::VisibilityIndex::Range>& ranges, size_t first, size_t last, F&& f)
+{
+    size_t offset = 0;
+    for (const auto& rg : ranges)
+    {
+        const size_t n = rg.end - rg.begin;
+        const size_t a = std::max(first, offset), b = std::min(last, offset + n);
+        if (a < b) f(rg.begin + (a - offset), rg.begin + (b - offset), a);
+        offset += n;
+    }
 }
 }  // namespace
 
@@ -212,66 +239,140 @@ void projectPoints(const map::VisibilityIndex& index, const std::vector<map::Vis
                    size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
                    float max_depth, ZBuffer& zb)
 {
+    zb.projected = projectPoints(index, ranges, first, last, cam, pose, min_depth, max_depth, 0,
+                                 cam.width * cam.height, zb);
+}
+
+size_t projectPoints(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
+                     size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
+                     float max_depth, int32_t pix_begin, int32_t pix_end, ZBuffer& zb)
+{
     size_t projected = 0;
-    size_t offset = 0;  // position of the current range in the concatenation of all ranges
-    for (const auto& rg : ranges)
-    {
-        const size_t n = rg.end - rg.begin;
-        const size_t a = std::max(first, offset), b = std::min(last, offset + n);
-        const size_t range_start = offset;
-        offset += n;
-        if (a >= b) continue;
-        const size_t k_begin = rg.begin + (a - range_start), k_end = rg.begin + (b - range_start);
+    forRangePieces(ranges, first, last, [&](size_t k_begin, size_t k_end, size_t) {
         switch (cam.model)
         {
             case core::DistortionModel::None:
                 projected += projectRun<core::DistortionModel::None>(index, k_begin, k_end, cam, pose, min_depth,
-                                                                     max_depth, zb);
+                                                                     max_depth, pix_begin, pix_end, zb);
                 break;
             case core::DistortionModel::RadTan:
                 projected += projectRun<core::DistortionModel::RadTan>(index, k_begin, k_end, cam, pose, min_depth,
-                                                                       max_depth, zb);
+                                                                       max_depth, pix_begin, pix_end, zb);
                 break;
             case core::DistortionModel::Equidistant:
-                projected += projectRun<core::DistortionModel::Equidistant>(index, k_begin, k_end, cam, pose,
-                                                                            min_depth, max_depth, zb);
+                projected += projectRun<core::DistortionModel::Equidistant>(
+                    index, k_begin, k_end, cam, pose, min_depth, max_depth, pix_begin, pix_end, zb);
                 break;
         }
-    }
-    zb.projected = projected;
+    });
+    return projected;
 }
+
+void projectToBuffer(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
+                     size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
+                     float max_depth, int32_t* pix, float* depth)
+{
+    const int32_t n_pix = cam.width * cam.height;
+    forRangePieces(ranges, first, last, [&](size_t k_begin, size_t k_end, size_t pos) {
+        for (size_t k0 = k_begin; k0 < k_end; k0 += kBatch)
+        {
+            const int m = int(std::min<size_t>(kBatch, k_end - k0));
+            const size_t at = pos + (k0 - k_begin);
+            const float *X = index.xs() + k0, *Y = index.ys() + k0, *Z = index.zs() + k0;
+            switch (cam.model)
+            {
+                case core::DistortionModel::None:
+                    projectBatch<core::DistortionModel::None>(X, Y, Z, m, cam, pose, min_depth, max_depth, 0, n_pix,
+                                                              pix + at, depth + at);
+                    break;
+                case core::DistortionModel::RadTan:
+                    projectBatch<core::DistortionModel::RadTan>(X, Y, Z, m, cam, pose, min_depth, max_depth, 0,
+                                                                n_pix, pix + at, depth + at);
+                    break;
+                case core::DistortionModel::Equidistant:
+                    projectBatch<core::DistortionModel::Equidistant>(X, Y, Z, m, cam, pose, min_depth, max_depth, 0,
+                                                                     n_pix, pix + at, depth + at);
+                    break;
+            }
+        }
+    });
+}
+
+size_t zTestBuffer(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
+                   const int32_t* pix, const float* depth, int32_t pix_begin, int32_t pix_end, ZBuffer& zb)
+{
+    size_t projected = 0;
+    alignas(64) int32_t band[kBatch];
+    forRangePieces(ranges, 0, map::VisibilityIndex::countPoints(ranges), [&](size_t k_begin, size_t k_end, size_t pos) {
+        for (size_t k0 = k_begin; k0 < k_end; k0 += kBatch)
+        {
+            const int m = int(std::min<size_t>(kBatch, k_end - k0));
+            const size_t at = pos + (k0 - k_begin);
+            for (int j = 0; j < m; ++j)
+            {
+                const int32_t p = pix[at + j];
+                band[j] = (p >= pix_begin) & (p < pix_end) ? p : -1;
+            }
+            projected += zTestBatch(band, depth + at, m, index.mapIndex() + k0, index.reflectivities() + k0, zb);
+        }
+    });
+    return projected;
+}
+
+namespace
+{
+/** zb0 = per-pixel minimum of zb0 and zb (keys and their reflectivity); zb is reset to empty. Plain loops
+ *  over a row that the compiler vectorises. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void mergeRowInto(uint64_t* __restrict key0, float* __restrict refl0, uint64_t* __restrict key, const float* refl,
+                  int n)
+{
+    for (int x = 0; x < n; ++x)
+    {
+        const uint64_t k = key[x], best = key0[x];
+        const bool lt = k < best;
+        refl0[x] = lt ? refl[x] : refl0[x];
+        key0[x] = lt ? k : best;
+        key[x] = kEmptyKey;
+    }
+}
+
+/** The winning keys of a row -> sparse planes; the keys are reset to empty (no separate clearing pass). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void unpackRow(uint64_t* __restrict key, const float* __restrict refl_in, float* __restrict depth,
+               float* __restrict refl, int32_t* __restrict index, int n)
+{
+    const uint32_t no_depth = 0x7f800000u;  // +inf
+    for (int x = 0; x < n; ++x)
+    {
+        const uint64_t k = key[x];
+        const bool empty = k == kEmptyKey;
+        const uint32_t zbits = empty ? no_depth : uint32_t(k >> 32);
+        std::memcpy(&depth[x], &zbits, sizeof zbits);
+        refl[x] = empty ? 0.0f : refl_in[x];
+        index[x] = empty ? -1 : int32_t(uint32_t(k));
+        key[x] = kEmptyKey;
+    }
+}
+}  // namespace
 
 void mergeZBuffers(std::vector<ZBuffer>& zbs, int y0, int y1, SparsePlanes& sparse)
 {
     const int width = sparse.depth.cols;
     for (int y = y0; y < y1; ++y)
     {
-        float* depth = sparse.depth.ptr<float>(y);
-        float* refl = sparse.refl.ptr<float>(y);
-        int32_t* index = sparse.index.ptr<int32_t>(y);
         const size_t row = size_t(y) * width;
-        for (int x = 0; x < width; ++x)
-        {
-            const size_t p = row + x;
-            uint64_t best = kEmptyKey;
-            float r = 0;
-            for (ZBuffer& zb : zbs)
-            {
-                const uint64_t k = zb.key[p];
-                r = k < best ? zb.refl[p] : r;
-                best = k < best ? k : best;
-                zb.key[p] = kEmptyKey;  // ready for the next image: no separate clearing pass
-            }
-            if (best == kEmptyKey)
-            {
-                depth[x] = kNoDepth, refl[x] = 0, index[x] = -1;
-                continue;
-            }
-            const uint32_t zbits = uint32_t(best >> 32);
-            std::memcpy(&depth[x], &zbits, sizeof zbits);
-            refl[x] = r;
-            index[x] = int32_t(uint32_t(best & 0xffffffffu));
-        }
+        // The minimum over all z-buffers collects in the first (in order: the result does not depend on which
+        // thread filled which buffer, as keys are unique).
+        for (size_t s = 1; s < zbs.size(); ++s)
+            mergeRowInto(zbs[0].key.data() + row, zbs[0].refl.data() + row, zbs[s].key.data() + row,
+                         zbs[s].refl.data() + row, width);
+        unpackRow(zbs[0].key.data() + row, zbs[0].refl.data() + row, sparse.depth.ptr<float>(y),
+                  sparse.refl.ptr<float>(y), sparse.index.ptr<int32_t>(y), width);
     }
 }
 

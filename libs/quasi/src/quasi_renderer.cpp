@@ -17,7 +17,9 @@ struct QuasiRenderer::Buffers
     std::optional<detail::FastProjector> cam;
     map::VisibilityIndex::ViewCone cone;
     std::vector<map::VisibilityIndex::Range> ranges;
-    std::vector<detail::ZBuffer> zbs;        ///< one per projection stripe
+    std::vector<detail::ZBuffer> zbs;        ///< one, shared by the projection threads (each owns a block of rows)
+    std::vector<int32_t> proj_pix;                  ///< per candidate: pixel (-1: rejected), with several threads
+    std::vector<float> proj_depth;                  ///< per candidate: camera z
     detail::SparsePlanes sparse;                    ///< the z-buffer image
     cv::Mat window_min;                             ///< its minimum over the see-through window
     std::vector<std::vector<int32_t>> hidden;       ///< per row stripe: pixels the see-through filter drops
@@ -113,13 +115,14 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
         b.cam = detail::FastProjector::fromCamera(camera);
         b.cone = map::VisibilityIndex::viewCone(camera);
         const size_t n = size_t(camera.width) * camera.height;
-        b.zbs.resize(b.num_threads);
+        b.zbs.resize(1);
         for (auto& zb : b.zbs)
         {
             zb.key.assign(n, detail::kEmptyKey);
             zb.refl.assign(n, 0.f);
         }
-        b.sparse.create(camera.width, camera.height);
+        // Empty margin for the window loops of the see-through filter and completion (no border tests).
+        b.sparse.create(camera.width, camera.height, std::max(o.completion_radius_px, o.occlusion_radius_px));
     }
     const int W = camera.width, H = camera.height;
     out.T_world_cam = T_world_cam;
@@ -131,20 +134,45 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     st.candidate_points = map::VisibilityIndex::countPoints(b.ranges);
     clock.lap(st.ms_culling, st.cpu_ms_culling);
 
-    // Projection: the candidates split evenly into one chunk per z-buffer.
+    // Projection into one z-buffer. With several threads: first each projects its share of the candidates into
+    // the pixel/depth buffers, then each runs the z-buffer test of all of them for its own block of rows. No
+    // per-thread z-buffers to merge, and the result is the one-thread result (keys are unique).
     const int S = b.num_threads;
-    const size_t total = st.candidate_points;
-    cv::parallel_for_(
-        cv::Range(0, S),
-        [&](const cv::Range& r) {
-            for (int s = r.start; s < r.end; ++s)
-                detail::projectPoints(index_, b.ranges, total * s / S, total * (s + 1) / S, *b.cam, pose,
-                                      float(o.min_depth_m), float(o.max_depth_m), b.zbs[s]);
-        },
-        S);
-    for (const auto& zb : b.zbs) st.projected_points += zb.projected;
+    const int32_t n_pix = W * H;
+    const size_t n_cand = st.candidate_points;
+    const float min_depth = float(o.min_depth_m), max_depth = float(o.max_depth_m);
+    if (S == 1)
+    {
+        b.counts[0] = detail::projectPoints(index_, b.ranges, 0, n_cand, *b.cam, pose, min_depth, max_depth, 0, n_pix,
+                                            b.zbs[0]);
+        detail::mergeZBuffers(b.zbs, 0, H, b.sparse);
+    }
+    else
+    {
+        // Candidate-sized, kept between renders: reallocated only when a view has more candidates than any
+        // before, with headroom so that this stays rare.
+        if (b.proj_pix.size() < n_cand)
+        {
+            const size_t n = std::min(index_.size(), n_cand + n_cand / 4);
+            b.proj_pix.resize(n), b.proj_depth.resize(n);
+        }
+        cv::parallel_for_(
+            cv::Range(0, S),
+            [&](const cv::Range& r) {
+                for (int s = r.start; s < r.end; ++s)
+                    detail::projectToBuffer(index_, b.ranges, n_cand * s / S, n_cand * (s + 1) / S, *b.cam, pose,
+                                            min_depth, max_depth, b.proj_pix.data(), b.proj_depth.data());
+            },
+            S);
+        // Each thread's block of rows: z-buffer test, then the sparse planes of those rows (still in cache).
+        parallelRows(H, S, [&](int y0, int y1, int s) {
+            b.counts[s] = detail::zTestBuffer(index_, b.ranges, b.proj_pix.data(), b.proj_depth.data(), y0 * W,
+                                              y1 * W, b.zbs[0]);
+            detail::mergeZBuffers(b.zbs, y0, y1, b.sparse);
+        });
+    }
+    for (int s = 0; s < S; ++s) st.projected_points += b.counts[s];
     const int row_stripes = int(b.counts.size());
-    parallelRows(H, row_stripes, [&](int y0, int y1, int) { detail::mergeZBuffers(b.zbs, y0, y1, b.sparse); });
     clock.lap(st.ms_projection, st.cpu_ms_projection);
 
     // See-through filter, then completion into the output images.
@@ -167,8 +195,8 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
         {
             for (const int32_t p : hidden)
             {
-                b.sparse.depth.ptr<float>()[p] = detail::kNoDepth;
-                b.sparse.index.ptr<int32_t>()[p] = -1;
+                b.sparse.depth.ptr<float>(p / W)[p % W] = detail::kNoDepth;  // planes with a margin: by row
+                b.sparse.index.ptr<int32_t>(p / W)[p % W] = -1;
             }
             st.occluded_pixels += hidden.size();
         }
@@ -186,22 +214,7 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     if (o.reflectivityScope() == ReflectivityScope::Image)
     {
         parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
-            auto& h = b.histograms[s];
-            std::fill(h.begin(), h.end(), 0u);
-            size_t sparse_count = 0;
-            for (int y = y0; y < y1; ++y)
-            {
-                const float* r = out.reflectivity.ptr<float>(y);
-                const uint8_t* v = out.valid.ptr<uint8_t>(y);
-                const uint8_t* sp = out.sparse.ptr<uint8_t>(y);
-                for (int x = 0; x < W; ++x)
-                {
-                    if (!v[x]) continue;
-                    ++h[std::min(detail::kReflHistogramBins - 1, std::max(0, int(r[x] * detail::kReflHistogramBins)))];
-                    sparse_count += sp[x] != 0;
-                }
-            }
-            b.counts[s] = sparse_count;
+            b.counts[s] = detail::reflectivityHistogramRows(out, y0, y1, b.histograms[s]);
         });
         for (size_t s = 1; s < b.histograms.size(); ++s)
             for (int i = 0; i < detail::kReflHistogramBins; ++i) b.histograms[0][i] += b.histograms[s][i];

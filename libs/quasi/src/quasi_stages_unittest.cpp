@@ -76,6 +76,18 @@ TEST(QuasiStages, SimdCompletionEqualsScalarReference)
             EXPECT_TRUE(same(a.reflectivity, b.reflectivity));
             EXPECT_TRUE(same(a.provenance, b.provenance));
             EXPECT_TRUE(same(a.valid, b.valid));
+            // The renderer's planes carry an empty margin (every window readable): the same result.
+            quasi::detail::SparsePlanes padded;
+            padded.create(W, H, radius);
+            sparse.depth.copyTo(padded.depth);
+            sparse.refl.copyTo(padded.refl);
+            sparse.index.copyTo(padded.index);
+            quasi::QuasiImage c;
+            allocate(c, W, H);
+            EXPECT_EQ(quasi::detail::completeRows(padded, 0, H, o, c, true), nb);
+            EXPECT_TRUE(same(c.depth, b.depth) && same(c.reflectivity, b.reflectivity) &&
+                        same(c.provenance, b.provenance) && same(c.valid, b.valid) && same(c.sparse, b.sparse))
+                << "with margin: radius " << radius << " density " << density;
         }
 }
 

@@ -75,6 +75,7 @@ struct Context
     mrpt::system::CTimeLogger& timer;
     size_t frames_with_quasi = 0;
     double render_ms_sum = 0;
+    QuasiImage q{};  ///< reused: render() keeps its Mats when the size matches (no image-sized allocation per frame)
 };
 
 void handleStereo(Context& c, const mrpt::obs::CObservationStereoImages& stereo)
@@ -96,7 +97,7 @@ void handleStereo(Context& c, const mrpt::obs::CObservationStereoImages& stereo)
     }
     // The raw (distorted) left camera: the quasi-image lives in the stored left image's pixel geometry.
     const core::CameraModel camera = core::CameraModel::fromTCamera(stereo.leftCamera);
-    QuasiImage q;
+    QuasiImage& q = c.q;
     c.renderer.render(*T_world_cam0, camera, q);
     const RenderStats& st = q.stats;
     c.timer.registerUserMeasure("quasi.culling", st.ms_culling * 1e-3);

@@ -22,7 +22,12 @@ struct SparsePlanes
     cv::Mat depth;  ///< CV_32FC1
     cv::Mat refl;   ///< CV_32FC1
     cv::Mat index;  ///< CV_32SC1
-    void create(int width, int height);
+    /** Rows and columns of empty pixels (+inf, 0, -1) readable around each plane (the planes are views into
+     *  larger Mats), so that window loops need no border tests. 0 for plain Mats. */
+    int margin = 0;
+    /** Allocates the planes with `margin` empty pixels around them (written once here; the stages only
+     *  write inside). */
+    void create(int width, int height, int margin = 0);
 };
 constexpr float kNoDepth = std::numeric_limits<float>::infinity();
 
@@ -52,7 +57,7 @@ struct PoseF
     static PoseF camFromWorld(const mrpt::poses::CPose3D& T_world_cam);
 };
 
-/** Per-thread z-buffer: keys (depth bits << 32 | map index) and the winner's reflectivity. */
+/** Z-buffer: keys (depth bits << 32 | map index) and the winner's reflectivity. */
 struct ZBuffer
 {
     std::vector<uint64_t> key;
@@ -64,8 +69,24 @@ struct ZBuffer
 void projectPoints(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
                    size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
                    float max_depth, ZBuffer& zb);
+/** The same for the pixels [pix_begin, pix_end) (y * width + x) only. Returns the points projected into the
+ *  range. */
+size_t projectPoints(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
+                     size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
+                     float max_depth, int32_t pix_begin, int32_t pix_end, ZBuffer& zb);
 
-/** Rows [y0, y1): sparse = the minimum key over all z-buffers; resets the z-buffers to empty. */
+/** Projection in two steps, for threads sharing one z-buffer without each projecting every point: first the
+ *  pixel (-1: rejected) and depth of the points in [first, last) of the concatenated ranges, at those
+ *  positions of `pix` and `depth` (sized for all candidates); then the z-buffer test of all of them for the
+ *  pixels [pix_begin, pix_end) only (returns how many). Same result as projectPoints. */
+void projectToBuffer(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
+                     size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
+                     float max_depth, int32_t* pix, float* depth);
+size_t zTestBuffer(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
+                   const int32_t* pix, const float* depth, int32_t pix_begin, int32_t pix_end, ZBuffer& zb);
+
+/** Rows [y0, y1): sparse = the minimum key over all z-buffers (the renderer uses one); resets the z-buffers
+ *  to empty. */
 void mergeZBuffers(std::vector<ZBuffer>& zbs, int y0, int y1, SparsePlanes& sparse);
 
 /** Rows [y0, y1) of the see-through filter: appends to `hidden` the pixels (y * width + x) it drops.
@@ -87,12 +108,16 @@ struct HueTable
 {
     float bgr[256][3];
     float luminance[256];
+    alignas(16) float bgrl[256][4];  ///< (b, g, r, luminance) per level, for a 4-lane encoder
     static HueTable make(const QuasiOptions& o);
 };
 
 /** Low and high reflectivity percentiles of the valid pixels of `q` (or of a sample of values). */
 void reflectivityPercentiles(const std::vector<uint32_t>& histogram, const QuasiOptions& o, float& lo, float& hi);
 constexpr int kReflHistogramBins = 1024;
+/** Rows [y0, y1): `histogram` (kReflHistogramBins bins over [0, 1], overwritten) of the reflectivity of the
+ *  valid pixels of `q`. Returns the number of sparse pixels in those rows. */
+size_t reflectivityHistogramRows(const QuasiImage& q, int y0, int y1, std::vector<uint32_t>& histogram);
 
 /** Rows [y0, y1) of the encoding of q.depth/q.reflectivity/q.valid into q.bgr and q.gray. */
 void encodeRows(QuasiImage& q, int y0, int y1, float refl_lo, float refl_hi, const HueTable& hue,

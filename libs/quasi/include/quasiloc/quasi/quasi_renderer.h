@@ -1,18 +1,23 @@
 #pragma once
 // QuasiRenderer: renders QuasiImages of one LiDAR map. Built once per map (it keeps a reference to the map
 // and owns the VisibilityIndex and every per-image buffer), then render() is called per keyframe or per
-// database view; it allocates nothing map-sized, and image-sized buffers only when the camera size changes.
+// database view; it allocates nothing map-sized per image: image-sized buffers only when the camera size
+// changes, and (with several threads) candidate-sized projection buffers only when a view has more candidate
+// points than any before (grow-only, with headroom).
 // One renderer is not thread-safe (its buffers are shared between calls): use one per thread; render()
 // itself runs on num_threads threads.
 //
 // Pipeline (see PAPER_NOTES.md, "Quasi-image"):
 //  1. culling: VisibilityIndex::query -> contiguous ranges of block-ordered points;
 //  2. projection: each point in float with the camera model inline (distortion included, so Q lives in the
-//     same pixel geometry as the camera image the model describes), z-buffer per thread on 64-bit keys
-//     (float depth bits << 32 | map index): nearest point wins, exact depth ties go to the smaller map index;
-//     the per-thread buffers are merged by a per-pixel minimum, so the result does not depend on scheduling;
+//     same pixel geometry as the camera image the model describes), one z-buffer on 64-bit keys
+//     (float depth bits << 32 | map index): nearest point wins, exact depth ties go to the smaller map index.
+//     With several threads each projects a share of the points into a pixel/depth buffer, then each runs the
+//     z-buffer test of all points for its own block of rows: the minimum over unique keys does not depend on
+//     the order or the scheduling, so every thread count gives the same image;
 //  3. see-through filter (far points showing through the gaps of a near surface) and cross-guided
-//     completion (quasi_image.h, QuasiOptions);
+//     completion (quasi_image.h, QuasiOptions); vectorised over pixels (AVX2, chosen at run time), with an
+//     empty margin around the sparse image so that windows need no border tests;
 //  4. encoding H = h(I), S = s0, V = b1 + b2 * h(F(D)) -> BGR and gray.
 #include <memory>
 #include <mrpt/poses/CPose3D.h>
