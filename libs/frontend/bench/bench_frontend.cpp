@@ -1,0 +1,197 @@
+// bench_frontend: how well the source-agnostic front-end matches, and how fast.
+//   bench_frontend [config.ini] [--set Section.key=value]... [--print-timing]
+// Part 1 (simulated sequences, simulated here with the sim library unless [Bench] sim_dirs names existing
+// sim-rawlog folders): camera <-> quasi-image point and line matches at the ground-truth pose and at a pose
+// perturbed by 10 cm / 2 deg, count and precision, for every point extractor; association statistics.
+// Part 2 (the real EuRoC micro frames): temporal and stereo match counts and inlier ratios.
+// Timing per stage with the budgets (752x480, 2 cores, Release, classical): points + lines <= 15 ms per image,
+// matching <= 5 ms per pair, associations <= 2 ms. Sections: [Bench] (bench_common.h), the front-end's
+// ([Features] ... [Stereo], frontend.h) and [QuasiImage]. Every bound is printed next to the measured value.
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <iostream>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/program_options.h>
+#include <quasiloc/core/staged_output.h>
+#include <sstream>
+#include <sys/stat.h>
+
+#include "bench_common.h"
+
+namespace quasiloc::bench
+{
+void BenchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    extractors = c.read_string(s, "extractors", extractors);
+    xfeat_model_path = c.read_string(s, "xfeat_model_path", xfeat_model_path);
+    sim_dirs = c.read_string(s, "sim_dirs", sim_dirs);
+    sim_worlds = c.read_string(s, "sim_worlds", sim_worlds);
+    sim_root = c.read_string(s, "sim_root", sim_root);
+    sim_duration_s = c.read_double(s, "sim_duration_s", sim_duration_s);
+    sim_start_offset_s = c.read_double(s, "sim_start_offset_s", sim_start_offset_s);
+    frames_per_sequence = c.read_int(s, "frames_per_sequence", frames_per_sequence);
+    precision_px = c.read_double(s, "precision_px", precision_px);
+    perturb_translation_m = c.read_double(s, "perturb_translation_m", perturb_translation_m);
+    perturb_rotation_deg = c.read_double(s, "perturb_rotation_deg", perturb_rotation_deg);
+    cross_modal_window_px = c.read_double(s, "cross_modal_window_px", cross_modal_window_px);
+    euroc_dir = c.read_string(s, "euroc_dir", euroc_dir);
+    euroc_frames = c.read_int(s, "euroc_frames", euroc_frames);
+    static_inlier_px = c.read_double(s, "static_inlier_px", static_inlier_px);
+    ransac_px = c.read_double(s, "ransac_px", ransac_px);
+    report_path = c.read_string(s, "report_path", report_path);
+}
+
+void BenchOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    c.write(s, "extractors", extractors);
+    c.write(s, "xfeat_model_path", xfeat_model_path);
+    c.write(s, "sim_dirs", sim_dirs);
+    c.write(s, "sim_worlds", sim_worlds);
+    c.write(s, "sim_root", sim_root);
+    c.write(s, "sim_duration_s", sim_duration_s);
+    c.write(s, "sim_start_offset_s", sim_start_offset_s);
+    c.write(s, "frames_per_sequence", frames_per_sequence);
+    c.write(s, "precision_px", precision_px);
+    c.write(s, "perturb_translation_m", perturb_translation_m);
+    c.write(s, "perturb_rotation_deg", perturb_rotation_deg);
+    c.write(s, "cross_modal_window_px", cross_modal_window_px);
+    c.write(s, "euroc_dir", euroc_dir);
+    c.write(s, "euroc_frames", euroc_frames);
+    c.write(s, "static_inlier_px", static_inlier_px);
+    c.write(s, "ransac_px", ransac_px);
+    c.write(s, "report_path", report_path);
+}
+
+void BenchOptions::check(const std::string& input) const
+{
+    core::require(!extractorList().empty(), input + ": [Bench] extractors", "no extractor named");
+    for (const auto& e : extractorList())
+        core::require(e == "orb" || e == "sift" || e == "akaze" || e == "xfeat", input + ": [Bench] extractors",
+                      "'" + e + "' is not one of orb, sift, akaze, xfeat");
+    core::require(sim_duration_s > 0, input + ": [Bench] sim_duration_s", "must be > 0");
+    core::require(frames_per_sequence >= 1, input + ": [Bench] frames_per_sequence", "must be >= 1");
+    core::require(precision_px > 0, input + ": [Bench] precision_px", "must be > 0");
+    core::require(cross_modal_window_px > 0, input + ": [Bench] cross_modal_window_px", "must be > 0");
+    core::require(euroc_frames >= 2, input + ": [Bench] euroc_frames", "must be >= 2");
+    core::require(static_inlier_px > 0 && ransac_px > 0, input + ": [Bench] static_inlier_px/ransac_px", "must be > 0");
+}
+
+std::vector<std::string> BenchOptions::extractorList() const
+{
+    std::vector<std::string> out;
+    std::stringstream ss(extractors);
+    for (std::string e; std::getline(ss, e, ',');)
+    {
+        e.erase(0, e.find_first_not_of(" \t"));
+        e.erase(e.find_last_not_of(" \t") + 1);
+        if (!e.empty()) out.push_back(e);
+    }
+    return out;
+}
+
+void StageTimes::add(const std::string& stage, double ms)
+{
+    auto& s = stats_[stage];
+    s.sum += ms, s.max = std::max(s.max, ms), ++s.n;
+    logger_.registerUserMeasure(stage, ms * 1e-3, true);
+}
+
+frontend::FrontendOptions withExtractor(const frontend::FrontendOptions& base, const std::string& type,
+                                        const BenchOptions& bench)
+{
+    frontend::FrontendOptions o = base;
+    o.features.type = type;
+    if (type == "xfeat" && o.features.xfeat_model_path.empty()) o.features.xfeat_model_path = bench.xfeat_model_path;
+    return o;
+}
+
+void Report::line(const std::string& s)
+{
+    std::cout << s << std::endl;
+    text += s + "\n";
+}
+
+std::string fmt(double v, int decimals)
+{
+    std::ostringstream os;
+    os.setf(std::ios::fixed);
+    os.precision(decimals);
+    os << v;
+    return os.str();
+}
+
+std::string pct(double num, double den) { return den > 0 ? fmt(100.0 * num / den, 1) + " %" : "-"; }
+
+std::string budgetFor(const std::string& stage, double mean_ms)
+{
+    if (stage.find("xfeat") != std::string::npos) return "-";  // budgets are for the classical front-end
+    double bound = -1;
+    if (stage.find("points + lines per image") != std::string::npos) bound = 15;
+    else if (stage.find("match points") != std::string::npos || stage.find("match lines") != std::string::npos) bound = 5;
+    else if (stage.find("associations") != std::string::npos) bound = 2;
+    if (bound < 0) return "-";
+    return "<= " + fmt(bound, 0) + (mean_ms <= bound ? " (met)" : " (MISSED)");
+}
+}  // namespace quasiloc::bench
+
+namespace
+{
+const char* kUsage =
+    "Usage: bench_frontend [config.ini] [--set Section.key=value]... [--print-timing]\n"
+    "Measures the front-end: camera<->quasi matching on simulated sequences (gt and perturbed pose), temporal\n"
+    "and stereo matching on the real EuRoC micro frames, timing per stage against the budgets.\n"
+    "Sections: [Bench], [Features], [PointMatching], [Lines], [LineMatching], [Association], [Stereo], [QuasiImage].\n"
+    "Run from the repository root (relative paths, e.g. the sim world INIs, are relative to it).";
+
+int run(const quasiloc::core::CommandLine& cmd_in)
+{
+    using namespace quasiloc;
+    // The INI file is optional: the first plain argument, if any.
+    core::CommandLine cmd = cmd_in;
+    if (cmd.config_path.empty() && !cmd.flags.empty())
+    {
+        cmd.config_path = cmd.flags.front();
+        cmd.flags.erase(cmd.flags.begin());
+    }
+    for (const auto& f : cmd.flags) throw core::InputError("command line", "unexpected argument '" + f + "'");
+    mrpt::config::CConfigFileMemory cfg;
+    const std::string name = cmd.config_path.empty() ? "command line" : cmd.config_path;
+    if (!cmd.config_path.empty()) cfg = core::loadConfig(cmd);
+    else
+        for (const auto& [key, value] : cmd.overrides)
+        {
+            const auto dot = key.find('.');
+            core::require(dot != std::string::npos && dot > 0, "--set " + key, "expected Section.key=value");
+            cfg.write(key.substr(0, dot), key.substr(dot + 1), value);
+        }
+    bench::BenchOptions bench;
+    core::loadOptionsChecked(bench, cfg, "Bench", name);
+    bench.check(name);
+    frontend::FrontendOptions fe;
+    fe.load(cfg, name);
+    quasi::QuasiOptions qo;
+    core::loadOptionsChecked(qo, cfg, "QuasiImage", name);
+    qo.check(name);
+
+    mrpt::system::CTimeLogger logger(cmd.print_timing, "bench_frontend");
+    bench::Report report;
+    report.line("# bench_frontend");
+    report.line("");
+    bench::runCrossModal(cfg, bench, fe, qo, logger, report);
+    bench::runEuroc(bench, fe, logger, report);
+    if (!bench.report_path.empty())
+    {
+        core::StagedOutputs out;
+        core::writeTextFileAtomically(out.addFile(bench.report_path), report.text);
+        auto sections = fe.sections();
+        sections.push_back({"Bench", &bench});
+        sections.push_back({"QuasiImage", &qo});
+        core::writeEffectiveConfig(out.addFile(bench.report_path + ".ini"), sections, "bench_frontend effective configuration");
+        out.commit();
+        std::cout << "report written to " << bench.report_path << std::endl;
+    }
+    return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) { return quasiloc::core::runProgram(argc, argv, kUsage, run, false); }

@@ -1,0 +1,83 @@
+#pragma once
+// Line segments and their hybrid descriptor (PAPER_NOTES: f_l = normalize([g_l * mean line-branch features;
+// g_p * mean point-branch features]) along the segment).
+//
+//   [Lines]
+//   detector = fld            ; lsd | fld | edlines  (FLD runs with merging off)
+//   min_length_px = 25        ; shorter segments are dropped
+//   max_lines = 150           ; the longest ones are kept
+//   samples_per_line = 16     ; descriptor samples spread evenly between the endpoints
+//   band_width_px = 2.0       ; line branch: perpendicular spacing of the sampling bands
+//   line_branch_weight = 1.0  ; g_l
+//   point_branch_weight = 1.0 ; g_p
+//
+// Line branch (defined here for every front-end; the paper's learned line branch is not available): at every
+// sample, the image gradient is read at 4 perpendicular offsets (-3/2, -1/2, +1/2, +3/2) * band_width_px and
+// projected on the segment's normal n and direction d; per band the positive and negative parts of g.n and
+// g.d are accumulated separately (as in MSLD/LBD): 4 bands x 4 = 16 values. The segment is oriented so that
+// the image is brighter on the left of d (gradient polarity), making the descriptor independent of the
+// endpoints' order. Point branch: the mean of the extractor's dense map (features.h) at the samples.
+// Each branch mean is L2-normalised before weighting, so g_l and g_p set their shares exactly.
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <quasiloc/frontend/features.h>
+#include <string>
+#include <vector>
+
+namespace quasiloc::frontend
+{
+struct LineSegment
+{
+    Eigen::Vector2f p0{0, 0}, p1{0, 0};  ///< endpoints in pixels
+    float length() const { return (p1 - p0).norm(); }
+    Eigen::Vector2f direction() const { return (p1 - p0).normalized(); }
+    Eigen::Vector2f midpoint() const { return 0.5f * (p0 + p1); }
+    /** Homogeneous line l = p0 x p1 scaled so that l . (u, v, 1) is the signed distance in pixels. */
+    Eigen::Vector3f homogeneous() const;
+    /** Distance of a pixel to the infinite line. */
+    float distanceToLine(const Eigen::Vector2f& p) const;
+    /** Distance of a pixel to the segment. */
+    float distanceToSegment(const Eigen::Vector2f& p) const;
+};
+
+struct LineOptions : public mrpt::config::CLoadableOptions
+{
+    std::string detector = "fld";
+    double min_length_px = 25;
+    int max_lines = 150;
+    int samples_per_line = 16;
+    double band_width_px = 2.0;
+    double line_branch_weight = 1.0;
+    double point_branch_weight = 1.0;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void check(const std::string& input) const;
+};
+
+class LineDetector
+{
+   public:
+    explicit LineDetector(const LineOptions& options);
+    ~LineDetector();
+    LineDetector(const LineDetector&) = delete;
+    LineDetector& operator=(const LineDetector&) = delete;
+    /** Segments of an 8-bit grayscale image, length-filtered, at most max_lines (longest first). With a mask,
+     *  segments whose midpoint falls outside it are dropped. */
+    std::vector<LineSegment> detect(const cv::Mat& gray, const cv::Mat& mask = cv::Mat()) const;
+
+   private:
+    struct Impl;
+    LineOptions options_;
+    Impl* impl_;
+};
+
+/** Orients every segment so that the image is brighter on the left of p0 -> p1 (y down: left = (d.y, -d.x))
+ *  and computes the hybrid descriptors: one L2-normalised CV_32F row per segment. `dense` may be empty (then
+ *  the point branch is left out and the descriptor is the line branch alone). */
+cv::Mat describeLines(const cv::Mat& gray, const DenseMap& dense, std::vector<LineSegment>& lines,
+                      const LineOptions& options);
+
+}  // namespace quasiloc::frontend
