@@ -1,0 +1,153 @@
+#pragma once
+// Direct camera-to-map alignment: a term that needs no descriptor to agree across the camera/LiDAR modality
+// gap (issue 7; beyond the paper). Two measures of how well the map, seen at a pose, lines up with the image:
+//
+//  * EDGES (the optimised term). Map edges are the quasi-image's depth discontinuities (near side: the
+//    occluding contour) and reflectivity edges (Canny on the completed reflectivity, e.g. lane markings),
+//    lifted to 3D with the completed depth along the pixel ray. Camera edges are Canny edges of the image;
+//    their truncated Euclidean distance transform DT is the residual field: r_i = DT(pi(T_cam_world P_i)).
+//    Both modalities show object boundaries at the same place even when their intensities disagree, which
+//    is why this crosses the gap where descriptors fail. Minimised by Levenberg-Marquardt (Huber weights) on
+//    an image pyramid, coarse to fine: the coarse levels' distance fields are smooth over tens of pixels,
+//    which gives the basin of attraction; the fine level gives the precision.
+//  * NMI (a check and a polish). Normalised mutual information (Studholme) between the camera intensity at the
+//    projection of map points and their reflectivity (Wolcott & Eustice, IROS 2014): it rewards any
+//    consistent (not necessarily linear) relation between the two. Computed from a joint histogram.
+//
+// The model (map side) is built from one quasi-image rendered at the initial pose; the camera side once per
+// image. Poses: T_world_cam maps camera coordinates to world; updates are right perturbations in the camera
+// frame, delta = [dtheta; dp] (pose_parametrization.h).
+//
+//   [DirectAlignment]
+//   pyramid_levels = 2              ; 0 = full resolution only; level l has 1/2^l of the resolution
+//   camera_blur_sigma_px = 0        ; Gaussian blur before the camera's Canny, at every level (level pixels)
+//   canny_high_percentile = 85      ; camera Canny high threshold: this percentile of the gradient magnitude
+//   canny_low_ratio = 0.4           ; low threshold = ratio * high
+//   orientation_bins = 6            ; edge orientation classes (1: none): a map edge is attracted only by camera
+//                                   ;   edges within 180/bins deg of its own orientation (directional chamfer)
+//   truncation_px = 12              ; DT truncation at every level (level pixels): farther points do not pull
+//   huber_px = 2                    ; Huber threshold on DT residuals (level pixels)
+//   iterations_per_level = 12       ; LM iterations per pyramid level
+//   max_edge_points = 3000          ; map edge points kept (spread over a grid)
+//   model_block_px = 4              ; map edges are found on planes reduced by this (nearest surface per block)
+//   model_close_px = 2              ; closing (in blocks) of the inverse depth before depth edges: fills holes
+//   depth_edge_rel = 0.08           ; depth edge: a 4-neighbour farther by more than rel * depth
+//   refl_canny_high = 0.12          ; reflectivity edges: Canny high threshold on reflectivity (map units, [0,1])
+//   use_reflectivity_edges = true
+//   nmi_bins = 24                   ; joint histogram bins per axis
+//   max_nmi_points = 6000           ; map points used by NMI
+//   nmi_polish = false              ; finish with a pattern search maximising NMI
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <opencv2/core.hpp>
+#include <quasiloc/core/camera_model.h>
+#include <string>
+#include <vector>
+
+namespace quasiloc::estimation
+{
+struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
+{
+    int pyramid_levels = 2;
+    double camera_blur_sigma_px = 0;
+    double canny_high_percentile = 85;
+    double canny_low_ratio = 0.4;
+    int orientation_bins = 6;
+    double truncation_px = 12;
+    double huber_px = 2;
+    int iterations_per_level = 12;
+    int max_edge_points = 3000;
+    int model_block_px = 4;
+    int model_close_px = 2;
+    double depth_edge_rel = 0.08;
+    double refl_canny_high = 0.12;
+    bool use_reflectivity_edges = true;
+    int nmi_bins = 24;
+    int max_nmi_points = 6000;
+    bool nmi_polish = false;
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    /** InputError naming `input` and the key for a value that cannot be used. */
+    void check(const std::string& input) const;
+};
+
+/** The map side: 3D points (world frame) on map edges, and points with reflectivity for NMI. */
+struct DirectAlignmentModel
+{
+    std::vector<Eigen::Vector3d> edge_points_world;
+    std::vector<uint8_t> edge_bin;  ///< orientation class of each edge point (its image normal at the model pose)
+    std::vector<Eigen::Vector3d> nmi_points_world;
+    std::vector<float> nmi_reflectivity;  ///< [0, 1], one per nmi point
+};
+
+/** Builds the model from a quasi-image's completed depth, reflectivity, validity and sparse masks, rendered
+ *  with `camera` at T_world_cam (any renderer: only the planes are read). Edge points are lifted along the
+ *  pixel ray with the completed depth; NMI points are sparse pixels (exact map points). Deterministic. */
+DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& options, const cv::Mat& depth,
+                                               const cv::Mat& reflectivity, const cv::Mat& valid,
+                                               const cv::Mat& sparse, const core::CameraModel& camera,
+                                               const Eigen::Isometry3d& T_world_cam);
+
+/** One pyramid level of the camera side. */
+struct CameraEdgeLevel
+{
+    double scale = 1;  ///< level pixel = (full pixel + 0.5) * scale - 0.5
+    /** Per orientation class: CV_32F truncated distance to the nearest Canny edge of that class (level pixels),
+     *  and its derivatives. A camera edge belongs to the two classes nearest to its orientation. */
+    std::vector<cv::Mat> distance, grad_x, grad_y;
+    cv::Mat edges;     ///< CV_8U Canny edges (255)
+};
+
+/** The camera side, computed once per image. */
+struct CameraEdgeField
+{
+    std::vector<CameraEdgeLevel> levels;  ///< [0] = full resolution
+    cv::Mat gray;                         ///< the image, lightly smoothed (NMI samples it)
+};
+
+/** InputError for an empty or non-8-bit image (1 or 3 channels accepted; colour is converted to gray). */
+CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& options, const cv::Mat& image);
+
+struct DirectAlignmentStats
+{
+    int iterations = 0;
+    int edge_points = 0;
+    double initial_edge_cost = 0, final_edge_cost = 0;  ///< mean Huber cost at the full-resolution level
+    double final_inlier_ratio = 0;  ///< share of edge points with DT < huber_px at full resolution
+    double initial_nmi = 0, final_nmi = 0;
+    double ms = 0;
+};
+
+/** Mean Huber cost of the edge residuals at pyramid level `level` (points outside the image or beyond the
+ *  truncation count as truncation_px), and the share within huber_px. */
+double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& field, int level,
+                const core::CameraModel& camera, const DirectAlignmentModel& model,
+                const Eigen::Isometry3d& T_world_cam, double* inlier_ratio = nullptr);
+
+/** NMI = (H(A) + H(B)) / H(A, B) in [1, 2] between the camera intensity at the projections of the model's
+ *  NMI points and their reflectivity; 1 when fewer than 50 points project into the image. */
+double normalizedMutualInformation(const DirectAlignmentOptions& options, const CameraEdgeField& field,
+                                   const core::CameraModel& camera, const DirectAlignmentModel& model,
+                                   const Eigen::Isometry3d& T_world_cam);
+
+/** A Gaussian prior on the pose (e.g. the IMU prediction with its uncertainty), added to the mean edge cost as
+ *  weight * 0.5 |(T (-) T_prior) / sigma|^2: it keeps the coarse levels from wandering to clutter far outside
+ *  the prediction's uncertainty. */
+struct DirectPrior
+{
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+    double sigma_m = 1, sigma_rad = 0.1;
+    double weight = 1;
+};
+
+/** Refines T_world_cam (in: initial guess, out: estimate). Returns false (pose unchanged) when the model
+ *  has fewer than 20 edge points or the normal equations are singular at every level. */
+bool alignDirect(const DirectAlignmentOptions& options, const CameraEdgeField& field, const core::CameraModel& camera,
+                 const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam,
+                 DirectAlignmentStats* stats = nullptr, const DirectPrior* prior = nullptr);
+
+
+}  // namespace quasiloc::estimation

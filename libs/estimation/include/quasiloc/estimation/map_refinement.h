@@ -1,0 +1,122 @@
+#pragma once
+// Refining a camera pose against the LiDAR map from a predicted pose (issue 7): the step that tracking runs
+// on keyframes and that relocalization runs on its hypotheses. Four methods, so that they can be compared:
+//
+//  features  render Q at the prediction; match camera keypoints to Q's over the whole image (mutual NN +
+//            ratio); lift Q's keypoints through provenance; robust PnP (absolute_pose.h).
+//  guided    the same, but each camera keypoint looks for its counterpart only within a window around its
+//            own position (Q is rendered at the prediction, so the counterpart lies within the prediction's
+//            reprojection uncertainty: radius = window_sigmas * f * (sigma_rot + sigma_t / median depth));
+//            it keeps up to `guided_candidates` candidates (its association distribution) and no ratio test:
+//            PnP's consensus picks among them.
+//  direct    direct_alignment.h: map edges onto camera edges (distance transform), coarse to fine.
+//  combined  direct, then Q re-rendered at the direct estimate and guided matching with the (now small)
+//            window of the direct result; PnP's pose is kept if it has enough inliers and agrees with the
+//            direct one (within agree_m / agree_deg), else the direct pose stands.
+//
+//   [MapRefinement]
+//   window_sigmas = 2.0        ; guided window radius in sigmas of the predicted reprojection
+//   min_window_px = 8
+//   max_window_px = 160
+//   guided_candidates = 3      ; K candidates kept per camera keypoint
+//   combined_sigma_m = 0.05    ; the direct estimate's assumed uncertainty (for the combined window)
+//   combined_sigma_deg = 0.3
+//   min_inliers = 15           ; fewer PnP inliers: the feature pose is not trusted
+//   agree_m = 0.3              ; combined: PnP pose must lie this close to the direct pose ...
+//   agree_deg = 2.0            ; ... and within this rotation
+//   gate_sigmas = 3.0          ; features/guided: a PnP pose farther than this many sigmas of the prediction is
+//                              ;   rejected (the prediction is kept)
+//   direct_prior_weight = 0.2  ; direct/combined: weight of the prediction prior (sigma_m, sigma_rad) in the edge
+//                              ;   cost (0: no prior)
+//   lift_radius_px = 2         ; provenance search radius when lifting a Q keypoint
+//   pnp_max_error_px = 3       ; PnP inlier threshold
+#include <Eigen/Geometry>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <opencv2/core.hpp>
+#include <quasiloc/core/camera_model.h>
+#include <quasiloc/estimation/direct_alignment.h>
+#include <quasiloc/frontend/frontend.h>
+#include <quasiloc/quasi/quasi_renderer.h>
+#include <string>
+
+namespace quasiloc::estimation
+{
+enum class RefinementMethod
+{
+    Features,
+    Guided,
+    Direct,
+    Combined
+};
+std::string toString(RefinementMethod m);
+RefinementMethod refinementMethodFromString(const std::string& name, const std::string& input);
+
+struct MapRefinementOptions : public mrpt::config::CLoadableOptions
+{
+    double window_sigmas = 2.0;
+    double min_window_px = 8, max_window_px = 160;
+    int guided_candidates = 3;
+    double combined_sigma_m = 0.05, combined_sigma_deg = 0.3;
+    int min_inliers = 15;
+    double agree_m = 0.3, agree_deg = 2.0;
+    double gate_sigmas = 3.0;
+    double direct_prior_weight = 0.2;
+    double lift_radius_px = 2;
+    double pnp_max_error_px = 3;
+    DirectAlignmentOptions direct;  ///< section [DirectAlignment]
+
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void check(const std::string& input) const;
+};
+
+struct MapRefinementResult
+{
+    bool success = false;  ///< the method produced a pose (features: PnP with >= min_inliers inliers)
+    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
+    int matches = 0;      ///< 2D-3D correspondences given to PnP (guided: all candidates)
+    std::vector<Eigen::Vector2d> points2d;  ///< those correspondences (camera pixel, lifted map point), for
+    std::vector<Eigen::Vector3d> points3d;  ///<   diagnostics (e.g. counting correct ones at a known pose)
+    int inliers = 0;
+    double window_px = 0;
+    DirectAlignmentStats direct;
+    double ms_render = 0, ms_extract = 0, ms_match = 0, ms_pnp = 0, ms_direct = 0, ms_total = 0;
+};
+
+/** Holds the per-image camera side (features, edge field) so that several methods and hypotheses can be tried
+ *  on one image. Not thread-safe (the renderer's buffers). */
+class MapRefiner
+{
+   public:
+    /** `renderer` and `frontend` must outlive the refiner. InputError for bad options. */
+    MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer& renderer, frontend::Frontend& frontend);
+
+    /** The camera image (8-bit gray or BGR) and its camera model: extracts features and the edge field once. */
+    void setImage(const cv::Mat& image, const core::CameraModel& camera);
+    /** Refines T_world_cam_pred with `method`; sigma_*: the prediction's uncertainty (guided window). */
+    MapRefinementResult refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
+                               double sigma_rad);
+
+    double lastImageMs() const { return image_ms_; }
+    const frontend::FrameFeatures& cameraFeatures() const { return camera_features_; }
+
+   private:
+    /** Render at the prediction, extract on Q, match (guided: within the window of sigma_m / sigma_rad), lift,
+     *  PnP. */
+    MapRefinementResult featurePose(const Eigen::Isometry3d& T_world_cam_pred, bool guided, double sigma_m,
+                                    double sigma_rad);
+    double windowFor(double sigma_m, double sigma_rad, double median_depth_m) const;
+
+    MapRefinementOptions options_;
+    quasi::QuasiRenderer& renderer_;
+    frontend::Frontend& frontend_;
+    core::CameraModel camera_;
+    cv::Mat gray_;
+    frontend::FrameFeatures camera_features_;
+    CameraEdgeField edge_field_;
+    quasi::QuasiImage q_;
+    double image_ms_ = 0;
+};
+
+}  // namespace quasiloc::estimation

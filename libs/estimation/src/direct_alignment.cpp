@@ -1,0 +1,250 @@
+// Direct alignment: Levenberg-Marquardt on the distance-transform residuals of map edges, coarse to fine,
+// and NMI between camera intensity and map reflectivity.
+#include <mrpt/system/CTicTac.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <quasiloc/estimation/direct_alignment.h>
+#include <quasiloc/estimation/pose_parametrization.h>
+
+namespace quasiloc::estimation
+{
+namespace
+{
+/** Bilinear sample of a CV_32F image at (x, y); the caller guarantees 0 <= x < cols - 1, 0 <= y < rows - 1. */
+inline float bilinear(const cv::Mat& m, float x, float y)
+{
+    const int x0 = int(x), y0 = int(y);
+    const float ax = x - float(x0), ay = y - float(y0);
+    const float* r0 = m.ptr<float>(y0) + x0;
+    const float* r1 = m.ptr<float>(y0 + 1) + x0;
+    return (1 - ay) * ((1 - ax) * r0[0] + ax * r0[1]) + ay * ((1 - ax) * r1[0] + ax * r1[1]);
+}
+
+inline bool insideForBilinear(const cv::Mat& m, double x, double y)
+{
+    return x >= 0 && y >= 0 && x < m.cols - 1 && y < m.rows - 1;
+}
+
+inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
+inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
+
+/** Projection of a world point into level `L` of the field: false when behind the camera or outside. */
+inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLevel& L, const Eigen::Isometry3d& T_cam_world,
+                           const Eigen::Vector3d& p_world, Eigen::Vector3d& p_cam, Eigen::Vector2d& u_level,
+                           Eigen::Matrix<double, 2, 3>* J_level)
+{
+    p_cam = T_cam_world * p_world;
+    Eigen::Vector2d u;
+    if (!camera.project(p_cam, u, J_level, 1e-3)) return false;
+    u_level = (u.array() + 0.5) * L.scale - 0.5;
+    if (J_level) *J_level *= L.scale;
+    return insideForBilinear(L.edges, u_level.x(), u_level.y());
+}
+
+double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+                 const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
+{
+    const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
+    double cost = 0;
+    size_t inliers = 0;
+    const double trunc_cost = huberCost(o.truncation_px, o.huber_px);
+    for (size_t i = 0; i < model.edge_points_world.size(); ++i)
+    {
+        Eigen::Vector3d p_cam;
+        Eigen::Vector2d u;
+        if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, nullptr))
+        {
+            cost += trunc_cost;
+            continue;
+        }
+        const double r = bilinear(L.distance[model.edge_bin[i]], float(u.x()), float(u.y()));
+        cost += huberCost(r, o.huber_px);
+        inliers += r < o.huber_px;
+    }
+    const size_t n = std::max<size_t>(1, model.edge_points_world.size());
+    if (inlier_ratio) *inlier_ratio = double(inliers) / double(n);
+    return cost / double(n);
+}
+
+/** Gauss-Newton normal equations of the Huber-weighted edge residuals at one level. Points at the
+ *  truncation (flat field) or outside the image carry no gradient and are left out. */
+void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+                     const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, Matrix6d& H, Vector6d& b)
+{
+    const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
+    H.setZero();
+    b.setZero();
+    const double flat = o.truncation_px - 1e-3;
+    for (size_t i = 0; i < model.edge_points_world.size(); ++i)
+    {
+        Eigen::Vector3d p_cam;
+        Eigen::Vector2d u;
+        Eigen::Matrix<double, 2, 3> J_u_p;
+        if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, &J_u_p)) continue;
+        const float x = float(u.x()), y = float(u.y());
+        const size_t bin = model.edge_bin[i];
+        const double r = bilinear(L.distance[bin], x, y);
+        if (r >= flat) continue;
+        const Eigen::RowVector2d g(bilinear(L.grad_x[bin], x, y), bilinear(L.grad_y[bin], x, y));
+        // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
+        const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
+        const double w = huberWeight(r, o.huber_px);
+        H.noalias() += w * J.transpose() * J;
+        b.noalias() += w * r * J.transpose();
+    }
+    const double n = double(std::max<size_t>(1, model.edge_points_world.size()));
+    H /= n, b /= n;  // levelCost is a mean
+}
+
+/** The prior's cost weight * 0.5 |delta / sigma|^2 with delta = T (-) T_prior, and its Gauss-Newton terms
+ *  (d delta / d perturbation ~ I near the prior). */
+double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d* H, Vector6d* b)
+{
+    if (!prior) return 0;
+    const Vector6d d = boxMinus(T, prior->T_world_cam);
+    Vector6d info;
+    info << Eigen::Vector3d::Constant(1 / (prior->sigma_rad * prior->sigma_rad)),
+        Eigen::Vector3d::Constant(1 / (prior->sigma_m * prior->sigma_m));
+    info *= prior->weight;
+    if (H) H->diagonal() += info;
+    if (b) *b += info.cwiseProduct(d);
+    return 0.5 * d.dot(info.cwiseProduct(d));
+}
+
+/** Levenberg-Marquardt at one level. Returns the iterations taken. */
+int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+               const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step)
+{
+    double cost = levelCost(o, L, camera, model, T_world_cam, nullptr) + priorCost(prior, T_world_cam, nullptr, nullptr);
+    double lambda = 1e-3;
+    int it = 0;
+    for (; it < o.iterations_per_level; ++it)
+    {
+        Matrix6d H;
+        Vector6d b;
+        normalEquations(o, L, camera, model, T_world_cam, H, b);
+        priorCost(prior, T_world_cam, &H, &b);
+        if (H.trace() <= 0) break;
+        bool improved = false;
+        for (int tries = 0; tries < 6 && !improved; ++tries)
+        {
+            Matrix6d A = H;
+            A.diagonal() += lambda * H.diagonal() + Vector6d::Constant(1e-9 * H.trace());
+            const Eigen::LDLT<Matrix6d> ldlt(A);
+            if (ldlt.info() != Eigen::Success) break;
+            const Vector6d delta = -ldlt.solve(b);
+            const Eigen::Isometry3d T_new = boxPlus(T_world_cam, delta);
+            const double c = levelCost(o, L, camera, model, T_new, nullptr) + priorCost(prior, T_new, nullptr, nullptr);
+            if (c < cost)
+            {
+                T_world_cam = T_new;
+                const bool converged = cost - c < 1e-6 * cost || delta.norm() < 1e-7;
+                cost = c;
+                lambda = std::max(1e-7, lambda / 3);
+                improved = any_step = true;
+                if (converged) return it + 1;
+            }
+            else
+                lambda *= 4;
+        }
+        if (!improved) break;
+    }
+    return it;
+}
+
+/** Pattern search maximising NMI: coordinate steps in the 6 tangent directions, halved when none helps. */
+void polishNmi(const DirectAlignmentOptions& o, const CameraEdgeField& field, const core::CameraModel& camera,
+               const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam)
+{
+    double best = normalizedMutualInformation(o, field, camera, model, T_world_cam);
+    double rot_step = 0.2 * M_PI / 180.0, trans_step = 0.04;
+    for (int round = 0; round < 5; ++round, rot_step /= 2, trans_step /= 2)
+        for (bool moved = true; moved;)
+        {
+            moved = false;
+            for (int k = 0; k < 6; ++k)
+                for (double sign : {1.0, -1.0})
+                {
+                    Vector6d d = Vector6d::Zero();
+                    d[k] = sign * (k < 3 ? rot_step : trans_step);
+                    const Eigen::Isometry3d T = boxPlus(T_world_cam, d);
+                    const double v = normalizedMutualInformation(o, field, camera, model, T);
+                    if (v > best + 1e-6) best = v, T_world_cam = T, moved = true;
+                }
+        }
+}
+}  // namespace
+
+double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& field, int level,
+                const core::CameraModel& camera, const DirectAlignmentModel& model,
+                const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
+{
+    return levelCost(options, field.levels.at(size_t(level)), camera, model, T_world_cam, inlier_ratio);
+}
+
+double normalizedMutualInformation(const DirectAlignmentOptions& o, const CameraEdgeField& field,
+                                   const core::CameraModel& camera, const DirectAlignmentModel& model,
+                                   const Eigen::Isometry3d& T_world_cam)
+{
+    const int B = o.nmi_bins;
+    std::vector<double> joint(size_t(B) * size_t(B), 0.0);
+    const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
+    size_t n = 0;
+    for (size_t i = 0; i < model.nmi_points_world.size(); ++i)
+    {
+        const Eigen::Vector3d p_cam = T_cam_world * model.nmi_points_world[i];
+        Eigen::Vector2d u;
+        if (!camera.project(p_cam, u, nullptr, 1e-3)) continue;
+        if (u.x() < 0 || u.y() < 0 || u.x() > field.gray.cols - 1 || u.y() > field.gray.rows - 1) continue;
+        const int a = std::min(B - 1, int(field.gray.at<uint8_t>(int(u.y() + 0.5), int(u.x() + 0.5)) * B / 256));
+        const int c = std::min(B - 1, int(model.nmi_reflectivity[i] * float(B)));
+        joint[size_t(a) * size_t(B) + size_t(c)] += 1;
+        ++n;
+    }
+    if (n < 50) return 1.0;
+    std::vector<double> pa(size_t(B), 0.0), pb(size_t(B), 0.0);
+    double h_joint = 0;
+    for (int a = 0; a < B; ++a)
+        for (int c = 0; c < B; ++c)
+        {
+            const double p = joint[size_t(a) * size_t(B) + size_t(c)] / double(n);
+            pa[size_t(a)] += p, pb[size_t(c)] += p;
+            if (p > 0) h_joint -= p * std::log(p);
+        }
+    double h_a = 0, h_b = 0;
+    for (int k = 0; k < B; ++k)
+    {
+        if (pa[size_t(k)] > 0) h_a -= pa[size_t(k)] * std::log(pa[size_t(k)]);
+        if (pb[size_t(k)] > 0) h_b -= pb[size_t(k)] * std::log(pb[size_t(k)]);
+    }
+    return h_joint > 0 ? (h_a + h_b) / h_joint : 1.0;
+}
+
+bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, const core::CameraModel& camera,
+                 const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam, DirectAlignmentStats* stats,
+                 const DirectPrior* prior)
+{
+    mrpt::system::CTicTac tic;
+    DirectAlignmentStats st;
+    st.edge_points = int(model.edge_points_world.size());
+    if (field.levels.empty() || model.edge_points_world.size() < 20)
+    {
+        if (stats) *stats = st;
+        return false;
+    }
+    st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
+    if (!model.nmi_points_world.empty()) st.initial_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
+    bool any_step = false;
+    for (int l = int(field.levels.size()) - 1; l >= 0; --l)
+        st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step);
+    if (o.nmi_polish && !model.nmi_points_world.empty()) polishNmi(o, field, camera, model, T_world_cam);
+    st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
+    if (!model.nmi_points_world.empty()) st.final_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
+    st.ms = tic.Tac() * 1e3;
+    if (stats) *stats = st;
+    return any_step;
+}
+
+}  // namespace quasiloc::estimation

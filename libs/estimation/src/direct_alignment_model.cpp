@@ -1,0 +1,281 @@
+// The two sides of the direct alignment: map edges and NMI samples from a quasi-image, and the camera's
+// distance-transform pyramid.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/imgproc.hpp>
+#include <quasiloc/core/error.h>
+#include <quasiloc/estimation/direct_alignment.h>
+
+namespace quasiloc::estimation
+{
+namespace
+{
+/** Picks at most `budget` of `pixels` spread over cells of `cell_px`: round-robin over the cells (the k-th
+ *  pixel of every cell before the (k+1)-th of any), so dense edge clusters do not crowd out sparse ones.
+ *  Deterministic (raster order within a cell). */
+std::vector<cv::Point> spreadPixels(const std::vector<cv::Point>& pixels, cv::Size size, int cell_px, size_t budget)
+{
+    if (pixels.size() <= budget) return pixels;
+    const int cols = (size.width + cell_px - 1) / cell_px, rows = (size.height + cell_px - 1) / cell_px;
+    std::vector<std::vector<cv::Point>> cells(size_t(cols) * size_t(rows));
+    for (const cv::Point& p : pixels) cells[size_t(p.y / cell_px) * size_t(cols) + size_t(p.x / cell_px)].push_back(p);
+    std::vector<cv::Point> out;
+    out.reserve(budget);
+    for (size_t k = 0; out.size() < budget; ++k)
+        for (const auto& c : cells)
+            if (k < c.size() && out.size() < budget) out.push_back(c[k]);
+    return out;
+}
+
+/** Pixels on the near side of depth discontinuities. Inverse depth w = 1/z is affine in the pixel coordinates
+ *  on any plane, so a slanted surface (a road seen at a grazing angle changes depth by several percent per
+ *  pixel) has constant steps of w, while a discontinuity is a step far larger than the steps beside it. A pair
+ *  (p, q) of neighbours along x or y is an edge when q is farther by more than rel (relative in w) and the step
+ *  exceeds `slope_factor` times the larger of the steps just before p and just after q (when those exist). */
+void depthEdgePixels(const cv::Mat& depth, const cv::Mat& valid, double rel, cv::Mat& mark)
+{
+    constexpr double slope_factor = 3.0;
+    const int W = depth.cols, H = depth.rows;
+    const auto w = [&](int x, int y) -> double {
+        if (x < 0 || y < 0 || x >= W || y >= H || !valid.at<uint8_t>(y, x) || !(depth.at<float>(y, x) > 0)) return NAN;
+        return 1.0 / double(depth.at<float>(y, x));
+    };
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (const auto& [dx, dy] : {std::pair{1, 0}, {0, 1}})
+            {
+                const double a = w(x, y), b = w(x + dx, y + dy);
+                if (std::isnan(a) || std::isnan(b)) continue;
+                const double step = std::abs(a - b);
+                if (step <= rel * std::max(a, b)) continue;
+                const double before = std::abs(w(x - dx, y - dy) - a), after = std::abs(w(x + 2 * dx, y + 2 * dy) - b);
+                double slope = 0;
+                if (!std::isnan(before)) slope = std::max(slope, before);
+                if (!std::isnan(after)) slope = std::max(slope, after);
+                if (step <= slope_factor * slope) continue;
+                if (a > b)
+                    mark.at<uint8_t>(y, x) = 255;  // the near side (larger inverse depth)
+                else
+                    mark.at<uint8_t>(y + dy, x + dx) = 255;
+            }
+}
+
+/** The planes reduced by `block` x `block` pixels to the nearest surface: depth = the minimum valid depth of
+ *  the block (far points seen through the gaps of a sparse near surface do not count), reflectivity = the
+ *  mean over the block's pixels on that surface (within rel of the minimum). On a sparse map (a 64-beam scan
+ *  seen from a camera) the full-resolution planes are speckled with holes, and every hole would make depth
+ *  and reflectivity "edges"; blocks are dense. */
+void reduceToBlocks(const cv::Mat& depth, const cv::Mat& refl, const cv::Mat& valid, int block, double rel, cv::Mat& d_out,
+                    cv::Mat& r_out, cv::Mat& v_out)
+{
+    const int W = depth.cols / block, H = depth.rows / block;
+    d_out = cv::Mat::zeros(H, W, CV_32FC1);
+    r_out = cv::Mat::zeros(H, W, CV_32FC1);
+    v_out = cv::Mat::zeros(H, W, CV_8UC1);
+    for (int by = 0; by < H; ++by)
+        for (int bx = 0; bx < W; ++bx)
+        {
+            float dmin = std::numeric_limits<float>::infinity();
+            for (int y = by * block; y < (by + 1) * block; ++y)
+                for (int x = bx * block; x < (bx + 1) * block; ++x)
+                    if (valid.at<uint8_t>(y, x) && depth.at<float>(y, x) > 0) dmin = std::min(dmin, depth.at<float>(y, x));
+            if (!std::isfinite(dmin)) continue;
+            const float lim = dmin * float(1.0 + rel);
+            double sum = 0;
+            int n = 0;
+            for (int y = by * block; y < (by + 1) * block; ++y)
+                for (int x = bx * block; x < (bx + 1) * block; ++x)
+                    if (valid.at<uint8_t>(y, x) && depth.at<float>(y, x) > 0 && depth.at<float>(y, x) <= lim)
+                        sum += refl.at<float>(y, x), ++n;
+            d_out.at<float>(by, bx) = dmin;
+            r_out.at<float>(by, bx) = float(sum / n);
+            v_out.at<uint8_t>(by, bx) = 255;
+        }
+}
+
+/** Orientation class of a normal direction (gx, gy): angle mod 180 deg in `bins` classes. */
+inline int orientationBin(float gx, float gy, int bins, float* frac = nullptr)
+{
+    double a = std::atan2(double(gy), double(gx));
+    if (a < 0) a += M_PI;
+    const double t = a / (M_PI / bins);
+    const int b = int(std::lround(t)) % bins;
+    if (frac) *frac = float(t - std::round(t));
+    return b;
+}
+
+Eigen::Vector3d liftPixel(const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam, const cv::Point& p,
+                          float depth)
+{
+    return T_world_cam * (double(depth) * camera.unproject(Eigen::Vector2d(p.x, p.y)));
+}
+
+/** Canny thresholds from the gradient-magnitude distribution of the image: the same share of pixels is
+ *  "strong" whatever the exposure or contrast. */
+void cannyByPercentile(const cv::Mat& gray, double high_percentile, double low_ratio, cv::Mat& edges)
+{
+    cv::Mat gx, gy, mag;
+    cv::Sobel(gray, gx, CV_32F, 1, 0, 3);
+    cv::Sobel(gray, gy, CV_32F, 0, 1, 3);
+    cv::magnitude(gx, gy, mag);
+    std::vector<float> values;
+    values.reserve(mag.total());
+    for (int y = 0; y < mag.rows; ++y)
+    {
+        const float* m = mag.ptr<float>(y);
+        for (int x = 0; x < mag.cols; ++x)
+            if (m[x] > 0) values.push_back(m[x]);
+    }
+    double high = 50;
+    if (!values.empty())
+    {
+        const size_t k = std::min(values.size() - 1, size_t(values.size() * high_percentile / 100.0));
+        std::nth_element(values.begin(), values.begin() + long(k), values.end());
+        high = std::max(1.0, double(values[k]));
+    }
+    cv::Canny(gray, edges, low_ratio * high, high, 3, true);
+}
+}  // namespace
+
+DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, const cv::Mat& depth,
+                                               const cv::Mat& reflectivity, const cv::Mat& valid,
+                                               const cv::Mat& sparse, const core::CameraModel& camera,
+                                               const Eigen::Isometry3d& T_world_cam)
+{
+    const std::string in = "direct alignment model";
+    core::require(!depth.empty() && depth.type() == CV_32FC1, in, "depth must be a non-empty CV_32FC1 image");
+    core::require(reflectivity.size() == depth.size() && reflectivity.type() == CV_32FC1, in,
+                  "reflectivity must be CV_32FC1 of the depth's size");
+    core::require(valid.size() == depth.size() && valid.type() == CV_8UC1, in, "valid must be CV_8UC1 of the depth's size");
+    core::require(sparse.size() == depth.size() && sparse.type() == CV_8UC1, in,
+                  "sparse must be CV_8UC1 of the depth's size");
+    core::require(camera.width == depth.cols && camera.height == depth.rows, in,
+                  "the camera model's size differs from the planes'");
+
+    // Edges are found on block-reduced planes (see reduceToBlocks) and lifted from the block centre.
+    const int B = o.model_block_px;
+    cv::Mat d_b, r_b, v_b;
+    reduceToBlocks(depth, reflectivity, valid, B, o.depth_edge_rel, d_b, r_b, v_b);
+    // Closing of the inverse depth fills the holes of a sparse near surface through which farther points show
+    // (each such hole would otherwise be ringed by false depth edges) and keeps real silhouettes in place.
+    cv::Mat inv_depth = cv::Mat::zeros(d_b.size(), CV_32FC1), closed_depth, closed_valid;
+    for (int y = 0; y < d_b.rows; ++y)
+        for (int x = 0; x < d_b.cols; ++x)
+            if (v_b.at<uint8_t>(y, x)) inv_depth.at<float>(y, x) = 1.0f / d_b.at<float>(y, x);
+    if (o.model_close_px > 0)
+        cv::morphologyEx(inv_depth, inv_depth, cv::MORPH_CLOSE,
+                         cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * o.model_close_px + 1, 2 * o.model_close_px + 1)));
+    closed_valid = inv_depth > 0;
+    cv::divide(1.0, inv_depth, closed_depth);
+    closed_depth.setTo(0, closed_valid == 0);
+    d_b = closed_depth;
+    cv::Mat mark = cv::Mat::zeros(d_b.size(), CV_8UC1);
+    depthEdgePixels(d_b, closed_valid, o.depth_edge_rel, mark);
+    const cv::Mat depth_mark = mark.clone();
+    // Normals: of the inverse depth at depth edges, of the reflectivity at reflectivity edges.
+    cv::Mat n_depth_x, n_depth_y, n_refl_x, n_refl_y;
+    cv::Sobel(inv_depth, n_depth_x, CV_32F, 1, 0, 3);
+    cv::Sobel(inv_depth, n_depth_y, CV_32F, 0, 1, 3);
+    cv::Sobel(r_b, n_refl_x, CV_32F, 1, 0, 3);
+    cv::Sobel(r_b, n_refl_y, CV_32F, 0, 1, 3);
+    if (o.use_reflectivity_edges)
+    {
+        // Canny on the map reflectivity where the map has values; the border of the valid region (e.g. the
+        // LiDAR's upper field-of-view limit) is not an edge of the scene, so it is eroded away.
+        cv::Mat refl8, inner, refl_edges;
+        r_b.convertTo(refl8, CV_8U, 255.0);
+        cv::GaussianBlur(refl8, refl8, cv::Size(3, 3), 0);
+        cv::erode(v_b, inner, cv::Mat(), cv::Point(-1, -1), 2);
+        const double high = o.refl_canny_high * 255.0 * 4.0;  // Sobel 3x3 gain is 4 for a unit step
+        cv::Canny(refl8, refl_edges, 0.5 * high, high, 3, true);
+        refl_edges.setTo(0, inner == 0);
+        mark |= refl_edges;
+    }
+    std::vector<cv::Point> edge_blocks;
+    cv::findNonZero(mark, edge_blocks);
+    edge_blocks = spreadPixels(edge_blocks, d_b.size(), std::max(1, 16 / B), size_t(o.max_edge_points));
+
+    DirectAlignmentModel model;
+    model.edge_points_world.reserve(edge_blocks.size());
+    for (const cv::Point& b : edge_blocks)
+    {
+        const bool is_depth = depth_mark.at<uint8_t>(b) != 0;
+        model.edge_bin.push_back(uint8_t(orientationBin(is_depth ? n_depth_x.at<float>(b) : n_refl_x.at<float>(b),
+                                                        is_depth ? n_depth_y.at<float>(b) : n_refl_y.at<float>(b),
+                                                        o.orientation_bins)));
+        const Eigen::Vector2d u((b.x + 0.5) * B - 0.5, (b.y + 0.5) * B - 0.5);  // block centre, full pixels
+        model.edge_points_world.push_back(T_world_cam * (double(d_b.at<float>(b)) * camera.unproject(u)));
+    }
+
+    std::vector<cv::Point> nmi_pixels;
+    cv::findNonZero(sparse, nmi_pixels);
+    nmi_pixels = spreadPixels(nmi_pixels, depth.size(), 16, size_t(o.max_nmi_points));
+    for (const cv::Point& p : nmi_pixels)
+    {
+        if (!(depth.at<float>(p) > 0)) continue;
+        model.nmi_points_world.push_back(liftPixel(camera, T_world_cam, p, depth.at<float>(p)));
+        model.nmi_reflectivity.push_back(std::clamp(reflectivity.at<float>(p), 0.0f, 1.0f));
+    }
+    return model;
+}
+
+CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& o, const cv::Mat& image)
+{
+    core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
+                  "camera image", "must be a non-empty 8-bit gray or BGR image");
+    cv::Mat gray;
+    if (image.channels() == 3)
+        cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+    else
+        gray = image.clone();
+    CameraEdgeField field;
+    cv::GaussianBlur(gray, field.gray, cv::Size(3, 3), 0);
+    cv::Mat level_img = field.gray;
+    for (int l = 0; l <= o.pyramid_levels; ++l)
+    {
+        if (l > 0)
+        {
+            if (level_img.cols < 32 || level_img.rows < 16) break;  // no smaller levels than this
+            cv::pyrDown(level_img, level_img);
+        }
+        CameraEdgeLevel L;
+        L.scale = 1.0 / double(1 << l);
+        // Texture (carpet, posters, foliage) makes fine edges everywhere that the LiDAR map does not have; a blur
+        // keeps the object boundaries both modalities share.
+        cv::Mat edge_img = level_img;
+        if (o.camera_blur_sigma_px > 0) cv::GaussianBlur(level_img, edge_img, cv::Size(0, 0), o.camera_blur_sigma_px);
+        cannyByPercentile(edge_img, o.canny_high_percentile, o.canny_low_ratio, L.edges);
+        // Each edge pixel joins the two orientation classes nearest to its normal's direction.
+        const int B = o.orientation_bins;
+        std::vector<cv::Mat> not_in_class(static_cast<size_t>(B));
+        for (auto& m : not_in_class) m = cv::Mat(L.edges.size(), CV_8UC1, cv::Scalar(255));
+        cv::Mat gx, gy;
+        cv::Sobel(edge_img, gx, CV_32F, 1, 0, 3);
+        cv::Sobel(edge_img, gy, CV_32F, 0, 1, 3);
+        for (int y = 0; y < L.edges.rows; ++y)
+            for (int x = 0; x < L.edges.cols; ++x)
+            {
+                if (!L.edges.at<uint8_t>(y, x)) continue;
+                float frac = 0;
+                const int b = orientationBin(gx.at<float>(y, x), gy.at<float>(y, x), B, &frac);
+                not_in_class[size_t(b)].at<uint8_t>(y, x) = 0;
+                not_in_class[size_t((b + (frac >= 0 ? 1 : B - 1)) % B)].at<uint8_t>(y, x) = 0;
+            }
+        L.distance.resize(size_t(B));
+        L.grad_x.resize(size_t(B));
+        L.grad_y.resize(size_t(B));
+        for (int b = 0; b < B; ++b)
+        {
+            cv::distanceTransform(not_in_class[size_t(b)], L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+            cv::min(L.distance[size_t(b)], o.truncation_px, L.distance[size_t(b)]);
+            // Central differences (Sobel / 8): the exact slope of a linear field.
+            cv::Sobel(L.distance[size_t(b)], L.grad_x[size_t(b)], CV_32F, 1, 0, 3, 1.0 / 8.0);
+            cv::Sobel(L.distance[size_t(b)], L.grad_y[size_t(b)], CV_32F, 0, 1, 3, 1.0 / 8.0);
+        }
+        field.levels.push_back(std::move(L));
+    }
+    return field;
+}
+
+}  // namespace quasiloc::estimation

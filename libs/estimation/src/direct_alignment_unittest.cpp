@@ -1,0 +1,125 @@
+// Direct alignment on a synthetic room: the camera image is the map's own quasi-image rendered at the true
+// pose (so the edge and NMI terms have a known optimum), the model is built at a perturbed pose.
+#include <gtest/gtest.h>
+
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/estimation/direct_alignment.h>
+#include <quasiloc/estimation/pose_parametrization.h>
+#include <quasiloc/quasi/quasi_renderer.h>
+#include <quasiloc/quasi/synthetic_scene.h>
+
+using namespace quasiloc;
+
+namespace
+{
+struct Scene
+{
+    map::LidarMap map = quasi::makeSyntheticRoom(400000);
+    core::CameraModel camera = core::CameraModel::pinhole(752, 480, 458.0, 457.0, 367.0, 248.0);
+    Eigen::Isometry3d T_world_cam_true = Eigen::Isometry3d::Identity();
+    quasi::QuasiOptions qo;
+    std::unique_ptr<quasi::QuasiRenderer> renderer;
+    Scene()
+    {
+        // Looking along +x from inside the room, tilted down a little, towards a corner with boxes.
+        Eigen::Matrix3d R;
+        R << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera z -> world x, camera x -> world -y, camera y -> world -z
+        T_world_cam_true.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+                                    R * Eigen::AngleAxisd(0.15, Eigen::Vector3d::UnitX()).toRotationMatrix();
+        T_world_cam_true.translation() = Eigen::Vector3d(-2.0, -0.5, 1.4);
+        renderer = std::make_unique<quasi::QuasiRenderer>(map, qo);
+    }
+    quasi::QuasiImage render(const Eigen::Isometry3d& T)
+    {
+        quasi::QuasiImage q;
+        renderer->render(core::fromIsometry(T), camera, q);
+        return q;
+    }
+    estimation::DirectAlignmentModel model(const estimation::DirectAlignmentOptions& o, const Eigen::Isometry3d& T)
+    {
+        const quasi::QuasiImage q = render(T);
+        return estimation::buildDirectAlignmentModel(o, q.depth, q.reflectivity, q.valid, q.sparse, camera, T);
+    }
+};
+
+Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, double t_m, double rot_deg, int seed)
+{
+    estimation::Vector6d d;
+    const Eigen::Vector3d a = Eigen::Vector3d(std::sin(seed), std::cos(3 * seed), std::sin(5 * seed + 1)).normalized();
+    const Eigen::Vector3d b = Eigen::Vector3d(std::cos(2 * seed), std::sin(7 * seed), std::cos(seed + 2)).normalized();
+    d << a * rot_deg * M_PI / 180, b * t_m;
+    return estimation::boxPlus(T, d);
+}
+
+double translationError(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B)
+{
+    return (A.translation() - B.translation()).norm();
+}
+double rotationErrorDeg(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B)
+{
+    return Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle() * 180 / M_PI;
+}
+}  // namespace
+
+TEST(DirectAlignment, ModelPointsProjectOntoTheirEdges)
+{
+    Scene s;
+    estimation::DirectAlignmentOptions o;
+    const auto model = s.model(o, s.T_world_cam_true);
+    ASSERT_GT(model.edge_points_world.size(), 500u);
+    ASSERT_GT(model.nmi_points_world.size(), 1000u);
+    const quasi::QuasiImage q = s.render(s.T_world_cam_true);
+    const auto field = estimation::buildCameraEdgeField(o, q.gray);
+    double inliers = 0;
+    estimation::edgeCost(o, field, 0, s.camera, model, s.T_world_cam_true, &inliers);
+    EXPECT_GT(inliers, 0.5) << "map edges of the quasi-image should mostly lie on its own Canny edges";
+}
+
+TEST(DirectAlignment, EdgeAndNmiTermsAreBestAtTheTruePose)
+{
+    Scene s;
+    estimation::DirectAlignmentOptions o;
+    const auto model = s.model(o, s.T_world_cam_true);
+    const auto field = estimation::buildCameraEdgeField(o, s.render(s.T_world_cam_true).gray);
+    const double cost0 = estimation::edgeCost(o, field, 0, s.camera, model, s.T_world_cam_true);
+    const double nmi0 = estimation::normalizedMutualInformation(o, field, s.camera, model, s.T_world_cam_true);
+    // Scan each tangent direction over +-5 cm / +-1 deg.
+    for (int k = 0; k < 6; ++k)
+        for (double f : {-1.0, -0.5, 0.5, 1.0})
+        {
+            estimation::Vector6d d = estimation::Vector6d::Zero();
+            d[k] = f * (k < 3 ? M_PI / 180 : 0.05);
+            const Eigen::Isometry3d T = estimation::boxPlus(s.T_world_cam_true, d);
+            EXPECT_GT(estimation::edgeCost(o, field, 0, s.camera, model, T), cost0) << "direction " << k << " step " << f;
+            EXPECT_LT(estimation::normalizedMutualInformation(o, field, s.camera, model, T), nmi0)
+                << "direction " << k << " step " << f;
+        }
+}
+
+TEST(DirectAlignment, ConvergesFromPerturbedPoses)
+{
+    Scene s;
+    estimation::DirectAlignmentOptions o;
+    const auto field = estimation::buildCameraEdgeField(o, s.render(s.T_world_cam_true).gray);
+    for (int seed = 1; seed <= 3; ++seed)
+    {
+        const Eigen::Isometry3d T0 = perturbed(s.T_world_cam_true, 0.1, 1.0, seed);
+        const auto model = s.model(o, T0);  // built where the prediction is, as a tracker would
+        Eigen::Isometry3d T = T0;
+        estimation::DirectAlignmentStats st;
+        ASSERT_TRUE(estimation::alignDirect(o, field, s.camera, model, T, &st));
+        EXPECT_LT(translationError(T, s.T_world_cam_true), 0.02) << "seed " << seed;
+        EXPECT_LT(rotationErrorDeg(T, s.T_world_cam_true), 0.2) << "seed " << seed;
+        EXPECT_LT(st.final_edge_cost, st.initial_edge_cost);
+    }
+}
+
+TEST(DirectAlignment, BadInputIsRejected)
+{
+    estimation::DirectAlignmentOptions o;
+    EXPECT_THROW(estimation::buildCameraEdgeField(o, cv::Mat()), core::InputError);
+    EXPECT_THROW(estimation::buildCameraEdgeField(o, cv::Mat(10, 10, CV_32F)), core::InputError);
+    o.truncation_px = 0;
+    EXPECT_THROW(o.check("test"), core::InputError);
+}

@@ -1,0 +1,267 @@
+#include <mrpt/system/CTicTac.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/estimation/absolute_pose.h>
+#include <quasiloc/estimation/map_refinement.h>
+#include <quasiloc/frontend/lifting.h>
+#include <unordered_map>
+
+#include "ini_read.h"
+
+namespace quasiloc::estimation
+{
+std::string toString(RefinementMethod m)
+{
+    switch (m)
+    {
+        case RefinementMethod::Features: return "features";
+        case RefinementMethod::Guided: return "guided";
+        case RefinementMethod::Direct: return "direct";
+        case RefinementMethod::Combined: return "combined";
+    }
+    return "?";
+}
+
+RefinementMethod refinementMethodFromString(const std::string& name, const std::string& input)
+{
+    for (RefinementMethod m : {RefinementMethod::Features, RefinementMethod::Guided, RefinementMethod::Direct,
+                               RefinementMethod::Combined})
+        if (toString(m) == name) return m;
+    throw core::InputError(input, "'" + name + "' is not one of features, guided, direct, combined");
+}
+
+void MapRefinementOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+{
+    window_sigmas = detail::readDouble(cfg, s, "window_sigmas", window_sigmas);
+    min_window_px = detail::readDouble(cfg, s, "min_window_px", min_window_px);
+    max_window_px = detail::readDouble(cfg, s, "max_window_px", max_window_px);
+    guided_candidates = detail::readInt(cfg, s, "guided_candidates", guided_candidates);
+    combined_sigma_m = detail::readDouble(cfg, s, "combined_sigma_m", combined_sigma_m);
+    combined_sigma_deg = detail::readDouble(cfg, s, "combined_sigma_deg", combined_sigma_deg);
+    min_inliers = detail::readInt(cfg, s, "min_inliers", min_inliers);
+    agree_m = detail::readDouble(cfg, s, "agree_m", agree_m);
+    agree_deg = detail::readDouble(cfg, s, "agree_deg", agree_deg);
+    gate_sigmas = detail::readDouble(cfg, s, "gate_sigmas", gate_sigmas);
+    direct_prior_weight = detail::readDouble(cfg, s, "direct_prior_weight", direct_prior_weight);
+    lift_radius_px = detail::readDouble(cfg, s, "lift_radius_px", lift_radius_px);
+    pnp_max_error_px = detail::readDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
+    direct.loadFromConfigFile(cfg, "DirectAlignment");
+}
+
+void MapRefinementOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    c.write(s, "window_sigmas", window_sigmas, 24, 10, "guided window in sigmas of the reprojection");
+    c.write(s, "min_window_px", min_window_px, 24, 10);
+    c.write(s, "max_window_px", max_window_px, 24, 10);
+    c.write(s, "guided_candidates", guided_candidates, 24, 10, "K candidates per camera keypoint");
+    c.write(s, "combined_sigma_m", combined_sigma_m, 24, 10, "uncertainty of the direct estimate");
+    c.write(s, "combined_sigma_deg", combined_sigma_deg, 24, 10);
+    c.write(s, "min_inliers", min_inliers, 24, 10, "PnP inliers to trust a feature pose");
+    c.write(s, "agree_m", agree_m, 24, 10, "combined: PnP within this of the direct pose");
+    c.write(s, "agree_deg", agree_deg, 24, 10);
+    c.write(s, "gate_sigmas", gate_sigmas, 24, 10, "features/guided: PnP pose within this many sigmas");
+    c.write(s, "direct_prior_weight", direct_prior_weight, 24, 10, "prediction prior in the direct term (0: none)");
+    c.write(s, "lift_radius_px", lift_radius_px, 24, 10);
+    c.write(s, "pnp_max_error_px", pnp_max_error_px, 24, 10);
+    direct.saveToConfigFile(c, "DirectAlignment");
+}
+
+void MapRefinementOptions::check(const std::string& input) const
+{
+    const std::string k = input + ": [MapRefinement] ";
+    core::require(window_sigmas > 0, k + "window_sigmas", "must be > 0");
+    core::require(min_window_px >= 1 && max_window_px >= min_window_px, k + "min_window_px/max_window_px",
+                  "need 1 <= min_window_px <= max_window_px");
+    core::require(guided_candidates >= 1 && guided_candidates <= 16, k + "guided_candidates", "must be in [1, 16]");
+    core::require(combined_sigma_m > 0 && combined_sigma_deg > 0, k + "combined_sigma_m/deg", "must be > 0");
+    core::require(min_inliers >= 6, k + "min_inliers", "must be >= 6");
+    core::require(agree_m > 0 && agree_deg > 0, k + "agree_m/agree_deg", "must be > 0");
+    core::require(gate_sigmas > 0, k + "gate_sigmas", "must be > 0");
+    core::require(direct_prior_weight >= 0, k + "direct_prior_weight", "must be >= 0");
+    core::require(lift_radius_px >= 0 && lift_radius_px <= 20, k + "lift_radius_px", "must be in [0, 20]");
+    core::require(pnp_max_error_px > 0, k + "pnp_max_error_px", "must be > 0");
+    direct.check(input);
+}
+
+MapRefiner::MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer& renderer, frontend::Frontend& frontend)
+    : options_(options), renderer_(renderer), frontend_(frontend)
+{
+    options_.check("MapRefiner");
+}
+
+void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera)
+{
+    core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
+                  "camera image", "must be a non-empty 8-bit gray or BGR image");
+    core::require(image.cols == camera.width && image.rows == camera.height, "camera image",
+                  "size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + " differs from the camera model's");
+    mrpt::system::CTicTac tic;
+    camera_ = camera;
+    if (image.channels() == 3)
+        cv::cvtColor(image, gray_, cv::COLOR_BGR2GRAY);
+    else
+        gray_ = image;
+    frontend_.extract(gray_, cv::Mat(), camera_features_);
+    edge_field_ = buildCameraEdgeField(options_.direct, gray_);
+    image_ms_ = tic.Tac() * 1e3;
+}
+
+double MapRefiner::windowFor(double sigma_m, double sigma_rad, double median_depth_m) const
+{
+    const double f = 0.5 * (camera_.fx + camera_.fy);
+    const double r = options_.window_sigmas * f * (sigma_rad + sigma_m / std::max(0.5, median_depth_m));
+    return std::clamp(r, options_.min_window_px, options_.max_window_px);
+}
+
+namespace
+{
+bool withinGate(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B, double max_m, double max_rad)
+{
+    return (A.translation() - B.translation()).norm() <= max_m &&
+           Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle() <= max_rad;
+}
+
+double medianValidDepth(const quasi::QuasiImage& q)
+{
+    std::vector<float> d;
+    for (int y = 0; y < q.depth.rows; y += 4)
+        for (int x = 0; x < q.depth.cols; x += 4)
+            if (q.valid.at<uint8_t>(y, x)) d.push_back(q.depth.at<float>(y, x));
+    if (d.empty()) return 10.0;
+    std::nth_element(d.begin(), d.begin() + long(d.size() / 2), d.end());
+    return d[d.size() / 2];
+}
+}  // namespace
+
+MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam_pred, bool guided, double sigma_m,
+                                            double sigma_rad)
+{
+    MapRefinementResult res;
+    res.T_world_cam = T_world_cam_pred;
+    mrpt::system::CTicTac tic;
+    renderer_.render(core::fromIsometry(T_world_cam_pred), camera_, q_);
+    res.ms_render = tic.Tac() * 1e3;
+    const double window_px = guided ? windowFor(sigma_m, sigma_rad, medianValidDepth(q_)) : 0.0;
+    res.window_px = window_px;
+    tic.Tic();
+    frontend::FrameFeatures fq;
+    frontend_.extract(q_.gray, q_.valid, fq);
+    res.ms_extract = tic.Tac() * 1e3;
+
+    tic.Tic();
+    const frontend::Features& cam = camera_features_.points;
+    std::vector<std::pair<int, int>> pairs;  // (camera keypoint, Q keypoint)
+    if (window_px <= 0)
+    {
+        frontend::PointMatchingOptions pm = frontend_.options().point_matching;
+        pm.window_px = 0;
+        for (const frontend::PointMatch& m : frontend::matchPoints(cam, fq.points, pm)) pairs.emplace_back(m.query, m.train);
+    }
+    else
+    {
+        frontend::SearchRegion region;
+        region.radius_px = window_px;
+        const auto candidates = frontend::findCandidates(cam, fq.points, options_.guided_candidates,
+                                                         frontend_.options().point_matching.maxDistance(cam), region);
+        for (size_t i = 0; i < candidates.size(); ++i)
+            for (const frontend::PointCandidate& c : candidates[i]) pairs.emplace_back(int(i), c.index);
+    }
+    std::unordered_map<int, std::optional<frontend::LiftedPoint>> lifted;
+    std::vector<Eigen::Vector2d> pts2d;
+    std::vector<Eigen::Vector3d> pts3d;
+    for (const auto& [i, j] : pairs)
+    {
+        auto it = lifted.find(j);
+        if (it == lifted.end())
+            it = lifted.emplace(j, frontend::liftPixel(q_, renderer_.map(), fq.points.keypoints[size_t(j)].pt,
+                                                       options_.lift_radius_px)).first;
+        if (!it->second) continue;
+        const cv::Point2f& u = cam.keypoints[size_t(i)].pt;
+        pts2d.emplace_back(u.x, u.y);
+        pts3d.push_back(it->second->p_world.cast<double>());
+    }
+    res.matches = int(pts2d.size());
+    res.ms_match = tic.Tac() * 1e3;
+    res.points2d = pts2d;
+    res.points3d = pts3d;
+
+    tic.Tic();
+    if (res.matches >= options_.min_inliers)
+    {
+        AbsolutePoseOptions po;
+        po.max_reproj_error_px = options_.pnp_max_error_px;
+        po.min_inliers = options_.min_inliers;
+        Eigen::Isometry3d T_cam_world;
+        AbsolutePoseStats st;
+        if (estimateAbsolutePose(po, pts2d, pts3d, camera_, &T_cam_world, &st))
+        {
+            res.success = true;
+            res.inliers = st.num_inliers;
+            res.T_world_cam = T_cam_world.inverse();
+        }
+    }
+    res.ms_pnp = tic.Tac() * 1e3;
+    return res;
+}
+
+MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
+                                       double sigma_rad)
+{
+    core::require(!gray_.empty(), "MapRefiner::refine", "setImage() must be called first");
+    mrpt::system::CTicTac total;
+    MapRefinementResult res;
+    if (method == RefinementMethod::Features || method == RefinementMethod::Guided)
+    {
+        res = featurePose(T_world_cam_pred, method == RefinementMethod::Guided, sigma_m, sigma_rad);
+        // A PnP consensus far outside the prediction's uncertainty is a consensus of wrong matches (cross-modal
+        // matches are mostly wrong): keep the prediction rather than jump.
+        if (res.success && !withinGate(res.T_world_cam, T_world_cam_pred, options_.gate_sigmas * sigma_m,
+                                       options_.gate_sigmas * sigma_rad))
+        {
+            res.success = false;
+            res.T_world_cam = T_world_cam_pred;
+        }
+    }
+    else
+    {
+        mrpt::system::CTicTac tic;
+        renderer_.render(core::fromIsometry(T_world_cam_pred), camera_, q_);
+        const double ms_render = tic.Tac() * 1e3;
+        tic.Tic();
+        const DirectAlignmentModel model = buildDirectAlignmentModel(options_.direct, q_.depth, q_.reflectivity, q_.valid,
+                                                                     q_.sparse, camera_, T_world_cam_pred);
+        Eigen::Isometry3d T = T_world_cam_pred;
+        DirectAlignmentStats ds;
+        DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, options_.direct_prior_weight};
+        const bool ok = alignDirect(options_.direct, edge_field_, camera_, model, T, &ds,
+                                    options_.direct_prior_weight > 0 ? &prior : nullptr);
+        const double ms_direct = tic.Tac() * 1e3;
+        if (method == RefinementMethod::Direct)
+        {
+            res.success = ok;
+            res.T_world_cam = T;
+        }
+        else
+        {
+            res = featurePose(T, true, options_.combined_sigma_m, options_.combined_sigma_deg * M_PI / 180.0);
+            const bool agree = res.success && res.inliers >= options_.min_inliers &&
+                               withinGate(res.T_world_cam, T, options_.agree_m, options_.agree_deg * M_PI / 180.0);
+            if (!agree)
+            {
+                res.T_world_cam = T;
+                res.success = ok;
+            }
+        }
+        res.direct = ds;
+        res.ms_render += ms_render;
+        res.ms_direct = ms_direct;
+    }
+    res.ms_total = total.Tac() * 1e3;
+    return res;
+}
+
+}  // namespace quasiloc::estimation
