@@ -22,4 +22,7 @@ echo "== rawlog-edit --info (MRPT reads what we wrote)"
 echo "== rawlog-quasi: quasi-images with provenance at every ground-truth pose"
 "$BIN/rawlog-quasi" "$CONFIG"
 
-echo "== done: outputs in $SIM_DIR and out/quasi (open the rawlogs with RawLogViewer)"
+echo "== quasiloc-track: stereo-inertial tracking against the LiDAR map (IMU + direct map alignment)"
+"$BIN/quasiloc-track" "$CONFIG"
+
+echo "== done: outputs in $SIM_DIR, out/quasi (open the rawlogs with RawLogViewer) and out/track"

@@ -93,7 +93,7 @@ MapRefiner::MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer
     options_.check("MapRefiner");
 }
 
-void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera)
+void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera, bool with_features)
 {
     core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
                   "camera image", "must be a non-empty 8-bit gray or BGR image");
@@ -105,7 +105,8 @@ void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera)
         cv::cvtColor(image, gray_, cv::COLOR_BGR2GRAY);
     else
         gray_ = image;
-    frontend_.extract(gray_, cv::Mat(), camera_features_);
+    has_features_ = with_features;
+    if (with_features) frontend_.extract(gray_, cv::Mat(), camera_features_);
     edge_field_ = buildCameraEdgeField(options_.direct, gray_);
     image_ms_ = tic.Tac() * 1e3;
 }
@@ -212,6 +213,8 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
                                        double sigma_rad)
 {
     core::require(!gray_.empty(), "MapRefiner::refine", "setImage() must be called first");
+    core::require(has_features_ || method == RefinementMethod::Direct, "MapRefiner::refine",
+                  "method " + toString(method) + " needs the camera features (setImage with_features)");
     mrpt::system::CTicTac total;
     MapRefinementResult res;
     if (method == RefinementMethod::Features || method == RefinementMethod::Guided)

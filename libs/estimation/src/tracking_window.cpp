@@ -158,6 +158,8 @@ void Window::build()
                 robustLoss(opt_, 4), {cur_.pose, X});
         }
     }
+    for (const auto& m : in_.pose_measurements)
+        add(new PosePriorFactor(m.T_map_body, m.information), robustLoss(opt_, 6), {cur_.pose});
     if (opt_.usePoints())
         for (const auto& p : in_.points)
             add(new PointReprojectionFactor(cam, p.px, p.p_map, p.sigma_px), robustLoss(opt_, 2), {cur_.pose});

@@ -92,8 +92,9 @@ class MapRefiner
     /** `renderer` and `frontend` must outlive the refiner. InputError for bad options. */
     MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer& renderer, frontend::Frontend& frontend);
 
-    /** The camera image (8-bit gray or BGR) and its camera model: extracts features and the edge field once. */
-    void setImage(const cv::Mat& image, const core::CameraModel& camera);
+    /** The camera image (8-bit gray or BGR) and its camera model: extracts features (unless with_features is
+     *  false: then only the direct method can be used) and the edge field once. */
+    void setImage(const cv::Mat& image, const core::CameraModel& camera, bool with_features = true);
     /** Refines T_world_cam_pred with `method`; sigma_*: the prediction's uncertainty (guided window). */
     MapRefinementResult refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
                                double sigma_rad);
@@ -113,6 +114,7 @@ class MapRefiner
     frontend::Frontend& frontend_;
     core::CameraModel camera_;
     cv::Mat gray_;
+    bool has_features_ = false;
     frontend::FrameFeatures camera_features_;
     CameraEdgeField edge_field_;
     quasi::QuasiImage q_;

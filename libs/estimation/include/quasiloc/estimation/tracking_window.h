@@ -10,7 +10,8 @@
 // previous frame the window is the current pose alone with a pose prior (e.g. IMU prediction).
 //
 // FACTORS. Prior (15 or 6), IMU preintegration (9) + bias random walk (6), stereo reprojection of temporal
-// landmarks in both frames (4 each; landmarks are variables), map-point reprojection (2), and the
+// landmarks in both frames (4 each; landmarks are variables), map-point reprojection (2), pose measurements
+// of the current frame (6, robust: e.g. the direct map alignment), and the
 // structural factors: point-to-line and point-to-plane, one Ceres block per factor using its NOMINAL
 // candidate (argmax p_ic) with weight W*_i = w_i W_meas (w_i from the reweighting, applied as a ScaledLoss
 // around the robust loss).
@@ -33,6 +34,13 @@
 
 namespace quasiloc::estimation
 {
+/** A direct measurement of the current pose (e.g. the direct map alignment's result), as a Gaussian. */
+struct PoseMeasurement
+{
+    Eigen::Isometry3d T_map_body = Eigen::Isometry3d::Identity();
+    Matrix6d information = Matrix6d::Identity();  ///< tangent order [dtheta; dp]
+};
+
 struct WindowInput
 {
     const StereoGeometry* stereo = nullptr;  ///< required; its left camera observes the map factors
@@ -45,6 +53,7 @@ struct WindowInput
     std::vector<LineFactorInput> lines;
     std::vector<PlaneFactorInput> planes;
     std::vector<TemporalLandmark> landmarks;  ///< used only with a previous frame
+    std::vector<PoseMeasurement> pose_measurements;  ///< on the current frame (map measurements: part of H_0)
 };
 
 struct WindowStats

@@ -1,0 +1,161 @@
+#include <mrpt/system/CTicTac.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/tracking/tracker.h>
+
+namespace quasiloc::tracking
+{
+namespace
+{
+constexpr double kDeg = M_PI / 180.0;
+
+double rotationAngle(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B)
+{
+    return Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle();
+}
+
+/** RMS per-axis standard deviations (rotation [rad], translation [m]) of the predicted pose: the previous
+ *  state's marginal covariance plus the IMU preintegration's, to first order. */
+void predictedSigmas(const estimation::StatePrior& prior, const estimation::ImuPreintegration& imu, double& sigma_rad,
+                     double& sigma_m)
+{
+    const Eigen::Matrix<double, 15, 15> cov = prior.information.ldlt().solve(Eigen::Matrix<double, 15, 15>::Identity());
+    const double dt = imu.dt();
+    // Rotation: previous rotation + preintegrated rotation. Position: previous position, velocity * dt, and the
+    // preintegrated position.
+    const double var_rot = (cov.block<3, 3>(0, 0).trace() + imu.covariance().block<3, 3>(0, 0).trace()) / 3.0;
+    const double var_pos = (cov.block<3, 3>(3, 3).trace() + dt * dt * cov.block<3, 3>(6, 6).trace() +
+                            imu.covariance().block<3, 3>(6, 6).trace()) /
+                           3.0;
+    sigma_rad = std::sqrt(std::max(0.0, var_rot));
+    sigma_m = std::sqrt(std::max(0.0, var_pos));
+}
+}  // namespace
+
+Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementOptions& refinement,
+                 const estimation::EstimatorOptions& estimator, const estimation::ReweightingOptions& reweighting,
+                 const core::StereoRig& rig, const estimation::ImuNoise& imu_noise, quasi::QuasiRenderer& renderer,
+                 frontend::Frontend& frontend)
+    : options_(options),
+      estimator_(estimator),
+      reweighting_(reweighting),
+      imu_noise_(imu_noise),
+      refiner_(refinement, renderer, frontend)
+{
+    options_.check("Tracker");
+    estimator_.check("Tracker");
+    reweighting_.check("Tracker");
+    T_body_cam_ = core::toIsometry(rig.T_body_left);
+    stereo_.left = estimation::CameraGeometry{rig.left, T_body_cam_};
+    stereo_.right = rig.right;
+    stereo_.T_left_right = core::toIsometry(rig.T_left_right);
+}
+
+void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world)
+{
+    core::require(T_world_cam0.matrix().allFinite() && v_world.allFinite(), "Tracker::initialize",
+                  "initial pose or velocity is not finite");
+    state_ = estimation::FrameState{};
+    state_.t = t;
+    state_.T_map_body = T_world_cam0 * T_body_cam_.inverse();
+    state_.v_map = v_world;
+    prior_.mean = state_;
+    Eigen::Matrix<double, 15, 1> sigma;
+    sigma << Eigen::Vector3d::Constant(options_.init_sigma_deg * kDeg), Eigen::Vector3d::Constant(options_.init_sigma_m),
+        Eigen::Vector3d::Constant(options_.init_sigma_v), Eigen::Vector3d::Constant(options_.init_sigma_bg),
+        Eigen::Vector3d::Constant(options_.init_sigma_ba);
+    prior_.information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
+    frames_ = 0;
+    misses_ = 0;
+    initialized_ = true;
+}
+
+FrameReport Tracker::track(const dataset::StereoFrame& frame)
+{
+    core::require(initialized_, "Tracker::track", "initialize() must be called first");
+    const std::string input = "frame " + std::to_string(frame.index) + " (t = " + std::to_string(frame.timestamp) + ")";
+    core::require(frame.timestamp > state_.t, input, "timestamp does not increase");
+    core::require(!frame.imu.empty(), input, "no IMU sample since the previous frame");
+    mrpt::system::CTicTac total, tic;
+    FrameReport rep;
+    rep.t = frame.timestamp;
+
+    // 1. IMU prediction.
+    std::vector<estimation::ImuMeasurement> samples;
+    samples.reserve(frame.imu.size());
+    for (const auto& s : frame.imu) samples.push_back({s.t, s.acc, s.gyro});
+    estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
+    imu.integrateInterval(samples, state_.t, frame.timestamp);
+    estimation::FrameState predicted = state_;
+    predicted.t = frame.timestamp;
+    imu.predict(state_.T_map_body, state_.v_map, state_.gyro_bias, state_.acc_bias, predicted.T_map_body, predicted.v_map);
+    double sigma_rad = 0, sigma_m = 0;
+    predictedSigmas(prior_, imu, sigma_rad, sigma_m);
+    rep.prior_sigma_m = std::max(sigma_m, options_.min_prior_sigma_m);
+    rep.prior_sigma_deg = std::max(sigma_rad / kDeg, options_.min_prior_sigma_deg);
+    rep.ms_predict = tic.Tac() * 1e3;
+
+    // 2. Map alignment on keyframes.
+    estimation::WindowInput in;
+    rep.keyframe = frames_ % size_t(options_.keyframe_every) == 0;
+    if (rep.keyframe)
+    {
+        tic.Tic();
+        refiner_.setImage(frame.left, stereo_.left.model, false);
+        rep.ms_image = tic.Tac() * 1e3;
+        tic.Tic();
+        const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
+        const auto r = refiner_.refine(estimation::RefinementMethod::Direct, T_world_cam_pred, rep.prior_sigma_m,
+                                       rep.prior_sigma_deg * kDeg);
+        rep.ms_align = tic.Tac() * 1e3;
+        rep.correction_m = (r.T_world_cam.translation() - T_world_cam_pred.translation()).norm();
+        rep.correction_deg = rotationAngle(r.T_world_cam, T_world_cam_pred) / kDeg;
+        rep.edge_inlier_ratio = r.direct.final_inlier_ratio;
+        rep.edge_points = r.direct.edge_points;
+        rep.map_update = r.success && rep.correction_m <= options_.max_correction_m &&
+                         rep.correction_deg <= options_.max_correction_deg;
+        if (rep.map_update)
+        {
+            estimation::PoseMeasurement m;
+            m.T_map_body = r.T_world_cam * T_body_cam_.inverse();
+            estimation::Vector6d info;
+            info << Eigen::Vector3d::Constant(1.0 / std::pow(options_.direct_sigma_deg * kDeg, 2)),
+                Eigen::Vector3d::Constant(1.0 / std::pow(options_.direct_sigma_m, 2));
+            m.information = info.asDiagonal();
+            in.pose_measurements.push_back(m);
+        }
+        misses_ = rep.map_update ? 0 : misses_ + 1;
+    }
+    rep.lost = misses_ >= options_.lost_after_misses;
+
+    // 3. The two-frame window.
+    tic.Tic();
+    in.stereo = &stereo_;
+    in.has_previous = true;
+    in.previous = state_;
+    in.prior = prior_;
+    in.imu = &imu;
+    in.current = predicted;
+    estimation::WindowResult result;
+    if (estimation::estimateWindow(estimator_, reweighting_, in, result))
+    {
+        state_ = result.current;
+        prior_ = result.marginal;
+    }
+    else
+    {
+        // No usable solution: keep the prediction, with the uncertainty the prediction has.
+        state_ = predicted;
+        prior_.mean = predicted;
+    }
+    rep.ms_window = tic.Tac() * 1e3;
+    ++frames_;
+    rep.T_world_cam0 = state_.T_map_body * T_body_cam_;
+    rep.ms_total = total.Tac() * 1e3;
+    return rep;
+}
+
+}  // namespace quasiloc::tracking

@@ -1,0 +1,54 @@
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+#include <quasiloc/tracking/tracker.h>
+
+namespace quasiloc::tracking
+{
+void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    using core::readIniDouble;
+    keyframe_every = core::readIniInt(c, s, "keyframe_every", keyframe_every);
+    direct_sigma_m = readIniDouble(c, s, "direct_sigma_m", direct_sigma_m);
+    direct_sigma_deg = readIniDouble(c, s, "direct_sigma_deg", direct_sigma_deg);
+    min_prior_sigma_m = readIniDouble(c, s, "min_prior_sigma_m", min_prior_sigma_m);
+    min_prior_sigma_deg = readIniDouble(c, s, "min_prior_sigma_deg", min_prior_sigma_deg);
+    max_correction_m = readIniDouble(c, s, "max_correction_m", max_correction_m);
+    max_correction_deg = readIniDouble(c, s, "max_correction_deg", max_correction_deg);
+    lost_after_misses = core::readIniInt(c, s, "lost_after_misses", lost_after_misses);
+    init_sigma_m = readIniDouble(c, s, "init_sigma_m", init_sigma_m);
+    init_sigma_deg = readIniDouble(c, s, "init_sigma_deg", init_sigma_deg);
+    init_sigma_v = readIniDouble(c, s, "init_sigma_v", init_sigma_v);
+    init_sigma_bg = readIniDouble(c, s, "init_sigma_bg", init_sigma_bg);
+    init_sigma_ba = readIniDouble(c, s, "init_sigma_ba", init_sigma_ba);
+}
+
+void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    c.write(s, "keyframe_every", keyframe_every, 24, 10, "map alignment every N frames");
+    c.write(s, "direct_sigma_m", direct_sigma_m, 24, 10, "map-alignment measurement sigma");
+    c.write(s, "direct_sigma_deg", direct_sigma_deg, 24, 10);
+    c.write(s, "min_prior_sigma_m", min_prior_sigma_m, 24, 10, "alignment prior: predicted sigma, at least this");
+    c.write(s, "min_prior_sigma_deg", min_prior_sigma_deg, 24, 10);
+    c.write(s, "max_correction_m", max_correction_m, 24, 10, "larger map corrections are rejected");
+    c.write(s, "max_correction_deg", max_correction_deg, 24, 10);
+    c.write(s, "lost_after_misses", lost_after_misses, 24, 10, "consecutive rejected keyframes: lost");
+    c.write(s, "init_sigma_m", init_sigma_m, 24, 10, "initial state uncertainty");
+    c.write(s, "init_sigma_deg", init_sigma_deg, 24, 10);
+    c.write(s, "init_sigma_v", init_sigma_v, 24, 10);
+    c.write(s, "init_sigma_bg", init_sigma_bg, 24, 10);
+    c.write(s, "init_sigma_ba", init_sigma_ba, 24, 10);
+}
+
+void TrackerOptions::check(const std::string& input) const
+{
+    const std::string k = input + ": [Tracking] ";
+    core::require(keyframe_every >= 1, k + "keyframe_every", "must be >= 1");
+    core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
+    core::require(min_prior_sigma_m > 0 && min_prior_sigma_deg > 0, k + "min_prior_sigma_m/deg", "must be > 0");
+    core::require(max_correction_m > 0 && max_correction_deg > 0, k + "max_correction_m/deg", "must be > 0");
+    core::require(lost_after_misses >= 1, k + "lost_after_misses", "must be >= 1");
+    core::require(init_sigma_m > 0 && init_sigma_deg > 0 && init_sigma_v > 0 && init_sigma_bg > 0 && init_sigma_ba > 0,
+                  k + "init_sigma_*", "must be > 0");
+}
+
+}  // namespace quasiloc::tracking
