@@ -22,9 +22,10 @@ inline float bilinear(const cv::Mat& m, float x, float y)
     return (1 - ay) * ((1 - ax) * r0[0] + ax * r0[1]) + ay * ((1 - ax) * r1[0] + ax * r1[1]);
 }
 
+/** Inside with a one-pixel border, so that the central differences of the field can be sampled too. */
 inline bool insideForBilinear(const cv::Mat& m, double x, double y)
 {
-    return x >= 0 && y >= 0 && x < m.cols - 1 && y < m.rows - 1;
+    return x >= 1 && y >= 1 && x < m.cols - 2 && y < m.rows - 2;
 }
 
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
@@ -87,7 +88,9 @@ void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, 
         const size_t bin = model.edge_bin[i];
         const double r = bilinear(L.distance[bin], x, y);
         if (r >= flat) continue;
-        const Eigen::RowVector2d g(bilinear(L.grad_x[bin], x, y), bilinear(L.grad_y[bin], x, y));
+        const cv::Mat& D = L.distance[bin];
+        const Eigen::RowVector2d g(0.5 * (bilinear(D, x + 1, y) - bilinear(D, x - 1, y)),
+                                   0.5 * (bilinear(D, x, y + 1) - bilinear(D, x, y - 1)));
         // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
         const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
         const double w = huberWeight(r, o.huber_px);

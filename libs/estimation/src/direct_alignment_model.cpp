@@ -263,15 +263,12 @@ CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& o, const cv::
                 not_in_class[size_t((b + (frac >= 0 ? 1 : B - 1)) % B)].at<uint8_t>(y, x) = 0;
             }
         L.distance.resize(size_t(B));
-        L.grad_x.resize(size_t(B));
-        L.grad_y.resize(size_t(B));
         for (int b = 0; b < B; ++b)
         {
-            cv::distanceTransform(not_in_class[size_t(b)], L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+            // The 5x5 chamfer mask approximates the Euclidean distance within ~2 % at a fraction of the exact
+            // transform's cost (one transform per class and level).
+            cv::distanceTransform(not_in_class[size_t(b)], L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_5, CV_32F);
             cv::min(L.distance[size_t(b)], o.truncation_px, L.distance[size_t(b)]);
-            // Central differences (Sobel / 8): the exact slope of a linear field.
-            cv::Sobel(L.distance[size_t(b)], L.grad_x[size_t(b)], CV_32F, 1, 0, 3, 1.0 / 8.0);
-            cv::Sobel(L.distance[size_t(b)], L.grad_y[size_t(b)], CV_32F, 0, 1, 3, 1.0 / 8.0);
         }
         field.levels.push_back(std::move(L));
     }

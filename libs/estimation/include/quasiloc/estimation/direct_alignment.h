@@ -95,9 +95,10 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& opt
 struct CameraEdgeLevel
 {
     double scale = 1;  ///< level pixel = (full pixel + 0.5) * scale - 0.5
-    /** Per orientation class: CV_32F truncated distance to the nearest Canny edge of that class (level pixels),
-     *  and its derivatives. A camera edge belongs to the two classes nearest to its orientation. */
-    std::vector<cv::Mat> distance, grad_x, grad_y;
+    /** Per orientation class: CV_32F truncated distance to the nearest Canny edge of that class (level pixels;
+     *  its gradient is taken by central differences where needed). A camera edge belongs to the two classes
+     *  nearest to its orientation. */
+    std::vector<cv::Mat> distance;
     cv::Mat edges;     ///< CV_8U Canny edges (255)
 };
 
