@@ -130,14 +130,14 @@ int run(const core::CommandLine& cmd)
     const Eigen::Isometry3d T_body_cam = core::toIsometry(source->rig().T_body_left);
     const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam.inverse()).translation();
     const Eigen::Vector3d p1 = (core::toIsometry(*f.T_world_cam0) * T_body_cam.inverse()).translation();
-    tracker.initialize(f0.timestamp, core::toIsometry(*f0.T_world_cam0), (p1 - p0) / (f.timestamp - f0.timestamp));
+    tracker.initialize(f0.timestamp, core::toIsometry(*f0.T_world_cam0), (p1 - p0) / (f.timestamp - f0.timestamp), &f0);
 
     core::Trajectory traj;
     traj.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)";
     traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
     std::ostringstream csv;
     csv << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
-           "prior_sigma_deg,lost,error_m,error_deg,ms_predict,ms_image,ms_align,ms_window,ms_total\n";
+           "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total\n";
     std::vector<double> err_m, ms;
     int updates = 0, keyframes = 0, lost_frames = 0;
     size_t n = 1;
@@ -157,8 +157,9 @@ int run(const core::CommandLine& cmd)
         updates += r.map_update, keyframes += r.keyframe, lost_frames += r.lost;
         csv << std::setprecision(17) << r.t << std::setprecision(6) << "," << r.keyframe << "," << r.map_update << ","
             << r.correction_m << "," << r.correction_deg << "," << r.edge_inlier_ratio << "," << r.edge_points << ","
-            << r.prior_sigma_m << "," << r.prior_sigma_deg << "," << r.lost << "," << e_m << "," << e_deg << ","
-            << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_window << "," << r.ms_total << "\n";
+            << r.prior_sigma_m << "," << r.prior_sigma_deg << "," << r.lost << "," << r.landmarks << "," << e_m << ","
+            << e_deg << "," << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_visual << ","
+            << r.ms_window << "," << r.ms_total << "\n";
         if (++n % 50 == 0) std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << e_m << " m" << std::endl;
     } while ((o.max_frames <= 0 || int(n) < o.max_frames) && source->next(f));
 

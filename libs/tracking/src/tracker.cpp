@@ -43,7 +43,9 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       estimator_(estimator),
       reweighting_(reweighting),
       imu_noise_(imu_noise),
-      refiner_(refinement, renderer, frontend)
+      refiner_(refinement, renderer, frontend),
+      frontend_(frontend),
+      stereo_matcher_(rig, frontend.options().stereo)
 {
     options_.check("Tracker");
     estimator_.check("Tracker");
@@ -54,7 +56,8 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     stereo_.T_left_right = core::toIsometry(rig.T_left_right);
 }
 
-void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world)
+void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
+                         const dataset::StereoFrame* frame)
 {
     core::require(T_world_cam0.matrix().allFinite() && v_world.allFinite(), "Tracker::initialize",
                   "initial pose or velocity is not finite");
@@ -70,7 +73,48 @@ void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const 
     prior_.information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
     frames_ = 0;
     misses_ = 0;
+    prev_stereo_.clear();
+    prev_stereo_of_left_.clear();
+    if (frame && options_.temporal_landmarks)
+    {
+        std::vector<estimation::TemporalLandmark> none;
+        temporalLandmarks(*frame, none);
+    }
     initialized_ = true;
+}
+
+void Tracker::temporalLandmarks(const dataset::StereoFrame& frame, std::vector<estimation::TemporalLandmark>& out)
+{
+    frontend::FrameFeatures left, right;
+    frontend_.extract(frame.left, cv::Mat(), left);
+    frontend_.extract(frame.right, cv::Mat(), right);
+    std::vector<frontend::StereoPoint> stereo = stereo_matcher_.match(left.points, right.points);
+    std::vector<int> stereo_of_left(left.points.size(), -1);
+    for (size_t k = 0; k < stereo.size(); ++k) stereo_of_left[size_t(stereo[k].left)] = int(k);
+
+    if (!prev_stereo_.empty())
+    {
+        frontend::PointMatchingOptions pm = frontend_.options().point_matching;
+        pm.window_px = options_.temporal_window_px;
+        const Eigen::Isometry3d T_map_cam_prev = state_.T_map_body * T_body_cam_;
+        const auto px = [](const cv::KeyPoint& k) { return Eigen::Vector2d(k.pt.x, k.pt.y); };
+        for (const frontend::PointMatch& m : frontend::matchPoints(prev_left_.points, left.points, pm))
+        {
+            const int a = prev_stereo_of_left_[size_t(m.query)], b = stereo_of_left[size_t(m.train)];
+            if (a < 0 || b < 0) continue;
+            const frontend::StereoPoint &sp = prev_stereo_[size_t(a)], &sc = stereo[size_t(b)];
+            estimation::TemporalLandmark lm;
+            lm.p_map_guess = T_map_cam_prev * sp.p_left;
+            lm.previous = {px(prev_left_.points.keypoints[size_t(sp.left)]), px(prev_right_keypoints_[size_t(sp.right)])};
+            lm.current = {px(left.points.keypoints[size_t(sc.left)]), px(right.points.keypoints[size_t(sc.right)])};
+            out.push_back(lm);
+            if (int(out.size()) >= options_.max_landmarks) break;
+        }
+    }
+    prev_left_ = std::move(left);
+    prev_right_keypoints_ = std::move(right.points.keypoints);
+    prev_stereo_ = std::move(stereo);
+    prev_stereo_of_left_ = std::move(stereo_of_left);
 }
 
 FrameReport Tracker::track(const dataset::StereoFrame& frame)
@@ -131,7 +175,13 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     }
     rep.lost = misses_ >= options_.lost_after_misses;
 
-    // 3. The two-frame window.
+    // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
+    tic.Tic();
+    if (options_.temporal_landmarks) temporalLandmarks(frame, in.landmarks);
+    rep.landmarks = int(in.landmarks.size());
+    rep.ms_visual = tic.Tac() * 1e3;
+
+    // 4. The two-frame window.
     tic.Tic();
     in.stereo = &stereo_;
     in.has_previous = true;

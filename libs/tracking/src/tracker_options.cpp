@@ -15,6 +15,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     max_correction_m = readIniDouble(c, s, "max_correction_m", max_correction_m);
     max_correction_deg = readIniDouble(c, s, "max_correction_deg", max_correction_deg);
     lost_after_misses = core::readIniInt(c, s, "lost_after_misses", lost_after_misses);
+    temporal_landmarks = core::readIniBool(c, s, "temporal_landmarks", temporal_landmarks);
+    temporal_window_px = readIniDouble(c, s, "temporal_window_px", temporal_window_px);
+    max_landmarks = core::readIniInt(c, s, "max_landmarks", max_landmarks);
     init_sigma_m = readIniDouble(c, s, "init_sigma_m", init_sigma_m);
     init_sigma_deg = readIniDouble(c, s, "init_sigma_deg", init_sigma_deg);
     init_sigma_v = readIniDouble(c, s, "init_sigma_v", init_sigma_v);
@@ -32,6 +35,9 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "max_correction_m", max_correction_m, 24, 10, "larger map corrections are rejected");
     c.write(s, "max_correction_deg", max_correction_deg, 24, 10);
     c.write(s, "lost_after_misses", lost_after_misses, 24, 10, "consecutive rejected keyframes: lost");
+    c.write(s, "temporal_landmarks", temporal_landmarks ? "true" : "false", 24, 10, "stereo landmarks between frames");
+    c.write(s, "temporal_window_px", temporal_window_px, 24, 10);
+    c.write(s, "max_landmarks", max_landmarks, 24, 10);
     c.write(s, "init_sigma_m", init_sigma_m, 24, 10, "initial state uncertainty");
     c.write(s, "init_sigma_deg", init_sigma_deg, 24, 10);
     c.write(s, "init_sigma_v", init_sigma_v, 24, 10);
@@ -47,6 +53,8 @@ void TrackerOptions::check(const std::string& input) const
     core::require(min_prior_sigma_m > 0 && min_prior_sigma_deg > 0, k + "min_prior_sigma_m/deg", "must be > 0");
     core::require(max_correction_m > 0 && max_correction_deg > 0, k + "max_correction_m/deg", "must be > 0");
     core::require(lost_after_misses >= 1, k + "lost_after_misses", "must be >= 1");
+    core::require(temporal_window_px > 0, k + "temporal_window_px", "must be > 0");
+    core::require(max_landmarks >= 0, k + "max_landmarks", "must be >= 0");
     core::require(init_sigma_m > 0 && init_sigma_deg > 0 && init_sigma_v > 0 && init_sigma_bg > 0 && init_sigma_ba > 0,
                   k + "init_sigma_*", "must be > 0");
 }

@@ -9,8 +9,11 @@
 // Why the direct term and not feature matches for the map: on the simulated world (and on KITTI) camera
 // descriptors do not match quasi-image descriptors (bench_crossmodal: 0 of 75 ORB matches correct at the true
 // pose), while map edges align with camera edges from a prediction within ~0.1 m / 1 deg (67 % success).
-// The IMU keeps the prediction inside that basin between map updates. Temporal visual factors, line and
-// plane factors with reweighting, relocalization and loss recovery are not in this version.
+// The IMU keeps the prediction inside that basin between map updates. With temporal_landmarks, stereo
+// points matched between the previous and the current left image (front-end: ORB/..., epipolar stereo
+// matching, windowed temporal matching) add stereo reprojection factors in both frames (visual-inertial
+// odometry between map updates). Line and plane factors with reweighting, relocalization and loss recovery
+// are not in this version.
 //
 // Keyframe policy: map alignment every `keyframe_every` frames; between keyframes the IMU factor alone
 // carries the state. A map correction larger than max_correction_* is rejected (counted as a miss: the
@@ -25,6 +28,9 @@
 //   max_correction_m = 0.15       ; larger map corrections are rejected
 //   max_correction_deg = 1.5
 //   lost_after_misses = 20
+//   temporal_landmarks = true     ; stereo landmarks between consecutive frames
+//   temporal_window_px = 60       ; a current keypoint's match lies within this of the previous one
+//   max_landmarks = 150
 //   init_sigma_m = 0.01           ; uncertainty of the given initial state
 //   init_sigma_deg = 0.1
 //   init_sigma_v = 0.05           ; m/s
@@ -40,6 +46,7 @@
 #include <quasiloc/estimation/imu_preintegration.h>
 #include <quasiloc/estimation/map_refinement.h>
 #include <quasiloc/estimation/tracking_window.h>
+#include <quasiloc/frontend/stereo_matcher.h>
 #include <quasiloc/map/lidar_map.h>
 #include <string>
 
@@ -52,6 +59,9 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
     int lost_after_misses = 20;
+    bool temporal_landmarks = true;
+    double temporal_window_px = 60;
+    int max_landmarks = 150;
     double init_sigma_m = 0.01, init_sigma_deg = 0.1, init_sigma_v = 0.05, init_sigma_bg = 0.002, init_sigma_ba = 0.05;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
@@ -71,7 +81,8 @@ struct FrameReport
     int edge_points = 0;
     double prior_sigma_m = 0, prior_sigma_deg = 0;
     bool lost = false;
-    double ms_predict = 0, ms_image = 0, ms_align = 0, ms_window = 0, ms_total = 0;
+    int landmarks = 0;
+    double ms_predict = 0, ms_image = 0, ms_align = 0, ms_visual = 0, ms_window = 0, ms_total = 0;
 };
 
 class Tracker
@@ -84,20 +95,31 @@ class Tracker
             const core::StereoRig& rig, const estimation::ImuNoise& imu_noise, quasi::QuasiRenderer& renderer,
             frontend::Frontend& frontend);
 
-    /** Starts at time t with the left camera at T_world_cam0 and the body moving at v_world. */
-    void initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world);
+    /** Starts at time t with the left camera at T_world_cam0 and the body moving at v_world; `frame` (optional,
+     *  the frame at t) gives the first stereo points for temporal landmarks. */
+    void initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
+                    const dataset::StereoFrame* frame = nullptr);
     bool initialized() const { return initialized_; }
 
     /** Tracks one stereo frame (its IMU samples since the previous frame included). */
     FrameReport track(const dataset::StereoFrame& frame);
 
    private:
+    /** Stereo points of `frame` (features kept for the next frame) and landmarks against the previous frame. */
+    void temporalLandmarks(const dataset::StereoFrame& frame, std::vector<estimation::TemporalLandmark>& out);
+
     TrackerOptions options_;
     estimation::EstimatorOptions estimator_;
     estimation::ReweightingOptions reweighting_;
     estimation::StereoGeometry stereo_;
     estimation::ImuNoise imu_noise_;
     estimation::MapRefiner refiner_;
+    frontend::Frontend& frontend_;
+    frontend::StereoMatcher stereo_matcher_;
+    frontend::FrameFeatures prev_left_;
+    std::vector<cv::KeyPoint> prev_right_keypoints_;
+    std::vector<frontend::StereoPoint> prev_stereo_;
+    std::vector<int> prev_stereo_of_left_;  ///< previous left keypoint -> index in prev_stereo_ (-1: none)
     Eigen::Isometry3d T_body_cam_ = Eigen::Isometry3d::Identity();
 
     bool initialized_ = false;
