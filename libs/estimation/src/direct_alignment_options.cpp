@@ -1,29 +1,29 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/direct_alignment.h>
 
-#include "ini_read.h"
+#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::estimation
 {
 void DirectAlignmentOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    pyramid_levels = detail::readInt(cfg, s, "pyramid_levels", pyramid_levels);
-    camera_blur_sigma_px = detail::readDouble(cfg, s, "camera_blur_sigma_px", camera_blur_sigma_px);
-    canny_high_percentile = detail::readDouble(cfg, s, "canny_high_percentile", canny_high_percentile);
-    canny_low_ratio = detail::readDouble(cfg, s, "canny_low_ratio", canny_low_ratio);
-    orientation_bins = detail::readInt(cfg, s, "orientation_bins", orientation_bins);
-    truncation_px = detail::readDouble(cfg, s, "truncation_px", truncation_px);
-    huber_px = detail::readDouble(cfg, s, "huber_px", huber_px);
-    iterations_per_level = detail::readInt(cfg, s, "iterations_per_level", iterations_per_level);
-    max_edge_points = detail::readInt(cfg, s, "max_edge_points", max_edge_points);
-    model_block_px = detail::readInt(cfg, s, "model_block_px", model_block_px);
-    model_close_px = detail::readInt(cfg, s, "model_close_px", model_close_px);
-    depth_edge_rel = detail::readDouble(cfg, s, "depth_edge_rel", depth_edge_rel);
-    refl_canny_high = detail::readDouble(cfg, s, "refl_canny_high", refl_canny_high);
-    use_reflectivity_edges = detail::readBool(cfg, s, "use_reflectivity_edges", use_reflectivity_edges);
-    nmi_bins = detail::readInt(cfg, s, "nmi_bins", nmi_bins);
-    max_nmi_points = detail::readInt(cfg, s, "max_nmi_points", max_nmi_points);
-    nmi_polish = detail::readBool(cfg, s, "nmi_polish", nmi_polish);
+    pyramid_levels = core::readIniInt(cfg, s, "pyramid_levels", pyramid_levels);
+    camera_blur_sigma_px = core::readIniDouble(cfg, s, "camera_blur_sigma_px", camera_blur_sigma_px);
+    canny_high_percentile = core::readIniDouble(cfg, s, "canny_high_percentile", canny_high_percentile);
+    canny_low_ratio = core::readIniDouble(cfg, s, "canny_low_ratio", canny_low_ratio);
+    orientation_bins = core::readIniInt(cfg, s, "orientation_bins", orientation_bins);
+    truncation_px = core::readIniDouble(cfg, s, "truncation_px", truncation_px);
+    huber_px = core::readIniDouble(cfg, s, "huber_px", huber_px);
+    iterations_per_level = core::readIniInt(cfg, s, "iterations_per_level", iterations_per_level);
+    max_edge_points = core::readIniInt(cfg, s, "max_edge_points", max_edge_points);
+    model_block_px = core::readIniInt(cfg, s, "model_block_px", model_block_px);
+    model_close_px = core::readIniInt(cfg, s, "model_close_px", model_close_px);
+    depth_edge_rel = core::readIniDouble(cfg, s, "depth_edge_rel", depth_edge_rel);
+    refl_canny_high = core::readIniDouble(cfg, s, "refl_canny_high", refl_canny_high);
+    use_reflectivity_edges = core::readIniBool(cfg, s, "use_reflectivity_edges", use_reflectivity_edges);
+    nmi_bins = core::readIniInt(cfg, s, "nmi_bins", nmi_bins);
+    max_nmi_points = core::readIniInt(cfg, s, "max_nmi_points", max_nmi_points);
+    nmi_polish = core::readIniBool(cfg, s, "nmi_polish", nmi_polish);
 }
 
 void DirectAlignmentOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const

@@ -1,21 +1,21 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/estimator_options.h>
 
-#include "ini_read.h"
+#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::estimation
 {
 void EstimatorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
     primitives = cfg.read_string(s, "primitives", primitives);
-    use_imu = detail::readBool(cfg, s, "use_imu", use_imu);
-    use_temporal_landmarks = detail::readBool(cfg, s, "use_temporal_landmarks", use_temporal_landmarks);
-    outer_iterations = detail::readInt(cfg, s, "outer_iterations", outer_iterations);
-    inner_iterations = detail::readInt(cfg, s, "inner_iterations", inner_iterations);
+    use_imu = core::readIniBool(cfg, s, "use_imu", use_imu);
+    use_temporal_landmarks = core::readIniBool(cfg, s, "use_temporal_landmarks", use_temporal_landmarks);
+    outer_iterations = core::readIniInt(cfg, s, "outer_iterations", outer_iterations);
+    inner_iterations = core::readIniInt(cfg, s, "inner_iterations", inner_iterations);
     robust_loss = cfg.read_string(s, "robust_loss", robust_loss);
-    robust_threshold = detail::readDouble(cfg, s, "robust_threshold", robust_threshold);
-    min_depth_m = detail::readDouble(cfg, s, "min_depth_m", min_depth_m);
-    marginal_damping = detail::readDouble(cfg, s, "marginal_damping", marginal_damping);
+    robust_threshold = core::readIniDouble(cfg, s, "robust_threshold", robust_threshold);
+    min_depth_m = core::readIniDouble(cfg, s, "min_depth_m", min_depth_m);
+    marginal_damping = core::readIniDouble(cfg, s, "marginal_damping", marginal_damping);
 }
 
 void EstimatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const

@@ -10,7 +10,7 @@
 #include <quasiloc/frontend/lifting.h>
 #include <unordered_map>
 
-#include "ini_read.h"
+#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::estimation
 {
@@ -36,19 +36,19 @@ RefinementMethod refinementMethodFromString(const std::string& name, const std::
 
 void MapRefinementOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
-    window_sigmas = detail::readDouble(cfg, s, "window_sigmas", window_sigmas);
-    min_window_px = detail::readDouble(cfg, s, "min_window_px", min_window_px);
-    max_window_px = detail::readDouble(cfg, s, "max_window_px", max_window_px);
-    guided_candidates = detail::readInt(cfg, s, "guided_candidates", guided_candidates);
-    combined_sigma_m = detail::readDouble(cfg, s, "combined_sigma_m", combined_sigma_m);
-    combined_sigma_deg = detail::readDouble(cfg, s, "combined_sigma_deg", combined_sigma_deg);
-    min_inliers = detail::readInt(cfg, s, "min_inliers", min_inliers);
-    agree_m = detail::readDouble(cfg, s, "agree_m", agree_m);
-    agree_deg = detail::readDouble(cfg, s, "agree_deg", agree_deg);
-    gate_sigmas = detail::readDouble(cfg, s, "gate_sigmas", gate_sigmas);
-    direct_prior_weight = detail::readDouble(cfg, s, "direct_prior_weight", direct_prior_weight);
-    lift_radius_px = detail::readDouble(cfg, s, "lift_radius_px", lift_radius_px);
-    pnp_max_error_px = detail::readDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
+    window_sigmas = core::readIniDouble(cfg, s, "window_sigmas", window_sigmas);
+    min_window_px = core::readIniDouble(cfg, s, "min_window_px", min_window_px);
+    max_window_px = core::readIniDouble(cfg, s, "max_window_px", max_window_px);
+    guided_candidates = core::readIniInt(cfg, s, "guided_candidates", guided_candidates);
+    combined_sigma_m = core::readIniDouble(cfg, s, "combined_sigma_m", combined_sigma_m);
+    combined_sigma_deg = core::readIniDouble(cfg, s, "combined_sigma_deg", combined_sigma_deg);
+    min_inliers = core::readIniInt(cfg, s, "min_inliers", min_inliers);
+    agree_m = core::readIniDouble(cfg, s, "agree_m", agree_m);
+    agree_deg = core::readIniDouble(cfg, s, "agree_deg", agree_deg);
+    gate_sigmas = core::readIniDouble(cfg, s, "gate_sigmas", gate_sigmas);
+    direct_prior_weight = core::readIniDouble(cfg, s, "direct_prior_weight", direct_prior_weight);
+    lift_radius_px = core::readIniDouble(cfg, s, "lift_radius_px", lift_radius_px);
+    pnp_max_error_px = core::readIniDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
     direct.loadFromConfigFile(cfg, "DirectAlignment");
 }
 

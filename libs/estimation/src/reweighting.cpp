@@ -4,17 +4,17 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/reweighting.h>
 
-#include "ini_read.h"
+#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::estimation
 {
 void ReweightingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
 {
     mode = cfg.read_string(s, "mode", mode);
-    tau = detail::readDouble(cfg, s, "tau", tau);
-    beta = detail::readDouble(cfg, s, "beta", beta);
-    kappa = detail::readDouble(cfg, s, "kappa", kappa);
-    epsilon = detail::readDouble(cfg, s, "epsilon", epsilon);
+    tau = core::readIniDouble(cfg, s, "tau", tau);
+    beta = core::readIniDouble(cfg, s, "beta", beta);
+    kappa = core::readIniDouble(cfg, s, "kappa", kappa);
+    epsilon = core::readIniDouble(cfg, s, "epsilon", epsilon);
 }
 
 void ReweightingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
