@@ -233,17 +233,8 @@ int run(const core::CommandLine& cmd_in)
         cmd.flags.erase(cmd.flags.begin());
     }
     for (const auto& f : cmd.flags) throw core::InputError("command line", "unexpected argument '" + f + "'");
-    mrpt::config::CConfigFileMemory cfg;
+    const mrpt::config::CConfigFileMemory cfg = core::loadConfig(cmd);  // overrides alone without an INI file
     const std::string name = cmd.config_path.empty() ? "command line" : cmd.config_path;
-    if (!cmd.config_path.empty())
-        cfg = core::loadConfig(cmd);
-    else
-        for (const auto& [key, value] : cmd.overrides)
-        {
-            const auto dot = key.find('.');
-            core::require(dot != std::string::npos && dot > 0, "--set " + key, "expected Section.key=value");
-            cfg.write(key.substr(0, dot), key.substr(dot + 1), value);
-        }
     BenchOptions b;
     core::loadOptionsChecked(b, cfg, "BenchCrossModal", name);
     frontend::FrontendOptions fo;
