@@ -30,8 +30,9 @@ awk -v a="$ate" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a < b) }' || fail "t
 awk -v a="$imu_only" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a > b) }' \
   || fail "the IMU alone ($imu_only cm) already meets the bound: the test would not catch a broken map term"
 # Bad input: a missing map is named, nothing is written.
-expect_failure "$WORK/bad.txt" "$BIN/quasiloc-track" config.ini --set Tracking.map_file="$WORK/nope.map" \
-  --set Tracking.output_dir="$WORK/bad"
+expect_failure "$WORK/bad.txt" "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \
+  --set Tracking.calibration_ini="$SIM/calib.ini" --set Tracking.groundtruth="$SIM/gt.tum" \
+  --set Tracking.map_file="$WORK/nope.map" --set Tracking.output_dir="$WORK/bad"
 expect_contains "$WORK/bad.txt" "nope.map"
 [ ! -e "$WORK/bad" ] || fail "output written despite the error"
 echo "OK"
