@@ -126,7 +126,8 @@ std::string budgetFor(const std::string& stage, double mean_ms)
 {
     if (stage.find("xfeat") != std::string::npos) return "-";  // budgets are for the classical front-end
     double bound = -1;
-    if (stage.find("points + lines per image") != std::string::npos) bound = 15;
+    // Per image, camera images and quasi-images alike ("points + lines per image", "extract ... (points + lines)").
+    if (stage.find("points + lines") != std::string::npos) bound = 15;
     else if (stage.find("match points") != std::string::npos || stage.find("match lines") != std::string::npos) bound = 5;
     else if (stage.find("associations") != std::string::npos) bound = 2;
     if (bound < 0) return "-";

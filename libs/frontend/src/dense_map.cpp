@@ -24,22 +24,28 @@ void DenseMap::sampleAdd(float x, float y, float weight, float* out) const
     }
 }
 
-DenseMap computeGradientDenseMap(const cv::Mat& gray)
+DenseMap computeGradientDenseMap(const cv::Mat& gray, DenseMapScratch& scratch)
 {
     constexpr int kBins = 8;
-    cv::Mat half, gx, gy;
-    cv::resize(gray, half, cv::Size(gray.cols / 4, gray.rows / 4), 0, 0, cv::INTER_AREA);
-    half.convertTo(half, CV_32F, 1.0 / 255.0);
-    cv::Sobel(half, gx, CV_32F, 1, 0, 3);
-    cv::Sobel(half, gy, CV_32F, 0, 1, 3);
+    constexpr double kSigmas[2] = {1.0, 2.0};
+    cv::Mat& half = scratch.half;
+    cv::resize(gray, scratch.half_u8, cv::Size(gray.cols / 4, gray.rows / 4), 0, 0, cv::INTER_AREA);
+    scratch.half_u8.convertTo(half, CV_32F, 1.0 / 255.0);
+    cv::Sobel(half, scratch.gx, CV_32F, 1, 0, 3);
+    cv::Sobel(half, scratch.gy, CV_32F, 0, 1, 3);
     const int H = half.rows, W = half.cols;
-    std::vector<cv::Mat> bins(kBins);
-    for (auto& b : bins) b = cv::Mat::zeros(H, W, CV_32F);
+    auto& bins = scratch.bins;
+    bins.resize(kBins);
+    for (auto& b : bins)
+    {
+        b.create(H, W, CV_32F);
+        b.setTo(0);
+    }
     // Unsigned orientation (mod pi): camera images and quasi-images often disagree on the polarity of an edge.
     for (int y = 0; y < H; ++y)
     {
-        const float* px = gx.ptr<float>(y);
-        const float* py = gy.ptr<float>(y);
+        const float* px = scratch.gx.ptr<float>(y);
+        const float* py = scratch.gy.ptr<float>(y);
         for (int x = 0; x < W; ++x)
         {
             const float mag = std::sqrt(px[x] * px[x] + py[x] * py[x]);
@@ -53,18 +59,21 @@ DenseMap computeGradientDenseMap(const cv::Mat& gray)
             bins[b1].at<float>(y, x) += t * mag;
         }
     }
-    std::vector<cv::Mat> channels;
-    for (double sigma : {1.0, 2.0})
-        for (const auto& b : bins)
-        {
-            cv::Mat pooled;
-            cv::GaussianBlur(b, pooled, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
-            channels.push_back(pooled);
-        }
-    cv::Mat merged;
-    cv::merge(channels, merged);
+    // Pooled channels straight into the cell-major output (channel = sigma index * kBins + bin).
     DenseMap m;
-    m.data = merged.reshape(1, H * W).clone();
+    m.data.create(H * W, 2 * kBins, CV_32F);
+    for (int si = 0; si < 2; ++si)
+        for (int b = 0; b < kBins; ++b)
+        {
+            cv::GaussianBlur(bins[size_t(b)], scratch.pooled, cv::Size(0, 0), kSigmas[si], kSigmas[si],
+                             cv::BORDER_REFLECT);
+            const int ch = si * kBins + b;
+            for (int y = 0; y < H; ++y)
+            {
+                const float* src = scratch.pooled.ptr<float>(y);
+                for (int x = 0; x < W; ++x) m.data.ptr<float>(y * W + x)[ch] = src[x];
+            }
+        }
     m.cols_cells = W;
     m.rows_cells = H;
     m.stride = double(gray.cols) / W;
@@ -79,5 +88,11 @@ DenseMap computeGradientDenseMap(const cv::Mat& gray)
         for (int c = 0; c < m.data.cols; ++c) v[c] *= inv;
     }
     return m;
+}
+
+DenseMap computeGradientDenseMap(const cv::Mat& gray)
+{
+    DenseMapScratch scratch;
+    return computeGradientDenseMap(gray, scratch);
 }
 }  // namespace quasiloc::frontend

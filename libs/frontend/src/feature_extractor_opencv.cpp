@@ -1,5 +1,7 @@
 // ORB, SIFT and AKAZE (OpenCV features2d) behind FeatureExtractor: detect detect_factor x budget candidates,
-// spread them over the grid, then describe only the kept ones (describing is the expensive part for SIFT).
+// spread them over the grid, then describe only the kept ones (describing is the expensive part for SIFT; ORB
+// describes all candidates in its one pass, see extract).
+#include <algorithm>
 #include <opencv2/features2d.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/frontend/features.h>
@@ -34,12 +36,36 @@ class OpenCvExtractor : public FeatureExtractor
     {
         detail::checkExtractorInput(gray, mask);
         std::vector<cv::KeyPoint> kps;
-        f2d_->detect(gray, kps, mask);
-        out.keypoints = spreadKeypoints(kps, gray.size(), opt_.max_keypoints, opt_.grid_cols, opt_.grid_rows);
-        f2d_->compute(gray, out.keypoints, out.descriptors);
+        if (type_ == FeatureType::Orb)
+        {
+            // ORB describes every candidate in the pass that detects them: compute() would build, border and blur
+            // the image pyramid a second time (fresh buffers, so page faults too), which costs more than the
+            // descriptors of the candidates spreading drops. The kept rows are what compute() gives for the kept
+            // keypoints (feature_extractor_opencv_unittest checks it).
+            cv::Mat all;
+            f2d_->detectAndCompute(gray, mask, kps, all);
+            auto kept = spreadKeypointIndices(kps, gray.size(), opt_.max_keypoints, opt_.grid_cols, opt_.grid_rows);
+            // compute() returns its keypoints grouped by pyramid level (stable): keep that order.
+            std::stable_sort(kept.begin(), kept.end(),
+                             [&](int a, int b) { return kps[size_t(a)].octave < kps[size_t(b)].octave; });
+            out.keypoints.clear();
+            out.descriptors = cv::Mat(int(kept.size()), all.cols, all.type());
+            for (size_t k = 0; k < kept.size(); ++k)
+            {
+                out.keypoints.push_back(kps[size_t(kept[k])]);
+                all.row(kept[k]).copyTo(out.descriptors.row(int(k)));
+            }
+        }
+        else
+        {
+            // SIFT and AKAZE: describing is the expensive part, only the kept keypoints are.
+            f2d_->detect(gray, kps, mask);
+            out.keypoints = spreadKeypoints(kps, gray.size(), opt_.max_keypoints, opt_.grid_cols, opt_.grid_rows);
+            f2d_->compute(gray, out.keypoints, out.descriptors);
+        }
         if (out.descriptors.depth() == CV_32F) detail::normaliseRows(out.descriptors);
         out.type = type_;
-        out.dense = opt_.dense_map ? computeGradientDenseMap(gray) : DenseMap{};
+        out.dense = opt_.dense_map ? computeGradientDenseMap(gray, dense_scratch_) : DenseMap{};
     }
     FeatureType type() const override { return type_; }
 
@@ -47,6 +73,7 @@ class OpenCvExtractor : public FeatureExtractor
     FeatureOptions opt_;
     FeatureType type_;
     cv::Ptr<cv::Feature2D> f2d_;
+    DenseMapScratch dense_scratch_;
 };
 }  // namespace
 

@@ -1,5 +1,11 @@
 #include <chrono>
+#include <condition_variable>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <opencv2/core/utility.hpp>
 #include <quasiloc/frontend/frontend.h>
+#include <thread>
 
 namespace quasiloc::frontend
 {
@@ -30,10 +36,97 @@ std::vector<core::OptionsSection> FrontendOptions::sections() const
             {"LineMatching", &line_matching}, {"Association", &association},     {"Stereo", &stereo}};
 }
 
+namespace
+{
+/** The classical dense map depends on the image alone and feeds only the hybrid line descriptors: the front-end
+ *  computes it beside the line detection (see extract) rather than in the point extractor. XFeat's dense map is
+ *  an output of its network: it stays with the points. */
+bool denseMapWithLines(const FeatureOptions& f)
+{
+    return f.dense_map && (f.type == "orb" || f.type == "sift" || f.type == "akaze");
+}
+
+FeatureOptions pointExtractorOptions(FeatureOptions f)
+{
+    if (denseMapWithLines(f)) f.dense_map = false;
+    return f;
+}
+}  // namespace
+
+/** One helper thread that runs one task at a time. It lives as long as the Frontend: a new thread per image would
+ *  fault its stack pages in again every time, and a page fault is expensive (tens of microseconds on a VM). */
+class Frontend::Worker
+{
+   public:
+    Worker() : thread_([this] { loop(); }) {}
+    ~Worker()
+    {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        thread_.join();
+    }
+    /** Starts `task` (the previous one must have been waited for). */
+    void start(std::function<void()> task)
+    {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            task_ = std::move(task);
+            done_ = false;
+            error_ = nullptr;
+        }
+        wake_.notify_all();
+    }
+    /** Waits for the task; returns what it threw (nullptr: nothing). */
+    std::exception_ptr wait()
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        finished_.wait(lock, [this] { return done_; });
+        return error_;
+    }
+
+   private:
+    void loop()
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;)
+        {
+            wake_.wait(lock, [this] { return stop_ || bool(task_); });
+            if (!task_) return;  // stop_
+            auto task = std::move(task_);
+            task_ = nullptr;
+            lock.unlock();
+            std::exception_ptr error;
+            try
+            {
+                task();
+            }
+            catch (...)
+            {
+                error = std::current_exception();
+            }
+            lock.lock();
+            error_ = error;
+            done_ = true;
+            finished_.notify_all();
+        }
+    }
+
+    std::mutex mutex_;
+    std::condition_variable wake_, finished_;
+    std::function<void()> task_;
+    bool done_ = true, stop_ = false;
+    std::exception_ptr error_;
+    std::thread thread_;  // last: starts after the members it uses exist
+};
+
 Frontend::Frontend(const FrontendOptions& options)
     : options_(options),
-      extractor_(createFeatureExtractor(options.features)),
-      line_detector_(std::make_unique<LineDetector>(options.lines))
+      extractor_(createFeatureExtractor(pointExtractorOptions(options.features))),
+      line_detector_(std::make_unique<LineDetector>(options.lines)),
+      dense_with_lines_(denseMapWithLines(options.features))
 {
     options.check("front-end options");
 }
@@ -43,18 +136,57 @@ Frontend::~Frontend() = default;
 void Frontend::extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& out)
 {
     using clock = std::chrono::steady_clock;
+    auto ms = [](clock::time_point a, clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+    };
     const auto t0 = clock::now();
-    extractor_->extract(gray, mask, out.points);
-    const auto t1 = clock::now();
-    out.lines = line_detector_->detect(gray, mask);
-    out.line_descriptors = describeLines(gray, out.points.dense, out.lines, options_.lines);
-    const auto t2 = clock::now();
-    out.points_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    out.lines_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    // Two independent branches: the points (keypoints, descriptors; XFeat's dense map) and the lines (detection; the
+    // classical dense map). Neither keeps two cores busy for long (ORB, FAST, FLD and the dense map are mostly
+    // single-threaded), so with a second core the line branch runs on the worker thread meanwhile. A thread of our
+    // own, not a cv::parallel_for_ region, so that the extractors that use OpenCV's pool themselves (SIFT, AKAZE, the
+    // XFeat network) keep it. With cv::setNumThreads(1) (or 0) everything runs on the calling thread, in this order.
+    DenseMap dense;
+    std::vector<LineSegment> lines;
+    clock::time_point t_lines_done;
+    auto line_branch = [&] {
+        lines = line_detector_->detect(gray, mask);
+        if (dense_with_lines_) dense = computeGradientDenseMap(gray, dense_scratch_);
+        t_lines_done = clock::now();
+    };
+    const bool concurrent = cv::getNumThreads() > 1;
+    if (concurrent)
+    {
+        if (!worker_) worker_ = std::make_unique<Worker>();
+        worker_->start(line_branch);
+        try
+        {
+            extractor_->extract(gray, mask, out.points);
+        }
+        catch (...)
+        {
+            worker_->wait();  // the line branch uses this frame's locals: let it finish first
+            throw;
+        }
+    }
+    else
+        extractor_->extract(gray, mask, out.points);
+    const auto t_points = clock::now();
+    if (!concurrent) line_branch();
+    else if (const auto error = worker_->wait()) std::rethrow_exception(error);
+    out.lines = std::move(lines);
+    if (dense_with_lines_) out.points.dense = std::move(dense);
+    // The hybrid descriptors sample the dense map: after both branches.
+    const auto t_describe = clock::now();
+    out.line_descriptors = describeLines(gray, out.points.dense, out.lines, options_.lines, describe_scratch_);
+    const auto t_end = clock::now();
+    out.points_ms = ms(t0, t_points);
+    out.lines_ms = ms(concurrent ? t0 : t_points, t_lines_done) + ms(t_describe, t_end);
+    out.total_ms = ms(t0, t_end);
     if (timer_)
     {
         timer_->registerUserMeasure("frontend.points", out.points_ms * 1e-3, true);
         timer_->registerUserMeasure("frontend.lines", out.lines_ms * 1e-3, true);
+        timer_->registerUserMeasure("frontend.extract", out.total_ms * 1e-3, true);
     }
 }
 }  // namespace quasiloc::frontend

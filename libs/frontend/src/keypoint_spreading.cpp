@@ -6,24 +6,19 @@
 
 namespace quasiloc::frontend
 {
-std::vector<cv::KeyPoint> spreadKeypoints(const std::vector<cv::KeyPoint>& kps, cv::Size size, int budget,
-                                          int grid_cols, int grid_rows)
+std::vector<int> spreadKeypointIndices(const std::vector<cv::KeyPoint>& kps, cv::Size size, int budget,
+                                      int grid_cols, int grid_rows)
 {
     if (budget <= 0 || kps.empty()) return {};
     std::vector<int> order(kps.size());
     std::iota(order.begin(), order.end(), 0);
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return kps[a].response > kps[b].response; });
-    if (int(kps.size()) <= budget)
-    {
-        std::vector<cv::KeyPoint> out;
-        for (int i : order) out.push_back(kps[i]);
-        return out;
-    }
+    if (int(kps.size()) <= budget) return order;
     const int cells = grid_cols * grid_rows;
     const int quota = std::max(1, budget / cells);
     std::vector<int> used(cells, 0);
     std::vector<char> taken(kps.size(), 0);
-    std::vector<cv::KeyPoint> out;
+    std::vector<int> out;
     out.reserve(budget);
     for (int i : order)
     {
@@ -34,14 +29,22 @@ std::vector<cv::KeyPoint> spreadKeypoints(const std::vector<cv::KeyPoint>& kps, 
         {
             ++u;
             taken[i] = 1;
-            out.push_back(kps[i]);
+            out.push_back(i);
         }
     }
     for (int i : order)
     {
         if (int(out.size()) >= budget) break;
-        if (!taken[i]) out.push_back(kps[i]);
+        if (!taken[i]) out.push_back(i);
     }
+    return out;
+}
+
+std::vector<cv::KeyPoint> spreadKeypoints(const std::vector<cv::KeyPoint>& kps, cv::Size size, int budget,
+                                          int grid_cols, int grid_rows)
+{
+    std::vector<cv::KeyPoint> out;
+    for (int i : spreadKeypointIndices(kps, size, budget, grid_cols, grid_rows)) out.push_back(kps[size_t(i)]);
     return out;
 }
 }  // namespace quasiloc::frontend

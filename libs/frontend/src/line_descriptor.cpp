@@ -40,10 +40,18 @@ void addNormalised(const float* v, int n, float weight, float* out)
 cv::Mat describeLines(const cv::Mat& gray, const DenseMap& dense, std::vector<LineSegment>& lines,
                       const LineOptions& options)
 {
+    LineDescriptorScratch scratch;
+    return describeLines(gray, dense, lines, options, scratch);
+}
+
+cv::Mat describeLines(const cv::Mat& gray, const DenseMap& dense, std::vector<LineSegment>& lines,
+                      const LineOptions& options, LineDescriptorScratch& scratch)
+{
     const int P = dense.empty() ? 0 : dense.channels();
     cv::Mat desc = cv::Mat::zeros(int(lines.size()), kLineDims + P, CV_32F);
     if (lines.empty()) return desc;
-    cv::Mat gx, gy;
+    cv::Mat& gx = scratch.gx;
+    cv::Mat& gy = scratch.gy;
     cv::Sobel(gray, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(gray, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
     const int S = options.samples_per_line;

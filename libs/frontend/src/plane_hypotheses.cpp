@@ -1,7 +1,10 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <quasiloc/core/error.h>
 #include <quasiloc/frontend/plane_hypotheses.h>
+
+#include "lifting_detail.h"
 
 namespace quasiloc::frontend
 {
@@ -46,7 +49,7 @@ std::vector<PlaneHypothesis> planeHypotheses(const quasi::QuasiImage& q, const m
     {
         PlaneHypothesis h;
         h.side = side;
-        std::vector<Eigen::Vector3f> pts;
+        h.map_indices.reserve(size_t(along * across));
         for (int a = 0; a < along; ++a)
             for (int k = 0; k < across; ++k)
             {
@@ -59,6 +62,8 @@ std::vector<PlaneHypothesis> planeHypotheses(const quasi::QuasiImage& q, const m
             }
         std::sort(h.map_indices.begin(), h.map_indices.end());
         h.map_indices.erase(std::unique(h.map_indices.begin(), h.map_indices.end()), h.map_indices.end());
+        std::vector<Eigen::Vector3f> pts;
+        pts.reserve(h.map_indices.size());
         for (int idx : h.map_indices) pts.push_back(map.point(size_t(idx)));
         PlaneRejection why;
         h.plane = fitPlane(pts, o, why);
@@ -67,20 +72,68 @@ std::vector<PlaneHypothesis> planeHypotheses(const quasi::QuasiImage& q, const m
     return out;
 }
 
+namespace
+{
+const LineSegment& candidateLine(const std::vector<LineSegment>& quasi_lines, int index)
+{
+    core::require(index >= 0 && size_t(index) < quasi_lines.size(), "line association",
+                  "candidate " + std::to_string(index) + " is not one of the " + std::to_string(quasi_lines.size()) +
+                      " quasi-image lines");
+    return quasi_lines[size_t(index)];
+}
+
+LineHypothesis liftCandidate(const AssociationCandidate& c, detail::PixelLifter& lifter, const quasi::QuasiImage& q,
+                             const map::LidarMap& map, const std::vector<LineSegment>& quasi_lines,
+                             const AssociationOptions& o)
+{
+    LineHypothesis h;
+    h.line_index = c.index;
+    h.probability = c.probability;
+    const LineSegment& seg = candidateLine(quasi_lines, c.index);
+    h.support = detail::lineSupport(lifter, seg, o);
+    h.planes = planeHypotheses(q, map, seg, o);
+    return h;
+}
+}  // namespace
+
 std::vector<LineHypothesis> liftLineAssociation(const Association& a, const quasi::QuasiImage& q,
                                                 const map::LidarMap& map, const std::vector<LineSegment>& quasi_lines,
                                                 const AssociationOptions& o)
 {
+    detail::PixelLifter lifter(q, map);  // the candidates pass one gate: they are near each other
     std::vector<LineHypothesis> out;
-    for (const auto& c : a.candidates)
-    {
-        LineHypothesis h;
-        h.line_index = c.index;
-        h.probability = c.probability;
-        h.support = lineSupport(q, map, quasi_lines[size_t(c.index)], o);
-        h.planes = planeHypotheses(q, map, quasi_lines[size_t(c.index)], o);
-        out.push_back(std::move(h));
-    }
+    out.reserve(a.candidates.size());
+    for (const auto& c : a.candidates) out.push_back(liftCandidate(c, lifter, q, map, quasi_lines, o));
+    return out;
+}
+
+std::vector<std::vector<LineHypothesis>> liftLineAssociations(const std::vector<Association>& associations,
+                                                              const quasi::QuasiImage& q, const map::LidarMap& map,
+                                                              const std::vector<LineSegment>& quasi_lines,
+                                                              const AssociationOptions& o)
+{
+    // A few thousand distinct points lie near all the candidate segments of an image: 4096 slots keep most.
+    detail::PixelLifter lifter(q, map, 4096);
+    std::vector<std::pair<size_t, size_t>> first;     // (association, candidate) where a line was lifted
+    std::vector<int> lifted(quasi_lines.size(), -1);  // quasi line -> its entry in `first`
+    std::vector<std::vector<LineHypothesis>> out(associations.size());
+    for (size_t k = 0; k < associations.size(); ++k)
+        for (const auto& c : associations[k].candidates)
+        {
+            candidateLine(quasi_lines, c.index);  // InputError for an index outside quasi_lines
+            int& slot = lifted[size_t(c.index)];
+            if (slot < 0)
+            {
+                slot = int(first.size());
+                first.emplace_back(k, out[k].size());
+                out[k].push_back(liftCandidate(c, lifter, q, map, quasi_lines, o));
+                continue;
+            }
+            const auto [ka, kc] = first[size_t(slot)];
+            LineHypothesis h = out[ka][kc];  // the same line: the same support and planes
+            h.probability = c.probability;
+            out[k].push_back(std::move(h));
+        }
     return out;
 }
 }  // namespace quasiloc::frontend

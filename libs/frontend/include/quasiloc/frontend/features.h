@@ -108,8 +108,22 @@ std::unique_ptr<FeatureExtractor> createFeatureExtractor(const FeatureOptions& o
  *  Stable: among equal responses the earlier keypoint wins. */
 std::vector<cv::KeyPoint> spreadKeypoints(const std::vector<cv::KeyPoint>& keypoints, cv::Size image_size,
                                           int budget, int grid_cols, int grid_rows);
+/** spreadKeypoints as indices into `keypoints` (same selection, same order). */
+std::vector<int> spreadKeypointIndices(const std::vector<cv::KeyPoint>& keypoints, cv::Size image_size, int budget,
+                                       int grid_cols, int grid_rows);
+
+/** Working images of computeGradientDenseMap, kept by a caller that computes one map per frame: reusing them
+ *  spares a few MB of allocations per image, whose first-touch page faults cost more than the computation itself
+ *  when the allocator has given the memory back to the system in between. */
+struct DenseMapScratch
+{
+    cv::Mat half_u8, half, gx, gy, pooled;
+    std::vector<cv::Mat> bins;
+};
 
 /** The classical dense map of [Features] (16 channels, stride 4). */
 DenseMap computeGradientDenseMap(const cv::Mat& gray);
+/** The same map, computed in `scratch` (the result does not depend on what scratch held before). */
+DenseMap computeGradientDenseMap(const cv::Mat& gray, DenseMapScratch& scratch);
 
 }  // namespace quasiloc::frontend

@@ -41,8 +41,14 @@ struct FrameFeatures
     Features points;
     std::vector<LineSegment> lines;
     cv::Mat line_descriptors;  ///< one CV_32F row per line
-    double points_ms = 0;      ///< wall time of the point extraction (keypoints, descriptors, dense map)
-    double lines_ms = 0;       ///< wall time of line detection + hybrid descriptors
+    /** Wall time of the point extraction: keypoints, descriptors (and XFeat's dense map, a network output). */
+    double points_ms = 0;
+    /** Wall time of the line branch: detection, the classical dense map (it feeds only the line descriptors),
+     *  hybrid descriptors. */
+    double lines_ms = 0;
+    /** Wall time of the whole extraction: less than points_ms + lines_ms when the line detection ran
+     *  concurrently with the points (Frontend::extract). */
+    double total_ms = 0;
 };
 
 class Frontend
@@ -52,8 +58,12 @@ class Frontend
     explicit Frontend(const FrontendOptions& options);
     ~Frontend();
 
-    /** Points and lines of an 8-bit grayscale image (mask optional: a quasi-image's `valid`). The stage times
-     *  go into out.points_ms / out.lines_ms and, if set, a CTimeLogger ("frontend.points", "frontend.lines"). */
+    /** Points and lines of an 8-bit grayscale image (mask optional: a quasi-image's `valid`). With more than one
+     *  OpenCV thread (cv::getNumThreads()), the line branch (detection, classical dense map) runs on the
+     *  Frontend's worker thread while the points are extracted; the results are the same either way, and the same
+     *  as calling the extractor, the detector and describeLines in turn. The stage times go into out.points_ms /
+     *  out.lines_ms / out.total_ms and, if set, a CTimeLogger ("frontend.points", "frontend.lines",
+     *  "frontend.extract"). Not reentrant: one Frontend per thread. */
     void extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& out);
 
     const FrontendOptions& options() const { return options_; }
@@ -61,9 +71,15 @@ class Frontend
     void setTimeLogger(mrpt::system::CTimeLogger* logger) { timer_ = logger; }
 
    private:
+    class Worker;
     FrontendOptions options_;
     std::unique_ptr<FeatureExtractor> extractor_;
     std::unique_ptr<LineDetector> line_detector_;
+    bool dense_with_lines_ = false;  ///< the classical dense map is computed in the line branch (extract)
+    // Working images reused from frame to frame (see DenseMapScratch).
+    DenseMapScratch dense_scratch_;
+    LineDescriptorScratch describe_scratch_;
+    std::unique_ptr<Worker> worker_;  ///< the thread of the line branch, started by the first concurrent extract
     mrpt::system::CTimeLogger* timer_ = nullptr;
 };
 

@@ -80,4 +80,15 @@ class LineDetector
 cv::Mat describeLines(const cv::Mat& gray, const DenseMap& dense, std::vector<LineSegment>& lines,
                       const LineOptions& options);
 
+/** Working images of describeLines (the image gradients), kept by a caller that describes the lines of every
+ *  frame: reusing them spares two image-sized allocations per call (see DenseMapScratch). */
+struct LineDescriptorScratch
+{
+    cv::Mat gx, gy;
+};
+
+/** The same descriptors, with the gradients computed in `scratch`. */
+cv::Mat describeLines(const cv::Mat& gray, const DenseMap& dense, std::vector<LineSegment>& lines,
+                      const LineOptions& options, LineDescriptorScratch& scratch);
+
 }  // namespace quasiloc::frontend

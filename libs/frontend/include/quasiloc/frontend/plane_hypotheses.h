@@ -52,9 +52,18 @@ struct LineHypothesis
 std::vector<PlaneHypothesis> planeHypotheses(const quasi::QuasiImage& q, const map::LidarMap& map,
                                              const LineSegment& segment, const AssociationOptions& options);
 
-/** Lifts every candidate of a line association (quasi_lines: the map-side segments). */
+/** Lifts every candidate of a line association (quasi_lines: the map-side segments; InputError for a candidate
+ *  index outside them). */
 std::vector<LineHypothesis> liftLineAssociation(const Association& association, const quasi::QuasiImage& q,
                                                 const map::LidarMap& map, const std::vector<LineSegment>& quasi_lines,
                                                 const AssociationOptions& options);
+
+/** liftLineAssociation for every association of one quasi-image, element for element the same result; faster:
+ *  a map-side line that is a candidate of several associations is lifted once, and map points near several
+ *  segments are projected once. */
+std::vector<std::vector<LineHypothesis>> liftLineAssociations(const std::vector<Association>& associations,
+                                                              const quasi::QuasiImage& q, const map::LidarMap& map,
+                                                              const std::vector<LineSegment>& quasi_lines,
+                                                              const AssociationOptions& options);
 
 }  // namespace quasiloc::frontend
