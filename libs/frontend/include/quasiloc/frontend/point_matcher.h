@@ -2,7 +2,8 @@
 // Point matching by descriptor distance: mutual nearest neighbour with Lowe's ratio test, L2 for float
 // descriptors (SIFT, XFeat; L2-normalised) and Hamming for binary ones (ORB, AKAZE). The same code matches
 // (I_{t-1}, I_t), (Q_t, I_t) and left-right pairs; what differs is the search region (a window around a
-// predicted position, an epipolar band). LighterGlue (libtorch) is not implemented: libtorch is not available.
+// predicted position, an epipolar band). LighterGlue is not implemented yet (Debian 12 has libtorch-dev 1.13.1,
+// which the TorchScript model in ../shared/models/lighterglue needs; it must stay an optional component).
 //
 //   [PointMatching]
 //   ratio = 0.9                 ; best < ratio * second best (distance); 1 disables the test
