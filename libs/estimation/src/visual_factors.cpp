@@ -25,6 +25,24 @@ Eigen::Vector3d pointInCamera(const Eigen::Isometry3d& T_map_body, const Eigen::
     if (J) *J = R_cam_body * pointInBodyJacobian(p_body);
     return R_cam_body * (p_body - T_body_cam.translation());
 }
+
+/** Ceres Evaluate of a structural factor (point-to-line, point-to-plane) from its linearize(): residuals, and the
+ *  tangent Jacobian lifted into the 7-wide pose block. */
+template <class Factor>
+bool evaluateStructural(const Factor& f, double const* const* parameters, double* residuals, double** jacobians)
+{
+    Eigen::VectorXd r;
+    Eigen::Matrix<double, -1, 6> J;
+    const bool want_J = jacobians && jacobians[0];
+    f.linearize(paramsToPose(parameters[0]), r, want_J ? &J : nullptr);
+    Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
+    if (want_J)
+    {
+        const RowMajor6 Jr = J;
+        liftPoseJacobian(Jr.data(), static_cast<int>(r.size()), jacobians[0]);
+    }
+    return true;
+}
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------- point
@@ -105,17 +123,7 @@ void PointToLineFactor::linearize(const Eigen::Isometry3d& T, Eigen::VectorXd& r
 
 bool PointToLineFactor::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const
 {
-    Eigen::VectorXd r;
-    Eigen::Matrix<double, -1, 6> J;
-    const bool want_J = jacobians && jacobians[0];
-    linearize(paramsToPose(parameters[0]), r, want_J ? &J : nullptr);
-    Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
-    if (want_J)
-    {
-        const RowMajor6 Jr = J;
-        liftPoseJacobian(Jr.data(), static_cast<int>(r.size()), jacobians[0]);
-    }
-    return true;
+    return evaluateStructural(*this, parameters, residuals, jacobians);
 }
 
 // ---------------------------------------------------------------------------------------------- plane
@@ -156,17 +164,7 @@ void PointToPlaneFactor::linearize(const Eigen::Isometry3d& T, Eigen::VectorXd& 
 
 bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const
 {
-    Eigen::VectorXd r;
-    Eigen::Matrix<double, -1, 6> J;
-    const bool want_J = jacobians && jacobians[0];
-    linearize(paramsToPose(parameters[0]), r, want_J ? &J : nullptr);
-    Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r;
-    if (want_J)
-    {
-        const RowMajor6 Jr = J;
-        liftPoseJacobian(Jr.data(), static_cast<int>(r.size()), jacobians[0]);
-    }
-    return true;
+    return evaluateStructural(*this, parameters, residuals, jacobians);
 }
 
 // --------------------------------------------------------------------------------------------- stereo
