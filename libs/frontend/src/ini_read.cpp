@@ -1,14 +1,11 @@
 #include "ini_read.h"
 
-#include <algorithm>
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::frontend::detail
 {
-std::string keyName(const std::string& section, const std::string& key) { return "[" + section + "] " + key; }
+std::string keyName(const std::string& section, const std::string& key) { return core::iniKeyName(section, key); }
 
 std::string readString(const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,
                        const std::string& def)
@@ -18,35 +15,22 @@ std::string readString(const mrpt::config::CConfigFileBase& cfg, const std::stri
     return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
 }
 
+// The strict number and boolean readers are core's (quasiloc/core/ini_read.h); these names keep the
+// front-end's options code short.
 double readDouble(const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,
                   double def)
 {
-    const std::string s = readString(cfg, section, key, "");
-    if (s.empty()) return def;
-    char* end = nullptr;
-    errno = 0;
-    const double v = std::strtod(s.c_str(), &end);
-    if (errno != 0 || end == s.c_str() || *end != '\0' || !std::isfinite(v))
-        throw core::InputError(keyName(section, key), "'" + s + "' is not a finite number");
-    return v;
+    return core::readIniDouble(cfg, section, key, def);
 }
 
 int readInt(const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key, int def)
 {
-    const double v = readDouble(cfg, section, key, def);
-    if (v != std::floor(v) || std::abs(v) > 1e9)
-        throw core::InputError(keyName(section, key), std::to_string(v) + " is not an integer");
-    return static_cast<int>(v);
+    return core::readIniInt(cfg, section, key, def);
 }
 
 bool readBool(const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key, bool def)
 {
-    std::string s = readString(cfg, section, key, "");
-    if (s.empty()) return def;
-    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (s == "true" || s == "1" || s == "yes") return true;
-    if (s == "false" || s == "0" || s == "no") return false;
-    throw core::InputError(keyName(section, key), "'" + s + "' is not a boolean (true/false)");
+    return core::readIniBool(cfg, section, key, def);
 }
 
 void requireKey(bool ok, const std::string& input, const std::string& section, const std::string& key,
