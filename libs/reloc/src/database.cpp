@@ -1,0 +1,181 @@
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <filesystem>
+#include <functional>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/staged_output.h>
+#include <quasiloc/reloc/database.h>
+#include <sstream>
+
+#include "archive_io.h"
+
+namespace quasiloc::reloc
+{
+namespace
+{
+const std::string kMagic = "quasiloc-reloc-database";
+constexpr uint32_t kVersion = 2;
+
+/** What a view's keypoint stores (cv::KeyPoint is not guaranteed trivially copyable across versions). */
+struct StoredKeypoint
+{
+    float x, y, size, angle, response;
+    int32_t octave;
+};
+
+void writeView(mrpt::serialization::CArchive& out, const DatabaseView& v)
+{
+    out.WriteAs<int32_t>(v.id);
+    const auto m = v.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) out << m(r, c);
+    std::vector<StoredKeypoint> kps;
+    kps.reserve(v.keypoints.size());
+    for (const auto& k : v.keypoints) kps.push_back({k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave});
+    detail::writeVector(out, kps);
+    detail::writeMat(out, v.descriptors);
+    detail::writeVector(out, v.points_world);
+    detail::writeVector(out, v.lines);
+    detail::writeVector(out, v.lines_world);
+    out << v.valid_fraction;
+    detail::writeVector(out, v.bow);
+}
+
+DatabaseView readView(mrpt::serialization::CArchive& in)
+{
+    DatabaseView v;
+    v.id = in.ReadAs<int32_t>();
+    mrpt::math::CMatrixDouble44 m = mrpt::math::CMatrixDouble44::Identity();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) in >> m(r, c);
+    v.T_world_cam = mrpt::poses::CPose3D(m);
+    for (const auto& k : detail::readVector<StoredKeypoint>(in))
+        v.keypoints.emplace_back(cv::Point2f(k.x, k.y), k.size, k.angle, k.response, k.octave);
+    v.descriptors = detail::readMat(in);
+    v.points_world = detail::readVector<Eigen::Vector3f>(in);
+    v.lines = detail::readVector<frontend::LineSegment>(in);
+    v.lines_world = detail::readVector<std::array<Eigen::Vector3f, 2>>(in);
+    in >> v.valid_fraction;
+    v.bow = detail::readVector<std::pair<WordId, float>>(in);
+    if (v.points_world.size() != v.keypoints.size() || int(v.keypoints.size()) != v.descriptors.rows ||
+        v.lines_world.size() != v.lines.size())
+        throw std::runtime_error("view " + std::to_string(v.id) + " has inconsistent array sizes");
+    return v;
+}
+
+std::string iniText(const std::function<void(mrpt::config::CConfigFileBase&)>& save)
+{
+    mrpt::config::CConfigFileMemory mem;
+    save(mem);
+    std::string text;
+    mem.getContent(text);
+    return text;
+}
+}  // namespace
+
+void preprocessImage(const cv::Mat& gray, double sigma_px, cv::Mat& out)
+{
+    if (sigma_px > 0) cv::GaussianBlur(gray, out, cv::Size(), sigma_px, sigma_px, cv::BORDER_REPLICATE);
+    else out = gray;
+}
+
+int DatabaseView::numLifted() const
+{
+    int n = 0;
+    for (size_t i = 0; i < points_world.size(); ++i) n += lifted(i) ? 1 : 0;
+    return n;
+}
+
+void Database::save(const std::string& path) const
+{
+    core::StagedOutputs staged;
+    const std::string tmp = staged.addFile(path);
+    {
+        mrpt::io::CFileGZOutputStream stream;
+        std::string err;
+        core::require(stream.open(tmp, 1, err), path, "cannot open for writing: " + err);
+        try
+        {
+            auto out = mrpt::serialization::archiveFrom(stream);
+            out.WriteBuffer(kMagic.data(), kMagic.size());
+            out.WriteAs<uint32_t>(kVersion);
+            out << iniText([&](auto& c) { camera.saveToIni(c, "camera"); });
+            out << iniText([&](auto& c) { features.saveToConfigFile(c, "Features"); });
+            out << image_blur_sigma_px << map_file;
+            out.WriteAs<uint64_t>(map_points);
+            out.WriteAs<uint64_t>(views.size());
+            for (const auto& v : views) writeView(out, v);
+            vocabulary.write(out);
+            index.write(out);
+        }
+        catch (const std::exception& e)
+        {
+            throw core::InputError(path, "write failed: " + mrpt::exception_to_str(e));
+        }
+        stream.close();
+    }
+    staged.commit();
+}
+
+Database Database::load(const std::string& path)
+{
+    core::require(std::filesystem::is_regular_file(path), path, "database file not found");
+    mrpt::io::CFileGZInputStream stream;
+    core::require(stream.open(path), path, "cannot open the database for reading");
+    Database db;
+    try
+    {
+        auto in = mrpt::serialization::archiveFrom(stream);
+        // Fixed-size magic first: a foreign file fails here, before any length field is trusted.
+        std::string magic(kMagic.size(), '\0');
+        core::require(in.ReadBuffer(magic.data(), magic.size()) == magic.size(), path, "is too short to be a quasiloc database");
+        core::require(magic == kMagic, path, "is not a quasiloc database (build one with quasiloc-build-db)");
+        const uint32_t version = in.ReadAs<uint32_t>();
+        core::require(version == kVersion, path,
+                      "database format version " + std::to_string(version) + ", this program reads version " +
+                          std::to_string(kVersion) + ": rebuild it with quasiloc-build-db");
+        std::string camera_ini, features_ini;
+        in >> camera_ini >> features_ini >> db.image_blur_sigma_px >> db.map_file;
+        db.camera = core::CameraModel::loadFromIni(mrpt::config::CConfigFileMemory(camera_ini), "camera");
+        db.features.loadFromConfigFile(mrpt::config::CConfigFileMemory(features_ini), "Features");
+        db.map_points = in.ReadAs<uint64_t>();
+        const uint64_t n = in.ReadAs<uint64_t>();
+        core::require(n < (uint64_t(1) << 24), path, "corrupt view count " + std::to_string(n));
+        db.views.reserve(n);
+        for (uint64_t i = 0; i < n; ++i) db.views.push_back(readView(in));
+        db.vocabulary = Vocabulary::read(in);
+        db.index = InvertedIndex::read(in);
+    }
+    catch (const core::InputError&)
+    {
+        throw;
+    }
+    catch (const std::exception& e)
+    {
+        throw core::InputError(path, "cannot be read as a quasiloc database (truncated or corrupt): " +
+                                         mrpt::exception_to_str(e));
+    }
+    core::require(db.index.size() == db.views.size(), path, "the inverted index does not cover every view");
+    return db;
+}
+
+std::string Database::summary() const
+{
+    size_t kps = 0, lifted = 0, lines = 0;
+    for (const auto& v : views)
+    {
+        kps += v.keypoints.size();
+        lifted += size_t(v.numLifted());
+        lines += v.lines.size();
+    }
+    std::ostringstream s;
+    s << views.size() << " views, " << kps << " keypoints (" << lifted << " lifted to the map), " << lines
+      << " line segments, " << vocabulary.numWords() << " words, features " << features.type;
+    return s.str();
+}
+
+}  // namespace quasiloc::reloc

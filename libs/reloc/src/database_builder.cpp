@@ -1,0 +1,230 @@
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+#include <quasiloc/frontend/lifting.h>
+#include <quasiloc/map/visibility_index.h>
+#include <quasiloc/quasi/quasi_renderer.h>
+#include <quasiloc/reloc/database_builder.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <opencv2/core/utility.hpp>
+#include <thread>
+
+namespace quasiloc::reloc
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+const Eigen::Vector3f kNaN3 = Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN());
+
+/** One worker's renderer, extractor and detector (none of them is thread-safe). */
+struct Worker
+{
+    Worker(const map::LidarMap& map, const map::VisibilityIndex& index, const DatabaseBuildConfig& cfg)
+        : renderer(map, index, cfg.quasi),
+          extractor(frontend::createFeatureExtractor(cfg.features)),
+          lines(cfg.lines)
+    {
+    }
+    quasi::QuasiRenderer renderer;
+    std::unique_ptr<frontend::FeatureExtractor> extractor;
+    frontend::LineDetector lines;
+    quasi::QuasiImage q;
+    frontend::Features features;
+    cv::Mat blurred;
+};
+
+/** Renders, extracts and lifts one view; false when it sees too little of the map (counted in `dropped_*`). */
+bool processView(Worker& w, const map::LidarMap& map, const core::CameraModel& camera,
+                 const DatabaseBuildConfig& cfg, const mrpt::poses::CPose3D& T_world_cam, DatabaseView& view,
+                 bool& dropped_for_valid)
+{
+    w.renderer.render(T_world_cam, camera, w.q);
+    view.T_world_cam = T_world_cam;
+    view.valid_fraction = float(cv::countNonZero(w.q.valid)) / float(w.q.valid.total());
+    dropped_for_valid = view.valid_fraction < cfg.build.min_valid_fraction;
+    if (dropped_for_valid) return false;
+    preprocessImage(w.q.gray, cfg.build.image_blur_sigma_px, w.blurred);
+    w.extractor->extract(w.blurred, w.q.valid, w.features);
+    view.keypoints = w.features.keypoints;
+    view.descriptors = w.features.descriptors.clone();
+    view.points_world.assign(view.keypoints.size(), kNaN3);
+    int lifted = 0;
+    for (size_t i = 0; i < view.keypoints.size(); ++i)
+        if (auto p = frontend::liftPixel(w.q, map, view.keypoints[i].pt, cfg.association.lift_search_radius_px))
+        {
+            view.points_world[i] = p->p_world;
+            ++lifted;
+        }
+    if (lifted < cfg.build.min_lifted) return false;
+    if (cfg.build.store_lines)
+    {
+        for (const auto& seg : w.lines.detect(w.q.gray, w.q.valid))
+        {
+            const frontend::LineSupport s = frontend::lineSupport(w.q, map, seg, cfg.association);
+            std::array<Eigen::Vector3f, 2> ends{kNaN3, kNaN3};
+            if (s.valid())
+            {
+                // The support's extent along its fitted line gives the 3D segment.
+                float lo = std::numeric_limits<float>::max(), hi = -lo;
+                for (const auto& p : s.points)
+                {
+                    const float t = (p - s.line_point).dot(s.line_direction);
+                    lo = std::min(lo, t);
+                    hi = std::max(hi, t);
+                }
+                ends = {s.line_point + lo * s.line_direction, s.line_point + hi * s.line_direction};
+            }
+            view.lines.push_back(seg);
+            view.lines_world.push_back(ends);
+        }
+    }
+    return true;
+}
+}  // namespace
+
+void DatabaseBuildOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    min_valid_fraction = core::readIniDouble(c, s, "min_valid_fraction", min_valid_fraction);
+    min_lifted = core::readIniInt(c, s, "min_lifted", min_lifted);
+    store_lines = core::readIniBool(c, s, "store_lines", store_lines);
+    threads = core::readIniInt(c, s, "threads", threads);
+    image_blur_sigma_px = core::readIniDouble(c, s, "image_blur_sigma_px", image_blur_sigma_px);
+}
+
+void DatabaseBuildOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    c.write(s, "min_valid_fraction", min_valid_fraction, 30, 40, "drop views with fewer valid quasi-image pixels");
+    c.write(s, "min_lifted", min_lifted, 30, 40, "drop views with fewer keypoints lifted to the map");
+    c.write(s, "store_lines", store_lines, 30, 40, "detect and lift line segments too");
+    c.write(s, "threads", threads, 30, 40, "workers (0 = all cores)");
+    c.write(s, "image_blur_sigma_px", image_blur_sigma_px, 30, 40, "blur before extraction (0 = none)");
+}
+
+void DatabaseBuildOptions::check(const std::string& input) const
+{
+    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("BuildDatabase", k); };
+    core::require(min_valid_fraction >= 0 && min_valid_fraction <= 1, key("min_valid_fraction"), "must be in [0, 1]");
+    core::require(min_lifted >= 0, key("min_lifted"), "must be >= 0");
+    core::require(threads >= 0, key("threads"), "must be >= 0");
+    core::require(image_blur_sigma_px >= 0 && image_blur_sigma_px <= 10, key("image_blur_sigma_px"), "must be in [0, 10]");
+}
+
+Database buildDatabase(const map::LidarMap& map, const core::CameraModel& camera, const DatabaseBuildConfig& config,
+                       DatabaseBuildStats* stats, const BuildProgress& progress)
+{
+    core::require(!map.empty(), "the LiDAR map", "is empty: nothing to build a database from");
+    camera.check("the database camera");
+    config.build.check("BuildDatabase");
+    DatabaseBuildStats st;
+
+    auto t0 = Clock::now();
+    const std::vector<mrpt::poses::CPose3D> poses = sampleViewpoints(map, config.sampling, &st.sampling);
+    st.ms_sampling = msSince(t0);
+    core::require(!poses.empty(), "[ViewSampling]",
+                  "no viewpoint in the map's free space (check heights_m, clearance_m, region, require_enclosed)");
+
+    // Workers render single-threaded: views are the parallel unit.
+    DatabaseBuildConfig cfg = config;
+    cfg.quasi.num_threads = 1;
+    // Views are extracted with the quasi-image's validity mask, queries without one: both must use the same
+    // detector threshold or the two sides find different corners (15 vs 9 of 20 between-view queries localized
+    // in reloc_unittests when the masked threshold was 20 and the query's 12).
+    cfg.features.orb_fast_threshold_masked = cfg.features.orb_fast_threshold;
+    st.threads = config.build.threads > 0 ? config.build.threads
+                                          : std::max(1, int(std::thread::hardware_concurrency()));
+    st.threads = std::min<int>(st.threads, int(poses.size()));
+
+    t0 = Clock::now();
+    const map::VisibilityIndex index(map, map::VisibilityIndex::Options{cfg.quasi.visibility_block_size_m});
+    std::vector<DatabaseView> views(poses.size());
+    std::vector<char> keep(poses.size(), 0), dropped_valid(poses.size(), 0);
+    std::atomic<size_t> next{0}, done{0};
+    std::atomic<double> cpu_ms{0};
+    std::mutex progress_mutex;
+    std::exception_ptr failure;
+    const size_t report_every = std::max<size_t>(1, poses.size() / 100);
+    const int saved_cv_threads = cv::getNumThreads();
+    cv::setNumThreads(1);  // OpenCV's own pool would fight the workers for the same cores
+    auto work = [&]() {
+        try
+        {
+            Worker w(map, index, cfg);
+            for (size_t i = next++; i < poses.size(); i = next++)
+            {
+                const auto tv = Clock::now();
+                bool low_valid = false;
+                keep[i] = processView(w, map, camera, cfg, poses[i], views[i], low_valid) ? 1 : 0;
+                dropped_valid[i] = low_valid ? 1 : 0;
+                double expected = cpu_ms.load();
+                while (!cpu_ms.compare_exchange_weak(expected, expected + msSince(tv))) {}
+                const size_t d = ++done;
+                if (progress && (d % report_every == 0 || d == poses.size()))
+                {
+                    std::lock_guard<std::mutex> lock(progress_mutex);
+                    progress(d, poses.size());
+                }
+            }
+        }
+        catch (...)
+        {
+            std::lock_guard<std::mutex> lock(progress_mutex);
+            if (!failure) failure = std::current_exception();
+            next = poses.size();
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int k = 1; k < st.threads; ++k) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    cv::setNumThreads(saved_cv_threads);
+    if (failure) std::rethrow_exception(failure);
+    st.ms_views = msSince(t0);
+    st.rendered = poses.size();
+    st.ms_per_view_cpu = cpu_ms.load() / double(poses.size());
+
+    Database db;
+    db.camera = camera;
+    db.features = cfg.features;
+    db.image_blur_sigma_px = config.build.image_blur_sigma_px;
+    db.map_points = map.size();
+    for (size_t i = 0; i < poses.size(); ++i)
+    {
+        if (!keep[i])
+        {
+            (dropped_valid[i] ? st.dropped_valid : st.dropped_lifted)++;
+            continue;
+        }
+        views[i].id = int(db.views.size());
+        db.views.push_back(std::move(views[i]));
+    }
+    st.kept = db.views.size();
+    core::require(!db.views.empty(), "[BuildDatabase]",
+                  "every sampled view was dropped (min_valid_fraction / min_lifted too strict, or the map is too "
+                  "sparse for the camera)");
+
+    t0 = Clock::now();
+    std::vector<cv::Mat> descriptors;
+    descriptors.reserve(db.views.size());
+    for (const auto& v : db.views) descriptors.push_back(v.descriptors);
+    db.vocabulary = Vocabulary::train(descriptors, config.vocabulary);
+    st.ms_vocabulary = msSince(t0);
+
+    t0 = Clock::now();
+    for (auto& v : db.views)
+    {
+        v.bow = db.vocabulary.transform(v.descriptors);
+        db.index.add(v.id, v.bow);
+    }
+    st.ms_index = msSince(t0);
+    if (stats) *stats = st;
+    return db;
+}
+
+}  // namespace quasiloc::reloc

@@ -1,0 +1,228 @@
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+#include <quasiloc/reloc/view_sampling.h>
+
+#include <mrpt/math/CMatrixFixed.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace quasiloc::reloc
+{
+namespace
+{
+std::string vectorText(const std::vector<double>& v)
+{
+    std::ostringstream s;
+    for (size_t i = 0; i < v.size(); ++i) s << (i ? " " : "") << v[i];
+    return s.str();
+}
+
+/** Occupied voxels of the map (hash set), plus the lowest occupied z of every column. */
+class OccupancyGrid
+{
+   public:
+    OccupancyGrid(const map::LidarMap& map, double voxel_m) : voxel_(voxel_m)
+    {
+        occupied_.reserve(map.size() / 4);
+        const float *xs = map.xs(), *ys = map.ys(), *zs = map.zs();
+        for (size_t i = 0; i < map.size(); ++i)
+        {
+            const int ix = cell(xs[i]), iy = cell(ys[i]), iz = cell(zs[i]);
+            occupied_.insert(key(ix, iy, iz));
+            auto [it, inserted] = floor_.try_emplace(key2(ix, iy), zs[i]);
+            if (!inserted) it->second = std::min(it->second, zs[i]);
+        }
+    }
+    int cell(double v) const { return int(std::floor(v / voxel_)); }
+    bool occupied(int ix, int iy, int iz) const { return occupied_.count(key(ix, iy, iz)) != 0; }
+    bool occupiedAt(double x, double y, double z) const { return occupied(cell(x), cell(y), cell(z)); }
+    /** Lowest map z in the column of (x, y) or its 8 neighbours (a single empty column is a sampling gap). */
+    bool floorZ(double x, double y, double& z) const
+    {
+        const int ix = cell(x), iy = cell(y);
+        bool found = false;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+                if (auto it = floor_.find(key2(ix + dx, iy + dy)); it != floor_.end())
+                {
+                    z = found ? std::min(z, double(it->second)) : double(it->second);
+                    found = true;
+                }
+        return found;
+    }
+    /** Any occupied voxel whose centre lies within r of p (conservative by half a voxel diagonal). */
+    bool occupiedWithin(double x, double y, double z, double r) const
+    {
+        const int n = int(std::ceil(r / voxel_)) + 1;
+        const int cx = cell(x), cy = cell(y), cz = cell(z);
+        const double reach = r + 0.87 * voxel_;
+        for (int dz = -n; dz <= n; ++dz)
+            for (int dy = -n; dy <= n; ++dy)
+                for (int dx = -n; dx <= n; ++dx)
+                {
+                    const double vx = (cx + dx + 0.5) * voxel_ - x, vy = (cy + dy + 0.5) * voxel_ - y,
+                                 vz = (cz + dz + 0.5) * voxel_ - z;
+                    if (vx * vx + vy * vy + vz * vz <= reach * reach && occupied(cx + dx, cy + dy, cz + dz))
+                        return true;
+                }
+        return false;
+    }
+    /** Marches from p along unit d in half-voxel steps; true when an occupied voxel is met within max_m. */
+    bool rayHits(double x, double y, double z, double dx, double dy, double dz, double max_m) const
+    {
+        for (double s = 0.5 * voxel_; s <= max_m; s += 0.5 * voxel_)
+            if (occupiedAt(x + s * dx, y + s * dy, z + s * dz)) return true;
+        return false;
+    }
+
+   private:
+    static uint64_t key(int ix, int iy, int iz)
+    {
+        const auto u = [](int v) { return uint64_t(uint32_t(v + (1 << 20)) & 0x1FFFFFu); };
+        return (u(ix) << 42) | (u(iy) << 21) | u(iz);
+    }
+    static uint64_t key2(int ix, int iy) { return (uint64_t(uint32_t(ix)) << 32) | uint32_t(iy); }
+    double voxel_;
+    std::unordered_set<uint64_t> occupied_;
+    std::unordered_map<uint64_t, float> floor_;
+};
+}  // namespace
+
+void ViewSamplingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    grid_spacing_m = core::readIniDouble(c, s, "grid_spacing_m", grid_spacing_m);
+    heights_m = core::readIniVector(c, s, "heights_m", heights_m);
+    num_headings = core::readIniInt(c, s, "num_headings", num_headings);
+    pitches_deg = core::readIniVector(c, s, "pitches_deg", pitches_deg);
+    clearance_m = core::readIniDouble(c, s, "clearance_m", clearance_m);
+    voxel_m = core::readIniDouble(c, s, "voxel_m", voxel_m);
+    require_enclosed = core::readIniBool(c, s, "require_enclosed", require_enclosed);
+    max_ray_m = core::readIniDouble(c, s, "max_ray_m", max_ray_m);
+    region = core::readIniVector(c, s, "region", region);
+    margin_m = core::readIniDouble(c, s, "margin_m", margin_m);
+}
+
+void ViewSamplingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "horizontal position grid spacing");
+    c.write(s, "heights_m", vectorText(heights_m), 30, 40, "camera heights above the floor");
+    c.write(s, "num_headings", num_headings, 30, 40, "headings per position (360 deg)");
+    c.write(s, "pitches_deg", vectorText(pitches_deg), 30, 40, "camera pitches (positive up)");
+    c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a viewpoint");
+    c.write(s, "voxel_m", voxel_m, 30, 40, "occupancy grid voxel");
+    c.write(s, "require_enclosed", require_enclosed, 30, 40, "indoors: horizontal and up rays must hit the map");
+    c.write(s, "max_ray_m", max_ray_m, 30, 40, "enclosure ray length");
+    c.write(s, "region", vectorText(region), 30, 40, "optional xmin ymin xmax ymax");
+    c.write(s, "margin_m", margin_m, 30, 40, "distance from the map's horizontal bounds");
+}
+
+void ViewSamplingOptions::check(const std::string& input) const
+{
+    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("ViewSampling", k); };
+    core::require(grid_spacing_m > 0, key("grid_spacing_m"), "must be > 0");
+    core::require(!heights_m.empty(), key("heights_m"), "needs at least one height");
+    core::require(num_headings >= 1 && num_headings <= 360, key("num_headings"), "must be in [1, 360]");
+    core::require(!pitches_deg.empty(), key("pitches_deg"), "needs at least one pitch");
+    for (double p : pitches_deg) core::require(std::abs(p) < 89, key("pitches_deg"), "pitches must lie in (-89, 89)");
+    core::require(clearance_m >= 0, key("clearance_m"), "must be >= 0");
+    core::require(voxel_m > 0, key("voxel_m"), "must be > 0");
+    core::require(max_ray_m > 0, key("max_ray_m"), "must be > 0");
+    core::require(region.empty() || (region.size() == 4 && region[0] < region[2] && region[1] < region[3]),
+                  key("region"), "must be empty or [xmin ymin xmax ymax] with xmin < xmax, ymin < ymax");
+    core::require(margin_m >= 0, key("margin_m"), "must be >= 0");
+}
+
+mrpt::poses::CPose3D viewPose(double x, double y, double z, double heading_rad, double pitch_rad)
+{
+    // Columns of R_world_cam are the camera axes in the world: x right, y down, z forward.
+    const Eigen::Vector3d forward(std::cos(pitch_rad) * std::cos(heading_rad),
+                                  std::cos(pitch_rad) * std::sin(heading_rad), std::sin(pitch_rad));
+    const Eigen::Vector3d right = forward.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d down = forward.cross(right);
+    mrpt::math::CMatrixDouble33 R;
+    for (int r = 0; r < 3; ++r)
+    {
+        R(r, 0) = right[r];
+        R(r, 1) = down[r];
+        R(r, 2) = forward[r];
+    }
+    mrpt::math::CVectorFixedDouble<3> t;
+    t[0] = x;
+    t[1] = y;
+    t[2] = z;
+    return mrpt::poses::CPose3D(R, t);
+}
+
+std::vector<mrpt::poses::CPose3D> sampleViewpoints(const map::LidarMap& map, const ViewSamplingOptions& options,
+                                                   ViewSamplingStats* stats)
+{
+    options.check("ViewSampling");
+    core::require(!map.empty(), "the LiDAR map", "is empty: no viewpoints can be sampled");
+    ViewSamplingStats st;
+    const OccupancyGrid grid(map, options.voxel_m);
+    const map::MapBounds b = map.bounds();
+    double x0 = b.min.x() + options.margin_m, y0 = b.min.y() + options.margin_m;
+    double x1 = b.max.x() - options.margin_m, y1 = b.max.y() - options.margin_m;
+    if (options.region.size() == 4)
+    {
+        x0 = std::max(x0, options.region[0]);
+        y0 = std::max(y0, options.region[1]);
+        x1 = std::min(x1, options.region[2]);
+        y1 = std::min(y1, options.region[3]);
+    }
+    constexpr double kPi = 3.14159265358979323846;
+    std::vector<mrpt::poses::CPose3D> views;
+    const int nx = x1 >= x0 ? int(std::floor((x1 - x0) / options.grid_spacing_m)) + 1 : 0;
+    const int ny = y1 >= y0 ? int(std::floor((y1 - y0) / options.grid_spacing_m)) + 1 : 0;
+    // Centre the grid in the sampled rectangle, so that a smaller region is not biased to one side.
+    const double ox = x0 + 0.5 * ((x1 - x0) - (nx - 1) * options.grid_spacing_m);
+    const double oy = y0 + 0.5 * ((y1 - y0) - (ny - 1) * options.grid_spacing_m);
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i)
+        {
+            const double x = ox + i * options.grid_spacing_m, y = oy + j * options.grid_spacing_m;
+            ++st.grid_positions;
+            double floor_z = 0;
+            if (!grid.floorZ(x, y, floor_z))
+            {
+                ++st.no_floor;
+                continue;
+            }
+            for (double h : options.heights_m)
+            {
+                const double z = floor_z + h;
+                if (grid.occupiedWithin(x, y, z, options.clearance_m))
+                {
+                    ++st.not_clear;
+                    continue;
+                }
+                if (options.require_enclosed)
+                {
+                    bool enclosed = grid.rayHits(x, y, z, 0, 0, 1, options.max_ray_m);
+                    for (int k = 0; enclosed && k < 8; ++k)
+                        enclosed = grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0,
+                                                options.max_ray_m);
+                    if (!enclosed)
+                    {
+                        ++st.not_enclosed;
+                        continue;
+                    }
+                }
+                ++st.positions;
+                for (int k = 0; k < options.num_headings; ++k)
+                    for (double pitch : options.pitches_deg)
+                        views.push_back(viewPose(x, y, z, 2 * kPi * k / options.num_headings, pitch * kPi / 180));
+            }
+        }
+    st.views = views.size();
+    if (stats) *stats = st;
+    return views;
+}
+
+}  // namespace quasiloc::reloc
