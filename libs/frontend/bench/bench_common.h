@@ -17,6 +17,8 @@ struct BenchOptions : public mrpt::config::CLoadableOptions
 {
     std::string extractors = "orb,sift,akaze,xfeat";  ///< xfeat is skipped (and said so) without a model file
     std::string xfeat_model_path = std::string(QUASILOC_SHARED_DIR) + "/models/xfeat/xfeat_dyn_op11.onnx";
+    /** XFeat + LighterGlue is measured when this build has libtorch, this file exists and xfeat is measured. */
+    std::string lighterglue_model = std::string(QUASILOC_SHARED_DIR) + "/models/lighterglue/lighterglue_L3_ts.pt";
     /** Existing sim-rawlog folders (comma separated); empty: simulate sim_worlds into sim_root first. */
     std::string sim_dirs;
     std::string sim_worlds = "share/quasiloc/sim/V1_01_easy.ini,share/quasiloc/sim/V2_01_easy.ini";

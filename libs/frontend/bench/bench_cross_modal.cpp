@@ -10,6 +10,10 @@
 // distance <= precision_px to the camera segment's line and its extent along the segment overlaps it.
 // Associations: K candidates per matched feature; "any ok" = some candidate is correct; "p on ok" = the mean
 // probability mass the distribution puts on correct candidates.
+// LighterGlue (libtorch builds, with the model file, when xfeat is measured): the same XFeat features of every
+// camera<->quasi pair matched by the network over the whole image, counted as is ("whole image") and gated by the
+// same window as mutual NN ("window"), with the same correctness rule; time per pair (the network sees every keypoint
+// of both images whichever gate follows).
 #include <dirent.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <sys/stat.h>
@@ -23,6 +27,7 @@
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/frontend/lifting.h>
 #include <quasiloc/frontend/plane_hypotheses.h>
+#include <quasiloc/frontend/point_matcher.h>
 #include <quasiloc/quasi/quasi_renderer.h>
 #include <quasiloc/sim/simulation.h>
 #include <random>
@@ -152,6 +157,12 @@ struct CaseStats
     double la = 0, la_cands = 0, la_any = 0, la_planes = 0;
 };
 
+/** Point matches of one matcher: count, lifted, correct (the nominal of each match). */
+struct MatchStats
+{
+    double frames = 0, pm = 0, pm_lifted = 0, pm_ok = 0;
+};
+
 struct Sequence
 {
     std::string dir;
@@ -245,6 +256,79 @@ void evaluatePair(const FrameFeatures& fi, const quasi::QuasiImage& q, const Fra
         st.la_any += any;
     }
 }
+/** XFeat + LighterGlue on one camera<->quasi pair (see the top of the file). */
+void evaluateLighterGlue(frontend::PointMatcher& lighterglue, const FrameFeatures& fi, const quasi::QuasiImage& q,
+                         const FrameFeatures& fq, const Sequence& seq, const CPose3D& T_gt,
+                         const frontend::FrontendOptions& o, const BenchOptions& b, StageTimes& times,
+                         MatchStats& whole, MatchStats& windowed)
+{
+    Stopwatch sw;
+    const auto matches = lighterglue.match(fi.points, fq.points);
+    times.add("xfeat+lighterglue match points (cross-modal)", sw.ms());
+    whole.frames += 1, windowed.frames += 1;
+    for (const auto& m : matches)
+    {
+        const auto lifted = frontend::liftPixel(q, seq.map, fq.points.keypoints[size_t(m.train)].pt,
+                                                o.association.lift_search_radius_px);
+        const bool ok =
+            lifted && pointCorrect(lifted->p_world, fi.points.keypoints[size_t(m.query)].pt, T_gt, seq.rig.left, b.precision_px);
+        const cv::Point2f d = fq.points.keypoints[size_t(m.train)].pt - fi.points.keypoints[size_t(m.query)].pt;
+        const bool in_window = std::hypot(d.x, d.y) <= b.cross_modal_window_px;  // the mutual NN search window
+        for (MatchStats* st : {&whole, &windowed})
+            if (st == &whole || in_window) st->pm += 1, st->pm_lifted += lifted.has_value(), st->pm_ok += ok;
+    }
+}
+
+/** The LighterGlue matcher for the bench, or nullptr (and why) when it cannot run here. */
+std::unique_ptr<frontend::PointMatcher> lighterGlueFor(const BenchOptions& b, const std::vector<std::string>& types,
+                                                       std::string& why_not)
+{
+    if (std::find(types.begin(), types.end(), "xfeat") == types.end()) why_not = "xfeat is not measured";
+    else if (!frontend::lighterGlueAvailable()) why_not = "this build has no libtorch";
+    else if (!fileExists(b.lighterglue_model)) why_not = "no model file " + b.lighterglue_model;
+    if (!why_not.empty()) return nullptr;
+    frontend::PointMatchingOptions o;
+    o.method = "lighterglue";
+    o.lighterglue_model = b.lighterglue_model;
+    return frontend::createPointMatcher(o);  // whole image: the window is applied when counting
+}
+
+void reportLighterGlue(const std::map<std::string, CaseStats>& stats, const std::map<std::string, MatchStats>& lg,
+                       const StageTimes& times, const BenchOptions& b, Report& report)
+{
+    report.line("XFeat + LighterGlue vs XFeat + mutual NN, camera <-> quasi-image (point matches per frame; correct "
+                "within " + fmt(b.precision_px, 1) + " px at the gt pose; time per pair):");
+    report.line("");
+    report.line("| matcher | Q pose | point matches | correct | precision | ms per pair (mean / max) |");
+    report.line("|---|---|---|---|---|---|");
+    auto timing = [&](const std::string& stage) {
+        const auto it = times.stats().find(stage);
+        return it == times.stats().end() ? std::string("-") : fmt(it->second.mean(), 1) + " / " + fmt(it->second.max, 1);
+    };
+    for (const std::string which : {"gt pose", "perturbed"})
+    {
+        const auto nn = stats.find("xfeat|" + which);
+        if (nn != stats.end())
+        {
+            const double n = std::max(1.0, nn->second.frames);
+            report.line("| mutual NN, window " + fmt(b.cross_modal_window_px, 0) + " px | " + which + " | " +
+                        fmt(nn->second.pm / n, 1) + " | " + fmt(nn->second.pm_ok / n, 1) + " | " +
+                        pct(nn->second.pm_ok, nn->second.pm) + " | " + timing("xfeat match points (cross-modal)") + " |");
+        }
+        for (const std::string gate : {"window", "whole image"})
+        {
+            const auto it = lg.find(gate + "|" + which);
+            if (it == lg.end()) continue;
+            const double n = std::max(1.0, it->second.frames);
+            const std::string label = gate == "window" ? "LighterGlue, window " + fmt(b.cross_modal_window_px, 0) + " px"
+                                                       : std::string("LighterGlue, whole image");
+            report.line("| " + label + " | " + which + " | " + fmt(it->second.pm / n, 1) + " | " +
+                        fmt(it->second.pm_ok / n, 1) + " | " + pct(it->second.pm_ok, it->second.pm) + " | " +
+                        timing("xfeat+lighterglue match points (cross-modal)") + " |");
+        }
+    }
+    report.line("");
+}
 }  // namespace
 
 void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, const frontend::FrontendOptions& base,
@@ -256,6 +340,10 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
     for (const auto& t : b.extractorList())
         if (t != "xfeat" || fileExists(withExtractor(base, t, b).features.xfeat_model_path)) types.push_back(t);
         else skipped.push_back(t);
+    std::string lighterglue_skipped;
+    const auto lighterglue = lighterGlueFor(b, types, lighterglue_skipped);
+    std::map<std::string, MatchStats> lg_stats;  // "<gate>|<case>"
+    bool lighterglue_warm = false;
     std::vector<std::string> seq_names;
     for (const auto& dir : simulatedDirs(b))
     {
@@ -286,6 +374,14 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
                         times.add(type + " extract camera image (points + lines)", fi.total_ms);
                     }
                     evaluatePair(fi, q, fq, seq, fr.T_world_cam0, fe.options(), b, times, type, stats[type + "|" + which]);
+                    if (type == "xfeat" && lighterglue)
+                    {
+                        // TorchScript optimises its graph during the first runs: keep them out of the timing.
+                        for (; !lighterglue_warm; lighterglue_warm = true)
+                            for (int k = 0; k < 3; ++k) lighterglue->match(fi.points, fq.points);
+                        evaluateLighterGlue(*lighterglue, fi, q, fq, seq, fr.T_world_cam0, fe.options(), b, times,
+                                            lg_stats["whole image|" + which], lg_stats["window|" + which]);
+                    }
                 }
             }
         }
@@ -294,6 +390,7 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
     report.line("");
     for (const auto& s : seq_names) report.line("- " + s);
     if (!skipped.empty()) report.line("- skipped (no XFeat model file): xfeat");
+    if (!lighterglue_skipped.empty()) report.line("- XFeat + LighterGlue not measured: " + lighterglue_skipped);
     report.line("- window " + fmt(b.cross_modal_window_px, 0) + " px (points), line gate " +
                 fmt(base.line_matching.gate_max_distance_px, 0) + " px / " + fmt(base.line_matching.gate_max_angle_deg, 0) +
                 " deg; correct = lifted LiDAR point (line support) within " + fmt(b.precision_px, 1) +
@@ -318,6 +415,7 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
                         fmt(s.la_cands ? s.la_planes / s.la_cands : 0, 2) + " |");
         }
     report.line("");
+    if (lighterglue) reportLighterGlue(stats, lg_stats, times, b, report);
     report.line("Timing per camera<->quasi pair (ms; budgets: points + lines <= 15 per image, matching <= 5 per pair, "
                 "associations <= 2; classical):");
     report.line("");

@@ -2,7 +2,8 @@
 //   bench_frontend [config.ini] [--set Section.key=value]... [--print-timing]
 // Part 1 (simulated sequences, simulated here with the sim library unless [Bench] sim_dirs names existing
 // sim-rawlog folders): camera <-> quasi-image point and line matches at the ground-truth pose and at a pose
-// perturbed by 10 cm / 2 deg, count and precision, for every point extractor; association statistics.
+// perturbed by 10 cm / 2 deg, count and precision, for every point extractor; association statistics; with
+// libtorch and the model files, XFeat + LighterGlue against XFeat + mutual nearest neighbour.
 // Part 2 (the real EuRoC micro frames): temporal and stereo match counts and inlier ratios.
 // Timing per stage with the budgets (752x480, 2 cores, Release, classical): points + lines <= 15 ms per image,
 // matching <= 5 ms per pair, associations <= 2 ms. Sections: [Bench] (bench_common.h), the front-end's
@@ -24,6 +25,7 @@ void BenchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, co
 {
     extractors = c.read_string(s, "extractors", extractors);
     xfeat_model_path = c.read_string(s, "xfeat_model_path", xfeat_model_path);
+    lighterglue_model = c.read_string(s, "lighterglue_model", lighterglue_model);
     sim_dirs = c.read_string(s, "sim_dirs", sim_dirs);
     sim_worlds = c.read_string(s, "sim_worlds", sim_worlds);
     sim_root = c.read_string(s, "sim_root", sim_root);
@@ -45,6 +47,7 @@ void BenchOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
 {
     c.write(s, "extractors", extractors);
     c.write(s, "xfeat_model_path", xfeat_model_path);
+    c.write(s, "lighterglue_model", lighterglue_model);
     c.write(s, "sim_dirs", sim_dirs);
     c.write(s, "sim_worlds", sim_worlds);
     c.write(s, "sim_root", sim_root);
@@ -155,16 +158,8 @@ int run(const quasiloc::core::CommandLine& cmd_in)
         cmd.flags.erase(cmd.flags.begin());
     }
     for (const auto& f : cmd.flags) throw core::InputError("command line", "unexpected argument '" + f + "'");
-    mrpt::config::CConfigFileMemory cfg;
+    const mrpt::config::CConfigFileMemory cfg = core::loadConfig(cmd);  // overrides alone without an INI file
     const std::string name = cmd.config_path.empty() ? "command line" : cmd.config_path;
-    if (!cmd.config_path.empty()) cfg = core::loadConfig(cmd);
-    else
-        for (const auto& [key, value] : cmd.overrides)
-        {
-            const auto dot = key.find('.');
-            core::require(dot != std::string::npos && dot > 0, "--set " + key, "expected Section.key=value");
-            cfg.write(key.substr(0, dot), key.substr(dot + 1), value);
-        }
     bench::BenchOptions bench;
     core::loadOptionsChecked(bench, cfg, "Bench", name);
     bench.check(name);

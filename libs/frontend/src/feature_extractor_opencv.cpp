@@ -21,8 +21,9 @@ class OpenCvExtractor : public FeatureExtractor
         switch (type_)
         {
             case FeatureType::Orb:
-                f2d_ = cv::ORB::create(n, 1.2f, o.orb_levels, 19, 0, 2, cv::ORB::HARRIS_SCORE, 31,
+                orb_ = cv::ORB::create(n, 1.2f, o.orb_levels, 19, 0, 2, cv::ORB::HARRIS_SCORE, 31,
                                        o.orb_fast_threshold);
+                f2d_ = orb_;
                 break;
             case FeatureType::Sift: f2d_ = cv::SIFT::create(n, 3, o.sift_contrast_threshold, 10, 1.6); break;
             case FeatureType::Akaze:
@@ -42,6 +43,8 @@ class OpenCvExtractor : public FeatureExtractor
             // the image pyramid a second time (fresh buffers, so page faults too), which costs more than the
             // descriptors of the candidates spreading drops. The kept rows are what compute() gives for the kept
             // keypoints (feature_extractor_opencv_unittest checks it).
+            // Quasi-images come with their validity mask, camera images without: each kind has its FAST threshold.
+            orb_->setFastThreshold(mask.empty() ? opt_.orb_fast_threshold : opt_.orb_fast_threshold_masked);
             cv::Mat all;
             f2d_->detectAndCompute(gray, mask, kps, all);
             auto kept = spreadKeypointIndices(kps, gray.size(), opt_.max_keypoints, opt_.grid_cols, opt_.grid_rows);
@@ -65,6 +68,7 @@ class OpenCvExtractor : public FeatureExtractor
         }
         if (out.descriptors.depth() == CV_32F) detail::normaliseRows(out.descriptors);
         out.type = type_;
+        out.image_size = gray.size();
         out.dense = opt_.dense_map ? computeGradientDenseMap(gray, dense_scratch_) : DenseMap{};
     }
     FeatureType type() const override { return type_; }
@@ -73,6 +77,7 @@ class OpenCvExtractor : public FeatureExtractor
     FeatureOptions opt_;
     FeatureType type_;
     cv::Ptr<cv::Feature2D> f2d_;
+    cv::Ptr<cv::ORB> orb_;  ///< f2d_ when type = orb
     DenseMapScratch dense_scratch_;
 };
 }  // namespace

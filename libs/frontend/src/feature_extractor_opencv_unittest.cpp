@@ -33,6 +33,8 @@ TEST(OrbExtractor, OnePassEqualsDetectSpreadCompute)
     for (const auto& [img, mask] : inputs)
     {
         std::vector<cv::KeyPoint> kps;
+        // Masked inputs (quasi-images) have their own FAST threshold ([Features] orb_fast_threshold_masked).
+        orb->setFastThreshold(mask.empty() ? o.orb_fast_threshold : o.orb_fast_threshold_masked);
         orb->detect(img, kps, mask);
         std::vector<cv::KeyPoint> kept = spreadKeypoints(kps, img.size(), o.max_keypoints, o.grid_cols, o.grid_rows);
         cv::Mat desc;

@@ -60,6 +60,7 @@ class XFeatExtractor : public FeatureExtractor
             out.dense.sampleAdd(out.keypoints[i].pt.x, out.keypoints[i].pt.y, 1.f, out.descriptors.ptr<float>(int(i)));
         detail::normaliseRows(out.descriptors);
         out.type = FeatureType::XFeat;
+        out.image_size = gray.size();  // the original size, not the padded one (LighterGlue normalises by it)
         if (!opt_.dense_map) out.dense = DenseMap{};
     }
 

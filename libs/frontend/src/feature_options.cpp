@@ -28,6 +28,7 @@ void FeatureOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg
     grid_rows = readInt(cfg, s, "grid_rows", grid_rows);
     detect_factor = readDouble(cfg, s, "detect_factor", detect_factor);
     orb_fast_threshold = readInt(cfg, s, "orb_fast_threshold", orb_fast_threshold);
+    orb_fast_threshold_masked = readInt(cfg, s, "orb_fast_threshold_masked", orb_fast_threshold_masked);
     orb_levels = readInt(cfg, s, "orb_levels", orb_levels);
     sift_contrast_threshold = readDouble(cfg, s, "sift_contrast_threshold", sift_contrast_threshold);
     akaze_threshold = readDouble(cfg, s, "akaze_threshold", akaze_threshold);
@@ -43,7 +44,9 @@ void FeatureOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "grid_cols", grid_cols, 30, 40, "spreading grid columns");
     c.write(s, "grid_rows", grid_rows, 30, 40, "spreading grid rows");
     c.write(s, "detect_factor", detect_factor, 30, 40, "candidates detected per kept keypoint");
-    c.write(s, "orb_fast_threshold", orb_fast_threshold, 30, 40, "ORB FAST threshold");
+    c.write(s, "orb_fast_threshold", orb_fast_threshold, 30, 40, "ORB FAST threshold (images without a mask)");
+    c.write(s, "orb_fast_threshold_masked", orb_fast_threshold_masked, 30, 40,
+            "ORB FAST threshold (images with a validity mask: quasi-images)");
     c.write(s, "orb_levels", orb_levels, 30, 40, "ORB pyramid levels");
     c.write(s, "sift_contrast_threshold", sift_contrast_threshold, 30, 40, "SIFT contrast threshold");
     c.write(s, "akaze_threshold", akaze_threshold, 30, 40, "AKAZE detector threshold");
@@ -71,6 +74,8 @@ void FeatureOptions::check(const std::string& input) const
     requireKey(grid_rows >= 1 && grid_rows <= 256, input, S, "grid_rows", "must be in [1, 256]");
     requireKey(detect_factor >= 1 && detect_factor <= 20, input, S, "detect_factor", "must be in [1, 20]");
     requireKey(orb_fast_threshold >= 1 && orb_fast_threshold <= 255, input, S, "orb_fast_threshold",
+               "must be in [1, 255]");
+    requireKey(orb_fast_threshold_masked >= 1 && orb_fast_threshold_masked <= 255, input, S, "orb_fast_threshold_masked",
                "must be in [1, 255]");
     requireKey(orb_levels >= 1 && orb_levels <= 16, input, S, "orb_levels", "must be in [1, 16]");
     requireKey(sift_contrast_threshold > 0 && sift_contrast_threshold < 1, input, S, "sift_contrast_threshold",

@@ -43,8 +43,8 @@ struct FrameFeatures
     cv::Mat line_descriptors;  ///< one CV_32F row per line
     /** Wall time of the point extraction: keypoints, descriptors (and XFeat's dense map, a network output). */
     double points_ms = 0;
-    /** Wall time of the line branch: detection, the classical dense map (it feeds only the line descriptors),
-     *  hybrid descriptors. */
+    /** Wall time of the line work: detection, the classical dense map (it feeds only the line descriptors; counted
+     *  here whichever thread computed it), hybrid descriptors. */
     double lines_ms = 0;
     /** Wall time of the whole extraction: less than points_ms + lines_ms when the line detection ran
      *  concurrently with the points (Frontend::extract). */
@@ -59,12 +59,19 @@ class Frontend
     ~Frontend();
 
     /** Points and lines of an 8-bit grayscale image (mask optional: a quasi-image's `valid`). With more than one
-     *  OpenCV thread (cv::getNumThreads()), the line branch (detection, classical dense map) runs on the
-     *  Frontend's worker thread while the points are extracted; the results are the same either way, and the same
+     *  OpenCV thread (cv::getNumThreads()), the line detection runs on the Frontend's worker thread while the
+     *  points are extracted, and the classical dense map in whichever of the two finishes first (frontend.cpp); the
+     *  results are the same either way, and the same
      *  as calling the extractor, the detector and describeLines in turn. The stage times go into out.points_ms /
      *  out.lines_ms / out.total_ms and, if set, a CTimeLogger ("frontend.points", "frontend.lines",
      *  "frontend.extract"). Not reentrant: one Frontend per thread. */
     void extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& out);
+    /** The point branch of extract() alone (points-only extraction): the same keypoints and descriptors (and
+     *  XFeat's dense map), but no line detection, no classical dense map and no line descriptors (out.lines empty,
+     *  out.lines_ms = 0). For callers that match points only, e.g. the tracker's stereo and temporal matching,
+     *  which would otherwise pay for a line branch they drop. Runs on the calling thread; timed into
+     *  "frontend.points" like extract(). Not reentrant (the extractor is shared with extract()). */
+    void extractPoints(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& out);
 
     const FrontendOptions& options() const { return options_; }
     /** A program's stage logger (not owned; nullptr: none). */

@@ -1,20 +1,28 @@
 #pragma once
-// Point matching by descriptor distance: mutual nearest neighbour with Lowe's ratio test, L2 for float
-// descriptors (SIFT, XFeat; L2-normalised) and Hamming for binary ones (ORB, AKAZE). The same code matches
-// (I_{t-1}, I_t), (Q_t, I_t) and left-right pairs; what differs is the search region (a window around a
-// predicted position, an epipolar band). LighterGlue is not implemented yet (Debian 12 has libtorch-dev 1.13.1,
-// which the TorchScript model in ../shared/models/lighterglue needs; it must stay an optional component).
+// Point matching, the same code for (I_{t-1}, I_t), (Q_t, I_t) and left-right pairs; what differs is the search
+// region (a window around a predicted position, an epipolar band). Two matchers behind one interface, chosen in
+// INI:
+//  - mutual_nn: mutual nearest neighbour by descriptor distance with Lowe's ratio test, L2 for float descriptors
+//    (SIFT, XFeat; L2-normalised) and Hamming for binary ones (ORB, AKAZE).
+//  - lighterglue: the LighterGlue network for XFeat descriptors (TorchScript through libtorch, an optional component:
+//    builds without libtorch reject this method with an error naming the key). The network sees every keypoint of
+//    both images; the search region then gates its matches.
 //
 //   [PointMatching]
-//   ratio = 0.9                 ; best < ratio * second best (distance); 1 disables the test
-//   mutual = true               ; the train keypoint's best query must be the query
+//   method = mutual_nn          ; mutual_nn | lighterglue (needs libtorch and [Features] type = xfeat)
+//   ratio = 0.9                 ; mutual_nn: best < ratio * second best (distance); 1 disables the test
+//   mutual = true               ; mutual_nn: the train keypoint's best query must be the query
 //   max_distance_l2 = 1.0       ; float descriptors: larger L2 distances never match (unit vectors: 0..2)
 //   max_distance_hamming = 80   ; binary descriptors: larger Hamming distances never match
 //   window_px = 0               ; > 0: a query's match must lie within window_px of the query's position
 //                               ;   (or of its predicted position); 0: anywhere in the image
+//   lighterglue_model =         ; TorchScript file (e.g. ../shared/models/lighterglue/lighterglue_L3_ts.pt);
+//                               ;   required when method = lighterglue
+//   lighterglue_min_score = 0.1 ; lighterglue: a mutual best pair matches when its assignment probability is above this
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <functional>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <quasiloc/frontend/features.h>
 #include <string>
@@ -24,15 +32,21 @@ namespace quasiloc::frontend
 {
 struct PointMatchingOptions : public mrpt::config::CLoadableOptions
 {
+    std::string method = "mutual_nn";
     double ratio = 0.9;
     bool mutual = true;
     double max_distance_l2 = 1.0;
     int max_distance_hamming = 80;
     double window_px = 0;
+    std::string lighterglue_model;
+    double lighterglue_min_score = 0.1;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    /** InputError naming `input` and the key for a value that cannot be used: an unknown method, lighterglue in a
+     *  build without libtorch ([PointMatching] method), a missing LighterGlue model file. */
     void check(const std::string& input) const;
+    bool useLighterGlue() const { return method == "lighterglue"; }
     /** The distance limit for these descriptors. */
     double maxDistance(const Features& f) const { return f.binary() ? max_distance_hamming : max_distance_l2; }
 };
@@ -75,7 +89,9 @@ std::vector<std::vector<PointCandidate>> findCandidates(const Features& query, c
                                                         double max_distance, const SearchRegion& region,
                                                         std::vector<PointCandidate>* best_query_per_train = nullptr);
 
-/** Mutual nearest neighbour + ratio test. The region defaults to window_px around the query positions. */
+/** The matches of query keypoints in the train image by the method of options: mutual nearest neighbour + ratio
+ *  test, or LighterGlue (its model loaded once per thread and model file, then reused). The region defaults to
+ *  window_px around the query positions. */
 std::vector<PointMatch> matchPoints(const Features& query, const Features& train, const PointMatchingOptions& options,
                                     const SearchRegion* region = nullptr);
 
@@ -83,5 +99,22 @@ std::vector<PointMatch> matchPoints(const Features& query, const Features& train
 std::vector<PointMatch> selectMatches(const std::vector<std::vector<PointCandidate>>& candidates,
                                       const std::vector<PointCandidate>& best_query_per_train,
                                       const PointMatchingOptions& options);
+
+/** True when this build has libtorch, i.e. [PointMatching] method = lighterglue can be used. */
+bool lighterGlueAvailable();
+
+/** A point matcher that owns its state (LighterGlue: the loaded network). Not reentrant: one per thread. */
+class PointMatcher
+{
+   public:
+    virtual ~PointMatcher() = default;
+    /** Same contract as matchPoints: matches within the region (default: window_px around the query positions),
+     *  `distance` and `similarity` are the descriptors' (descriptorSimilarity), whatever the method. */
+    virtual std::vector<PointMatch> match(const Features& query, const Features& train,
+                                          const SearchRegion* region = nullptr) = 0;
+};
+
+/** The matcher of options.method (options.check() first; LighterGlue loads its model here). */
+std::unique_ptr<PointMatcher> createPointMatcher(const PointMatchingOptions& options);
 
 }  // namespace quasiloc::frontend
