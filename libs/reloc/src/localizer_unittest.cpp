@@ -79,12 +79,12 @@ double translationError(const reloc::LocalizationReport& r, const mrpt::poses::C
 }
 }  // namespace
 
-TEST(Localizer, DatabaseIsBuiltAndRoundTrips)
+void checkDatabaseRoundTrip()
 {
     const Fixture& f = fixture();
     std::cout << "database: " << f.db.summary() << "; sampled " << f.stats.sampling.views << " views, kept "
               << f.stats.kept << ", " << f.stats.ms_per_view_cpu << " ms per view\n";
-    ASSERT_GT(f.db.views.size(), 60u);
+    ASSERT_GT(f.db.views.size(), 60u);  // (ASSERTs in these helpers end the helper, not the test)
     EXPECT_GT(f.db.views.front().numLifted(), 100);
     EXPECT_TRUE(f.db.views.front().lines.empty());
     const std::string path = testing::TempDir() + "/reloc_test.qdb";
@@ -120,7 +120,7 @@ TEST(Localizer, LoadRejectsAFileThatIsNotADatabase)
     std::filesystem::remove(path);
 }
 
-TEST(Localizer, QueryAtADatabaseViewLocalizesToACentimetre)
+void checkQueryAtADatabaseView()
 {
     const Fixture& f = fixture();
     reloc::Localizer loc(f.db, reloc::LocalizerOptions{});
@@ -134,7 +134,7 @@ TEST(Localizer, QueryAtADatabaseViewLocalizesToACentimetre)
     }
 }
 
-TEST(Localizer, QueryBetweenViewsLocalizesWithin30cm)
+void checkQueryBetweenViews()
 {
     const Fixture& f = fixture();
     reloc::Localizer loc(f.db, reloc::LocalizerOptions{});
@@ -164,7 +164,7 @@ TEST(Localizer, QueryBetweenViewsLocalizesWithin30cm)
     EXPECT_EQ(wrong, 0);
 }
 
-TEST(Localizer, PlaceOutsideTheMapIsNotLocalized)
+void checkPlaceOutsideTheMap()
 {
     const Fixture& f = fixture();
     reloc::Localizer loc(f.db, reloc::LocalizerOptions{});
@@ -182,7 +182,7 @@ TEST(Localizer, PlaceOutsideTheMapIsNotLocalized)
     EXPECT_FALSE(loc.localize(noise, f.camera, reloc::LocalizationMode::Full).localized);
 }
 
-TEST(Localizer, BadInputIsAnError)
+void checkBadInput()
 {
     const Fixture& f = fixture();
     reloc::Localizer loc(f.db, reloc::LocalizerOptions{});
@@ -192,4 +192,30 @@ TEST(Localizer, BadInputIsAnError)
     reloc::LocalizerOptions o;
     o.fast_groups_retry = 2;
     EXPECT_THROW(reloc::Localizer(f.db, o), core::InputError);
+}
+
+// One test for everything that needs the simulated room's database: building it (world, LiDAR map, 250 views)
+// takes about 10 s, and ctest runs every TEST in its own process.
+TEST(Localizer, GlobalLocalizationInASimulatedRoom)
+{
+    {
+        SCOPED_TRACE("database build and file round trip");
+        checkDatabaseRoundTrip();
+    }
+    {
+        SCOPED_TRACE("a query rendered at a database view localizes to < 1 cm");
+        checkQueryAtADatabaseView();
+    }
+    {
+        SCOPED_TRACE("queries between views localize within 0.3 m");
+        checkQueryBetweenViews();
+    }
+    {
+        SCOPED_TRACE("a place outside the map is not localized");
+        checkPlaceOutsideTheMap();
+    }
+    {
+        SCOPED_TRACE("bad input is an InputError");
+        checkBadInput();
+    }
 }

@@ -44,7 +44,7 @@
 //   pnp_method = usac_default    ; magsac | usac_default | ransac (estimation/absolute_pose.h); on the simulated
 //                                ;   room usac_default was as accurate as magsac at a tenth of the time
 //   pnp_max_iterations = 1000
-//   min_inliers = 20
+//   min_inliers = 15
 //   min_inlier_ratio = 0.1
 //   max_distance_to_views_m = 3.0
 //   ambiguity_distance_m = 0.5
@@ -87,7 +87,7 @@ struct LocalizerOptions : public mrpt::config::CLoadableOptions
     double pnp_reproj_px = 3.0;
     std::string pnp_method = "usac_default";
     int pnp_max_iterations = 1000;
-    int min_inliers = 20;
+    int min_inliers = 15;
     double min_inlier_ratio = 0.1;
     double max_distance_to_views_m = 3.0;
     double ambiguity_distance_m = 0.5;

@@ -1,0 +1,47 @@
+# quasiloc-build-db + quasiloc-localize on a 5 s simulated V1_01 sequence (the top-level config.ini's world):
+# a database of the part of the room the sequence flies through, then global localization of every 10th frame.
+# Quasi-image queries (the map rendered at the true pose: the localization machinery without the camera-to-map
+# modality gap) must localize within 0.3 m for at least half the queries; camera queries may fail (cross-modal
+# matching is issue 7's problem) but must never give a pose more than 1 m off. Bad input: named, nothing written.
+source "$(dirname "$0")/common.sh"
+SIM="$WORK/sim"
+"$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=5 \
+  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+CFG=share/quasiloc/reloc/sim_room.ini
+"$BIN/quasiloc-build-db" $CFG --set BuildDatabase.map_file="$SIM/lidar_map.map" \
+  --set BuildDatabase.calibration_ini="$SIM/calib.ini" --set BuildDatabase.output="$WORK/db/room.qdb" \
+  --set ViewSampling.region="0.3 1.7 2.3 2.9" > "$WORK/db.log" 2>&1 || { cat "$WORK/db.log"; fail "quasiloc-build-db failed"; }
+cat "$WORK/db.log"
+for f in room.qdb room.qdb.views.tum room.qdb.ini; do [ -s "$WORK/db/$f" ] || fail "$f missing"; done
+localize() {  # localize <query_image> <output_dir>
+  "$BIN/quasiloc-localize" $CFG --set Localize.database="$WORK/db/room.qdb" \
+    --set Localize.input_rawlog="$SIM/V1_01_easy.rawlog" --set Localize.groundtruth="$SIM/gt.tum" \
+    --set Localize.map_file="$SIM/lidar_map.map" --set Localize.query_image="$1" --set Localize.modes=fast \
+    --set Localize.output_dir="$2" > "$2.log" 2>&1 || { cat "$2.log"; fail "quasiloc-localize ($1) failed"; }
+  cat "$2.log"
+}
+localize quasi "$WORK/quasi"
+localize camera "$WORK/camera"
+for f in queries.txt fast.tum fast.csv fast_diagnostics.txt summary.md summary.json quasiloc-localize.ini; do
+  [ -e "$WORK/quasi/$f" ] || fail "$f missing"
+done
+# summary.json: recall_0.3m of the fast mode, wrong_over_1m
+field() { /usr/bin/python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['modes'][0][sys.argv[2]])" "$1" "$2"; }
+recall=$(field "$WORK/quasi/summary.json" recall_0.3m)
+wrong_quasi=$(field "$WORK/quasi/summary.json" wrong_over_1m)
+wrong_camera=$(field "$WORK/camera/summary.json" wrong_over_1m)
+echo "quasi-image queries: Recall@0.3 m $recall %, wrong $wrong_quasi; camera queries: wrong $wrong_camera"
+awk -v r="$recall" 'BEGIN { exit !(r >= 50) }' || fail "quasi-image Recall@0.3 m $recall % < 50 %"
+[ "$wrong_quasi" = 0 ] || fail "$wrong_quasi quasi-image queries localized more than 1 m off"
+[ "$wrong_camera" = 0 ] || fail "$wrong_camera camera queries localized more than 1 m off"
+# Bad input: a file that is not a database is named, nothing is written.
+echo "not a database" > "$WORK/bad.qdb"
+expect_failure "$WORK/bad.txt" "$BIN/quasiloc-localize" $CFG --set Localize.database="$WORK/bad.qdb" \
+  --set Localize.input_rawlog="$SIM/V1_01_easy.rawlog" --set Localize.output_dir="$WORK/bad"
+expect_contains "$WORK/bad.txt" "bad.qdb"
+[ ! -e "$WORK/bad" ] || fail "output written despite the error"
+expect_failure "$WORK/bad_db.txt" "$BIN/quasiloc-build-db" $CFG --set BuildDatabase.map_file="$WORK/nope.map" \
+  --set BuildDatabase.calibration_ini="$SIM/calib.ini" --set BuildDatabase.output="$WORK/bad_db/x.qdb"
+expect_contains "$WORK/bad_db.txt" "nope.map"
+[ ! -e "$WORK/bad_db" ] || fail "database written despite the error"
+echo "OK"
