@@ -24,6 +24,9 @@ echo "== rawlog-quasi: quasi-images with provenance at every ground-truth pose"
 
 echo "== quasiloc-track: stereo-inertial tracking against the LiDAR map (IMU + direct map alignment)"
 "$BIN/quasiloc-track" "$CONFIG"
+TRACK_DIR="$(sed -n '/^\[Tracking\]/,/^\[/s/^output_dir *= *//p' "$CONFIG" | head -1)"
+echo "== plots: top view against the ground truth, error and time per stage over time"
+/usr/bin/python3 "$ROOT/share/quasiloc/plot_tracking.py" "$TRACK_DIR" "$SIM_DIR/gt.tum"
 
 # Global localization (no initial guess) from a database rendered from the LiDAR map alone. Its own INI: the
 # database's quasi-images use map-wide reflectivity normalisation, the tracker's per-image normalisation.
