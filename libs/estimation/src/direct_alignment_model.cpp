@@ -218,6 +218,77 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, 
     return model;
 }
 
+void classDistanceTransforms(const cv::Mat& class_bits, int classes, double truncation_px, std::vector<cv::Mat>& distance)
+{
+    core::require(!class_bits.empty() && class_bits.type() == CV_8UC1, "classDistanceTransforms",
+                  "class_bits must be a non-empty CV_8UC1 image");
+    core::require(classes >= 1 && classes <= kMaxFusedClasses, "classDistanceTransforms", "classes must be in [1, 8]");
+    core::require(truncation_px >= 1 && truncation_px <= 1000, "classDistanceTransforms",
+                  "truncation_px must be in [1, 1000]");
+    // Eight int16 lanes per pixel, one per class, in units of 1/s pixel: every min and add below acts on all the
+    // classes at once (SSE2 pminsw/paddw), so the two passes cost about what one class's transform costs. The
+    // weights are OpenCV's DIST_L2 / DIST_MASK_3 (0.955 along an axis, 1.3693 along a diagonal) to 1/s; no
+    // value exceeds `far`, so no add overflows.
+    using Lanes = int16_t __attribute__((vector_size(16)));
+    const auto vmin = [](Lanes a, Lanes b) { return a < b ? a : b; };
+    const double s = std::floor(30000.0 / (truncation_px + 1.37));  // (truncation + diagonal) * s < 32767
+    const int16_t axis = int16_t(std::lround(0.955 * s)), diag = int16_t(std::lround(1.3693 * s));
+    const int16_t far = int16_t(32767 - diag - 1);
+    const Lanes a = Lanes{} + axis, d = Lanes{} + diag, far_v = Lanes{} + far;
+    const int W = class_bits.cols, H = class_bits.rows, stride = W + 2;
+    std::vector<Lanes> buf(size_t(stride) * size_t(H + 2), far_v);  // one-pixel border of `far`
+    for (int y = 0; y < H; ++y)
+    {
+        const uint8_t* bits = class_bits.ptr<uint8_t>(y);
+        Lanes* row = &buf[size_t(y + 1) * size_t(stride) + 1];
+        for (int x = 0; x < W; ++x)
+            if (bits[x])
+                for (int k = 0; k < classes; ++k)
+                    if (bits[x] & (1 << k)) row[x][k] = 0;
+    }
+    for (int y = 1; y <= H; ++y)  // forward: up-left, up, up-right, left
+    {
+        Lanes* row = &buf[size_t(y) * size_t(stride)];
+        const Lanes* up = row - stride;
+        Lanes left = row[0];
+        for (int x = 1; x <= W; ++x)
+        {
+            Lanes v = vmin(row[x], vmin(up[x - 1] + d, up[x] + a));
+            v = vmin(v, vmin(up[x + 1] + d, left + a));
+            row[x] = left = v;
+        }
+    }
+    for (int y = H; y >= 1; --y)  // backward: down-right, down, down-left, right
+    {
+        Lanes* row = &buf[size_t(y) * size_t(stride)];
+        const Lanes* down = row + stride;
+        Lanes right = row[W + 1];
+        for (int x = W; x >= 1; --x)
+        {
+            Lanes v = vmin(row[x], vmin(down[x + 1] + d, down[x] + a));
+            v = vmin(v, vmin(down[x - 1] + d, right + a));
+            row[x] = right = v;
+        }
+    }
+    distance.resize(size_t(classes));
+    for (auto& m : distance) m.create(H, W, CV_32FC1);
+    // Back to pixels, truncated, all lanes at once (then one store per class).
+    using FloatLanes = float __attribute__((vector_size(32)));
+    const FloatLanes inv_s = FloatLanes{} + float(1.0 / s), trunc = FloatLanes{} + float(truncation_px);
+    std::vector<float*> out(static_cast<size_t>(classes), nullptr);
+    for (int y = 0; y < H; ++y)
+    {
+        for (int k = 0; k < classes; ++k) out[size_t(k)] = distance[size_t(k)].ptr<float>(y);
+        const Lanes* row = &buf[size_t(y + 1) * size_t(stride) + 1];
+        for (int x = 0; x < W; ++x)
+        {
+            FloatLanes f = __builtin_convertvector(row[x], FloatLanes) * inv_s;
+            f = f < trunc ? f : trunc;
+            for (int k = 0; k < classes; ++k) out[size_t(k)][x] = f[k];
+        }
+    }
+}
+
 CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& o, const cv::Mat& image)
 {
     core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
@@ -247,36 +318,43 @@ CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& o, const cv::
         cv::Sobel(edge_img, dx, CV_16S, 1, 0, 3);
         cv::Sobel(edge_img, dy, CV_16S, 0, 1, 3);
         cannyByPercentile(dx, dy, o.canny_high_percentile, o.canny_low_ratio, L.edges);
-        // Each edge pixel joins the two orientation classes nearest to its normal's direction.
+        // Each edge pixel joins the two orientation classes nearest to its normal's direction (bit b: class b).
         const int B = o.orientation_bins;
-        std::vector<cv::Mat> not_in_class(static_cast<size_t>(B));
-        for (auto& m : not_in_class) m = cv::Mat(L.edges.size(), CV_8UC1, cv::Scalar(255));
-        std::vector<uint8_t*> rows(static_cast<size_t>(B));
+        const bool fused = B <= kMaxFusedClasses;
+        cv::Mat class_bits = cv::Mat::zeros(L.edges.size(), fused ? CV_8UC1 : CV_16UC1);
         for (int y = 0; y < L.edges.rows; ++y)
         {
             const uint8_t* e = L.edges.ptr<uint8_t>(y);
             const int16_t* gx = dx.ptr<int16_t>(y);
             const int16_t* gy = dy.ptr<int16_t>(y);
-            for (int b = 0; b < B; ++b) rows[size_t(b)] = not_in_class[size_t(b)].ptr<uint8_t>(y);
             for (int x = 0; x < L.edges.cols; ++x)
             {
                 if (!e[x]) continue;
                 float frac = 0;
                 const int b = orientationBin(float(gx[x]), float(gy[x]), B, &frac);
-                rows[size_t(b)][x] = 0;
-                rows[size_t((b + (frac >= 0 ? 1 : B - 1)) % B)][x] = 0;
+                const int bits = (1 << b) | (1 << ((b + (frac >= 0 ? 1 : B - 1)) % B));
+                if (fused)
+                    class_bits.at<uint8_t>(y, x) = uint8_t(bits);
+                else
+                    class_bits.at<uint16_t>(y, x) = uint16_t(bits);
             }
         }
-        // The distance transforms are most of the camera side's cost: the classes run in parallel, with the 3x3
-        // chamfer mask (distances within ~8 % of Euclidean; the residual only needs to grow with the distance).
-        L.distance.resize(size_t(B));
-        cv::parallel_for_(cv::Range(0, B), [&](const cv::Range& r) {
-            for (int b = r.start; b < r.end; ++b)
-            {
-                cv::distanceTransform(not_in_class[size_t(b)], L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_3, CV_32F);
-                cv::min(L.distance[size_t(b)], o.truncation_px, L.distance[size_t(b)]);
-            }
-        });
+        // The distance transforms are most of the camera side's cost: up to 8 classes in one fused pass.
+        if (fused)
+            classDistanceTransforms(class_bits, B, o.truncation_px, L.distance);
+        else
+        {
+            L.distance.resize(size_t(B));
+            cv::parallel_for_(cv::Range(0, B), [&](const cv::Range& r) {
+                for (int b = r.start; b < r.end; ++b)
+                {
+                    cv::Mat not_in_class;
+                    cv::compare(class_bits & cv::Scalar(1 << b), 0, not_in_class, cv::CMP_EQ);
+                    cv::distanceTransform(not_in_class, L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_3, CV_32F);
+                    cv::min(L.distance[size_t(b)], o.truncation_px, L.distance[size_t(b)]);
+                }
+            });
+        }
         field.levels.push_back(std::move(L));
     }
     return field;

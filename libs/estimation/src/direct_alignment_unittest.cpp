@@ -2,6 +2,8 @@
 // pose (so the edge and NMI terms have a known optimum), the model is built at a perturbed pose.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/direct_alignment.h>
@@ -122,4 +124,31 @@ TEST(DirectAlignment, BadInputIsRejected)
     EXPECT_THROW(estimation::buildCameraEdgeField(o, cv::Mat(10, 10, CV_32F)), core::InputError);
     o.truncation_px = 0;
     EXPECT_THROW(o.check("test"), core::InputError);
+}
+
+TEST(DirectAlignment, FusedClassDistancesMatchOpenCvDistanceTransform)
+{
+    // Random sparse pixels in 6 classes (a pixel may be in several), one class empty.
+    cv::Mat bits = cv::Mat::zeros(97, 131, CV_8UC1);
+    cv::RNG rng(7);
+    for (int i = 0; i < 300; ++i) bits.at<uint8_t>(rng.uniform(0, bits.rows), rng.uniform(0, bits.cols)) |= uint8_t(rng.uniform(1, 32));
+    for (double truncation : {3.0, 12.0, 40.0})
+    {
+        std::vector<cv::Mat> fused;
+        estimation::classDistanceTransforms(bits, 6, truncation, fused);
+        ASSERT_EQ(fused.size(), 6u);
+        for (int k = 0; k < 6; ++k)
+        {
+            cv::Mat not_in_class, expected;
+            cv::compare(bits & cv::Scalar(1 << k), 0, not_in_class, cv::CMP_EQ);
+            cv::distanceTransform(not_in_class, expected, cv::DIST_L2, cv::DIST_MASK_3, CV_32F);
+            cv::min(expected, truncation, expected);
+            ASSERT_EQ(fused[size_t(k)].type(), CV_32FC1);
+            EXPECT_LT(cv::norm(fused[size_t(k)], expected, cv::NORM_INF), 0.01 + 1e-3 * truncation)
+                << "class " << k << ", truncation " << truncation;
+        }
+    }
+    std::vector<cv::Mat> out;
+    EXPECT_THROW(estimation::classDistanceTransforms(cv::Mat(), 6, 12, out), core::InputError);
+    EXPECT_THROW(estimation::classDistanceTransforms(bits, 9, 12, out), core::InputError);
 }

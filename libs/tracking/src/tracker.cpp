@@ -2,9 +2,12 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/tracking/tracker.h>
+
+#include "worker_thread.h"
 
 namespace quasiloc::tracking
 {
@@ -56,6 +59,8 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     stereo_.T_left_right = core::toIsometry(rig.T_left_right);
 }
 
+Tracker::~Tracker() = default;
+
 void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                          const dataset::StereoFrame* frame)
 {
@@ -78,20 +83,27 @@ void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const 
     if (frame && options_.temporal_landmarks)
     {
         std::vector<estimation::TemporalLandmark> none;
-        temporalLandmarks(*frame, none);
+        temporalLandmarks(extractStereo(*frame), none);
     }
     initialized_ = true;
 }
 
-void Tracker::temporalLandmarks(const dataset::StereoFrame& frame, std::vector<estimation::TemporalLandmark>& out)
+Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
 {
-    frontend::FrameFeatures left, right;
-    frontend_.extract(frame.left, cv::Mat(), left);
-    frontend_.extract(frame.right, cv::Mat(), right);
-    std::vector<frontend::StereoPoint> stereo = stereo_matcher_.match(left.points, right.points);
-    std::vector<int> stereo_of_left(left.points.size(), -1);
-    for (size_t k = 0; k < stereo.size(); ++k) stereo_of_left[size_t(stereo[k].left)] = int(k);
+    // Points only: the stereo and temporal matching use no line, so the front-end's line branch is skipped.
+    StereoPoints sp;
+    frontend_.extractPoints(frame.left, cv::Mat(), sp.left);
+    frontend_.extractPoints(frame.right, cv::Mat(), sp.right);
+    sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
+    sp.stereo_of_left.assign(sp.left.points.size(), -1);
+    for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
+    return sp;
+}
 
+void Tracker::temporalLandmarks(StereoPoints current, std::vector<estimation::TemporalLandmark>& out)
+{
+    const frontend::FrameFeatures& left = current.left;
+    const frontend::FrameFeatures& right = current.right;
     if (!prev_stereo_.empty())
     {
         frontend::PointMatchingOptions pm = frontend_.options().point_matching;
@@ -100,9 +112,9 @@ void Tracker::temporalLandmarks(const dataset::StereoFrame& frame, std::vector<e
         const auto px = [](const cv::KeyPoint& k) { return Eigen::Vector2d(k.pt.x, k.pt.y); };
         for (const frontend::PointMatch& m : frontend::matchPoints(prev_left_.points, left.points, pm))
         {
-            const int a = prev_stereo_of_left_[size_t(m.query)], b = stereo_of_left[size_t(m.train)];
+            const int a = prev_stereo_of_left_[size_t(m.query)], b = current.stereo_of_left[size_t(m.train)];
             if (a < 0 || b < 0) continue;
-            const frontend::StereoPoint &sp = prev_stereo_[size_t(a)], &sc = stereo[size_t(b)];
+            const frontend::StereoPoint &sp = prev_stereo_[size_t(a)], &sc = current.stereo[size_t(b)];
             estimation::TemporalLandmark lm;
             lm.p_map_guess = T_map_cam_prev * sp.p_left;
             lm.previous = {px(prev_left_.points.keypoints[size_t(sp.left)]), px(prev_right_keypoints_[size_t(sp.right)])};
@@ -111,10 +123,10 @@ void Tracker::temporalLandmarks(const dataset::StereoFrame& frame, std::vector<e
             if (int(out.size()) >= options_.max_landmarks) break;
         }
     }
-    prev_left_ = std::move(left);
-    prev_right_keypoints_ = std::move(right.points.keypoints);
-    prev_stereo_ = std::move(stereo);
-    prev_stereo_of_left_ = std::move(stereo_of_left);
+    prev_left_ = std::move(current.left);
+    prev_right_keypoints_ = std::move(current.right.points.keypoints);
+    prev_stereo_ = std::move(current.stereo);
+    prev_stereo_of_left_ = std::move(current.stereo_of_left);
 }
 
 FrameReport Tracker::track(const dataset::StereoFrame& frame)
@@ -141,6 +153,25 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     rep.prior_sigma_m = std::max(sigma_m, options_.min_prior_sigma_m);
     rep.prior_sigma_deg = std::max(sigma_rad / kDeg, options_.min_prior_sigma_deg);
     rep.ms_predict = tic.Tac() * 1e3;
+
+    // The stereo points of this frame depend on the images alone: with concurrent_stages they are extracted on the
+    // worker thread while the map alignment runs on this one.
+    const bool concurrent = options_.temporal_landmarks && options_.concurrent_stages && cv::getNumThreads() > 1;
+    StereoPoints stereo_points;
+    if (concurrent)
+    {
+        if (!worker_) worker_ = std::make_unique<detail::WorkerThread>();
+        worker_->start([this, &frame, &stereo_points] { stereo_points = extractStereo(frame); });
+    }
+    // Whatever happens below, the worker's task (which uses this frame's locals) ends before they do.
+    struct WaitAtExit
+    {
+        detail::WorkerThread* w;
+        ~WaitAtExit()
+        {
+            if (w) try { w->wait(); } catch (...) {}
+        }
+    } wait_at_exit{concurrent ? worker_.get() : nullptr};
 
     // 2. Map alignment on keyframes.
     estimation::WindowInput in;
@@ -177,7 +208,14 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
 
     // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
     tic.Tic();
-    if (options_.temporal_landmarks) temporalLandmarks(frame, in.landmarks);
+    if (concurrent)
+    {
+        worker_->wait();
+        wait_at_exit.w = nullptr;
+        temporalLandmarks(std::move(stereo_points), in.landmarks);
+    }
+    else if (options_.temporal_landmarks)
+        temporalLandmarks(extractStereo(frame), in.landmarks);
     rep.landmarks = int(in.landmarks.size());
     rep.ms_visual = tic.Tac() * 1e3;
 

@@ -23,6 +23,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     init_sigma_v = readIniDouble(c, s, "init_sigma_v", init_sigma_v);
     init_sigma_bg = readIniDouble(c, s, "init_sigma_bg", init_sigma_bg);
     init_sigma_ba = readIniDouble(c, s, "init_sigma_ba", init_sigma_ba);
+    concurrent_stages = core::readIniBool(c, s, "concurrent_stages", concurrent_stages);
 }
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -43,6 +44,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "init_sigma_v", init_sigma_v, 24, 10);
     c.write(s, "init_sigma_bg", init_sigma_bg, 24, 10);
     c.write(s, "init_sigma_ba", init_sigma_ba, 24, 10);
+    c.write(s, "concurrent_stages", concurrent_stages ? "true" : "false", 24, 10, "independent stages in parallel");
 }
 
 void TrackerOptions::check(const std::string& input) const
