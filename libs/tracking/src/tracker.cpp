@@ -175,7 +175,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
 
     // 2. Map alignment on keyframes.
     estimation::WindowInput in;
-    rep.keyframe = frames_ % size_t(options_.keyframe_every) == 0;
+    rep.keyframe = options_.map_updates && frames_ % size_t(options_.keyframe_every) == 0;
     if (rep.keyframe)
     {
         tic.Tic();
@@ -204,7 +204,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         }
         misses_ = rep.map_update ? 0 : misses_ + 1;
     }
-    rep.lost = misses_ >= options_.lost_after_misses;
+    rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
 
     // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
     tic.Tic();

@@ -7,6 +7,7 @@ namespace quasiloc::tracking
 void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
 {
     using core::readIniDouble;
+    map_updates = core::readIniBool(c, s, "map_updates", map_updates);
     keyframe_every = core::readIniInt(c, s, "keyframe_every", keyframe_every);
     direct_sigma_m = readIniDouble(c, s, "direct_sigma_m", direct_sigma_m);
     direct_sigma_deg = readIniDouble(c, s, "direct_sigma_deg", direct_sigma_deg);
@@ -28,6 +29,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
+    c.write(s, "map_updates", map_updates ? "true" : "false", 24, 10, "false: VIO / IMU-only baselines");
     c.write(s, "keyframe_every", keyframe_every, 24, 10, "map alignment every N frames");
     c.write(s, "direct_sigma_m", direct_sigma_m, 24, 10, "map-alignment measurement sigma");
     c.write(s, "direct_sigma_deg", direct_sigma_deg, 24, 10);

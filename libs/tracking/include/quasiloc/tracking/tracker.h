@@ -28,6 +28,8 @@
 // the camera edge field, renders the map and aligns.
 //
 //   [Tracking]
+//   map_updates = true            ; false: no map alignment at all, the baselines of issue 9: visual-inertial
+//                                 ;   odometry (with temporal_landmarks) or IMU-only propagation (without)
 //   keyframe_every = 1
 //   direct_sigma_m = 0.01         ; information of a map-alignment pose measurement
 //   direct_sigma_deg = 0.2
@@ -63,6 +65,7 @@ namespace quasiloc::tracking
 {
 struct TrackerOptions : public mrpt::config::CLoadableOptions
 {
+    bool map_updates = true;
     int keyframe_every = 1;
     double direct_sigma_m = 0.01, direct_sigma_deg = 0.2;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
