@@ -1,13 +1,10 @@
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <exception>
 #include <functional>
-#include <mutex>
 #include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/frontend/frontend.h>
-#include <thread>
 
 namespace quasiloc::frontend
 {
@@ -58,75 +55,6 @@ FeatureOptions pointExtractorOptions(FeatureOptions f)
 }
 }  // namespace
 
-/** One helper thread that runs one task at a time. It lives as long as the Frontend: a new thread per image would
- *  fault its stack pages in again every time, and a page fault is expensive (tens of microseconds on a VM). */
-class Frontend::Worker
-{
-   public:
-    Worker() : thread_([this] { loop(); }) {}
-    ~Worker()
-    {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            stop_ = true;
-        }
-        wake_.notify_all();
-        thread_.join();
-    }
-    /** Starts `task` (the previous one must have been waited for). */
-    void start(std::function<void()> task)
-    {
-        {
-            std::lock_guard<std::mutex> lock(mutex_);
-            task_ = std::move(task);
-            done_ = false;
-            error_ = nullptr;
-        }
-        wake_.notify_all();
-    }
-    /** Waits for the task; returns what it threw (nullptr: nothing). */
-    std::exception_ptr wait()
-    {
-        std::unique_lock<std::mutex> lock(mutex_);
-        finished_.wait(lock, [this] { return done_; });
-        return error_;
-    }
-
-   private:
-    void loop()
-    {
-        std::unique_lock<std::mutex> lock(mutex_);
-        for (;;)
-        {
-            wake_.wait(lock, [this] { return stop_ || bool(task_); });
-            if (!task_) return;  // stop_
-            auto task = std::move(task_);
-            task_ = nullptr;
-            lock.unlock();
-            std::exception_ptr error;
-            try
-            {
-                task();
-            }
-            catch (...)
-            {
-                error = std::current_exception();
-            }
-            lock.lock();
-            error_ = error;
-            done_ = true;
-            finished_.notify_all();
-        }
-    }
-
-    std::mutex mutex_;
-    std::condition_variable wake_, finished_;
-    std::function<void()> task_;
-    bool done_ = true, stop_ = false;
-    std::exception_ptr error_;
-    std::thread thread_;  // last: starts after the members it uses exist
-};
-
 Frontend::Frontend(const FrontendOptions& options)
     : options_(options),
       extractor_(createFeatureExtractor(pointExtractorOptions(options.features))),
@@ -172,7 +100,7 @@ void Frontend::extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& 
         dense_if_first();
     };
     const bool concurrent = cv::getNumThreads() > 1;
-    if (concurrent && !worker_) worker_ = std::make_unique<Worker>();
+    if (concurrent && !worker_) worker_ = std::make_unique<core::WorkerThread>();
     if (concurrent) worker_->start(line_branch);
     double points_ms = 0;
     try
@@ -183,11 +111,11 @@ void Frontend::extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& 
     }
     catch (...)
     {
-        if (concurrent) worker_->wait();  // the line branch uses this frame's locals: let it finish first
+        if (concurrent) worker_->waitForError();  // the line branch uses this frame's locals: let it finish first
         throw;
     }
     if (!concurrent) line_branch();
-    else if (const auto error = worker_->wait()) std::rethrow_exception(error);
+    else worker_->wait();
     out.lines = std::move(lines);
     if (dense_with_lines_) out.points.dense = std::move(dense);
     // The hybrid descriptors sample the dense map: after both branches.

@@ -5,9 +5,9 @@
 #include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/core/worker_thread.h>
 #include <quasiloc/tracking/tracker.h>
 
-#include "worker_thread.h"
 
 namespace quasiloc::tracking
 {
@@ -160,13 +160,13 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     StereoPoints stereo_points;
     if (concurrent)
     {
-        if (!worker_) worker_ = std::make_unique<detail::WorkerThread>();
+        if (!worker_) worker_ = std::make_unique<core::WorkerThread>();
         worker_->start([this, &frame, &stereo_points] { stereo_points = extractStereo(frame); });
     }
     // Whatever happens below, the worker's task (which uses this frame's locals) ends before they do.
     struct WaitAtExit
     {
-        detail::WorkerThread* w;
+        core::WorkerThread* w;
         ~WaitAtExit()
         {
             if (w) try { w->wait(); } catch (...) {}

@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <quasiloc/core/program_options.h>
+#include <quasiloc/core/worker_thread.h>
 #include <quasiloc/frontend/association.h>
 #include <quasiloc/frontend/features.h>
 #include <quasiloc/frontend/line_matcher.h>
@@ -78,7 +79,6 @@ class Frontend
     void setTimeLogger(mrpt::system::CTimeLogger* logger) { timer_ = logger; }
 
    private:
-    class Worker;
     FrontendOptions options_;
     std::unique_ptr<FeatureExtractor> extractor_;
     std::unique_ptr<LineDetector> line_detector_;
@@ -86,7 +86,7 @@ class Frontend
     // Working images reused from frame to frame (see DenseMapScratch).
     DenseMapScratch dense_scratch_;
     LineDescriptorScratch describe_scratch_;
-    std::unique_ptr<Worker> worker_;  ///< the thread of the line branch, started by the first concurrent extract
+    std::unique_ptr<core::WorkerThread> worker_;  ///< the thread of the line branch, started by the first concurrent extract
     mrpt::system::CTimeLogger* timer_ = nullptr;
 };
 

@@ -49,6 +49,7 @@
 //   concurrent_stages = true      ; stereo point extraction on a worker thread beside the map alignment
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
+#include <quasiloc/core/worker_thread.h>
 
 #include <memory>
 #include <quasiloc/core/stereo_rig.h>
@@ -105,11 +106,6 @@ struct FrameReport
     double ms_predict = 0, ms_image = 0, ms_align = 0, ms_visual = 0, ms_window = 0, ms_total = 0;
 };
 
-namespace detail
-{
-class WorkerThread;
-}
-
 class Tracker
 {
    public:
@@ -157,7 +153,7 @@ class Tracker
     std::vector<int> prev_stereo_of_left_;  ///< previous left keypoint -> index in prev_stereo_ (-1: none)
     Eigen::Isometry3d T_body_cam_ = Eigen::Isometry3d::Identity();
 
-    std::unique_ptr<detail::WorkerThread> worker_;  ///< concurrent_stages: the stereo extraction's thread
+    std::unique_ptr<core::WorkerThread> worker_;  ///< concurrent_stages: the stereo extraction's thread
 
     bool initialized_ = false;
     estimation::FrameState state_;

@@ -1,14 +1,15 @@
 #pragma once
-// One helper thread of the tracker that runs one task at a time. It lives as long as the tracker: a thread per
-// frame would fault its stack pages in again and register with OpenCV's TBB pool every time (measured: a
-// std::async per frame made the stages it overlapped slower than running them in turn).
+// One helper thread that runs one task at a time (the front-end's line branch, the tracker's stereo extraction).
+// It lives as long as its owner: a thread per image would fault its stack pages in again and register with
+// OpenCV's TBB pool every time (measured in the tracker: a std::async per frame made the stages it overlapped
+// slower than running them in turn).
 #include <condition_variable>
 #include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
 
-namespace quasiloc::tracking::detail
+namespace quasiloc::core
 {
 class WorkerThread
 {
@@ -40,14 +41,17 @@ class WorkerThread
     /** Waits for the task started last (returns at once if none is running) and rethrows what it threw. */
     void wait()
     {
-        std::exception_ptr error;
-        {
-            std::unique_lock<std::mutex> lock(mutex_);
-            finished_.wait(lock, [this] { return done_; });
-            error = error_;
-            error_ = nullptr;
-        }
-        if (error) std::rethrow_exception(error);
+        if (const std::exception_ptr error = waitForError()) std::rethrow_exception(error);
+    }
+    /** Waits like wait() but returns what the task threw (nullptr: nothing), e.g. while another exception is
+     *  already on its way. */
+    std::exception_ptr waitForError()
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        finished_.wait(lock, [this] { return done_; });
+        std::exception_ptr error = error_;
+        error_ = nullptr;
+        return error;
     }
 
    private:
@@ -85,4 +89,4 @@ class WorkerThread
     std::thread thread_;  // last: starts after the members it uses exist
 };
 
-}  // namespace quasiloc::tracking::detail
+}  // namespace quasiloc::core
