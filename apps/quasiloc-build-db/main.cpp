@@ -56,10 +56,7 @@ int run(const core::CommandLine& cmd)
     BuildRunOptions o;
     core::loadOptionsChecked(o, cfg, "BuildDatabase", name);
     o.check(name);
-    for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
-             {"map_file", o.map_file}, {"calibration_ini", o.calibration_ini}})
-        core::require(!value.empty() && std::filesystem::exists(value), name + ": [BuildDatabase] " + key,
-                      value.empty() ? "is required" : "'" + value + "' does not exist");
+    core::requireInputFiles(name, "BuildDatabase", {{"map_file", o.map_file}, {"calibration_ini", o.calibration_ini}});
     core::require(!o.output.empty(), name + ": [BuildDatabase] output", "is required");
     reloc::DatabaseBuildConfig bc;
     bc.build = o;

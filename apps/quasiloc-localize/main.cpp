@@ -187,13 +187,10 @@ int run(const core::CommandLine& cmd)
     LocalizeRunOptions o;
     core::loadOptionsChecked(o, cfg, "Localize", name);
     const auto key = [&](const char* k) { return name + ": [Localize] " + k; };
-    for (const auto& [k, value] : std::vector<std::pair<const char*, std::string>>{{"database", o.database},
-                                                                                   {"input_rawlog", o.input_rawlog}})
-        core::require(!value.empty() && std::filesystem::exists(value), key(k),
-                      value.empty() ? "is required" : "'" + value + "' does not exist");
-    for (const auto& [k, value] : std::vector<std::pair<const char*, std::string>>{
-             {"calibration_ini", o.calibration_ini}, {"groundtruth", o.groundtruth}, {"map_file", o.map_file}})
-        core::require(value.empty() || std::filesystem::exists(value), key(k), "'" + value + "' does not exist");
+    core::requireInputFiles(name, "Localize", {{"database", o.database}, {"input_rawlog", o.input_rawlog}});
+    core::requireInputFiles(name, "Localize",
+                            {{"calibration_ini", o.calibration_ini}, {"groundtruth", o.groundtruth}, {"map_file", o.map_file}},
+                            false);
     core::require(o.every_n >= 1, key("every_n"), "must be >= 1");
     core::require(o.max_queries >= 0, key("max_queries"), "must be >= 0");
     core::require(o.query_image == "camera" || o.query_image == "quasi", key("query_image"),

@@ -91,11 +91,9 @@ int run(const core::CommandLine& cmd)
     TrackRunOptions o;
     core::loadOptionsChecked(o, cfg, "Tracking", name);
     o.check(name);
-    for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
-             {"input_rawlog", o.input_rawlog}, {"calibration_ini", o.calibration_ini}, {"map_file", o.map_file},
-             {"groundtruth", o.groundtruth}})
-        core::require(!value.empty() && std::filesystem::exists(value), name + ": [Tracking] " + key,
-                      value.empty() ? "is required" : "'" + value + "' does not exist");
+    core::requireInputFiles(name, "Tracking",
+                            {{"input_rawlog", o.input_rawlog}, {"calibration_ini", o.calibration_ini},
+                             {"map_file", o.map_file}, {"groundtruth", o.groundtruth}});
     estimation::MapRefinementOptions ro;
     core::loadOptionsChecked(ro.direct, cfg, "DirectAlignment", name);
     core::loadOptionsChecked(ro, cfg, "MapRefinement", name);

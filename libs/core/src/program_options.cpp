@@ -123,6 +123,17 @@ void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::con
     }
 }
 
+void requireInputFiles(const std::string& config_name, const std::string& section,
+                       const std::vector<std::pair<std::string, std::string>>& key_paths, bool required)
+{
+    for (const auto& [key, path] : key_paths)
+    {
+        if (path.empty() && !required) continue;
+        require(!path.empty() && std::filesystem::exists(path), config_name + ": [" + section + "] " + key,
+                path.empty() ? "is required" : "'" + path + "' does not exist");
+    }
+}
+
 void writeEffectiveConfig(const std::string& path, const std::vector<OptionsSection>& sections,
                           const std::string& header_comment)
 {

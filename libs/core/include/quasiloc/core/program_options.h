@@ -39,6 +39,11 @@ std::vector<std::string> knownKeys(const mrpt::config::CLoadableOptions& options
 void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::config::CConfigFileBase& cfg,
                         const std::string& section, const std::string& config_name);
 
+/** Input files named by INI keys: InputError "<config_name>: [section] key" with "is required" for an empty value
+ *  (when `required`) or "'<path>' does not exist" for a missing file. Empty optional values pass. */
+void requireInputFiles(const std::string& config_name, const std::string& section,
+                       const std::vector<std::pair<std::string, std::string>>& key_paths, bool required = true);
+
 /** One named section of a program's configuration. */
 struct OptionsSection
 {
