@@ -8,6 +8,8 @@
 #include <quasiloc/reloc/inverted_index.h>
 #include <quasiloc/reloc/vocabulary.h>
 
+#include "synthetic_descriptors.h"
+
 #include <chrono>
 #include <cstdio>
 #include <functional>
@@ -17,69 +19,10 @@
 
 using namespace quasiloc::reloc;
 using quasiloc::core::InputError;
+using namespace quasiloc::reloc::testing_support;
 
 namespace
 {
-// Synthetic "scenes": a pool of prototype descriptors (the scene's distinct structures); each image sees a
-// random subset of them, every observation slightly noisy, so images share some words but not most.
-struct DescriptorKind
-{
-    bool binary = true;
-    int cols = 32;  // bytes (binary) or floats
-};
-
-cv::Mat randomDescriptors(const DescriptorKind& kind, int rows, std::mt19937& rng)
-{
-    if (kind.binary)
-    {
-        cv::Mat m(rows, kind.cols, CV_8U);
-        for (int r = 0; r < rows; ++r)
-            for (int c = 0; c < kind.cols; ++c) m.at<uint8_t>(r, c) = uint8_t(rng() & 0xFF);
-        return m;
-    }
-    std::normal_distribution<float> gauss;
-    cv::Mat m(rows, kind.cols, CV_32F);
-    for (int r = 0; r < rows; ++r)
-    {
-        for (int c = 0; c < kind.cols; ++c) m.at<float>(r, c) = gauss(rng);
-        cv::normalize(m.row(r), m.row(r));  // unit vectors, like SIFT-style normalised descriptors
-    }
-    return m;
-}
-
-/** A noisy observation of a prototype row: a few flipped bits, or a small Gaussian perturbation. */
-void observe(const cv::Mat& prototype, cv::Mat out_row, std::mt19937& rng)
-{
-    prototype.copyTo(out_row);
-    if (prototype.type() == CV_8U)
-    {
-        for (int flip = 0; flip < 6; ++flip)
-        {
-            const int bit = int(rng() % (8 * prototype.cols));
-            out_row.at<uint8_t>(0, bit / 8) ^= uint8_t(1 << (bit % 8));
-        }
-        return;
-    }
-    std::normal_distribution<float> gauss(0.f, 0.03f);
-    for (int c = 0; c < prototype.cols; ++c) out_row.at<float>(0, c) += gauss(rng);
-    cv::normalize(out_row, out_row);
-}
-
-std::vector<cv::Mat> sceneImages(const DescriptorKind& kind, int images, int per_image, int prototypes,
-                                 unsigned seed)
-{
-    std::mt19937 rng(seed);
-    const cv::Mat pool = randomDescriptors(kind, prototypes, rng);
-    std::vector<cv::Mat> out;
-    for (int i = 0; i < images; ++i)
-    {
-        cv::Mat m(per_image, kind.cols, pool.type());
-        for (int r = 0; r < per_image; ++r) observe(pool.row(int(rng() % prototypes)), m.row(r), rng);
-        out.push_back(m);
-    }
-    return out;
-}
-
 VocabularyOptions smallOptions()
 {
     VocabularyOptions o;
@@ -227,10 +170,6 @@ void expectInputError(const std::function<void()>& f, const std::string& fragmen
     }
 }
 
-double msSince(std::chrono::steady_clock::time_point t0)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 TEST(Vocabulary, BinaryDescentPicksTheNearestChildAtEveryLevel) { expectDescentIsNearestChild({true, 32}); }
@@ -358,74 +297,4 @@ TEST(VocabularyOptions, IniRoundTripAndCheck)
     expectInputError([&] { o.loadFromConfigFile(ini, "Vocabulary"); }, "depth");
     o.depth = 40;
     expectInputError([&] { o.check("my.ini"); }, "my.ini: [Vocabulary] depth");
-}
-
-// Timing printout only (bounds belong to benchmarks): k = 10, depth = 4 on 200k ORB-like descriptors,
-// transform of 1000 descriptors, query over 5000 images.
-TEST(VocabularyBenchmark, PrintsTrainTransformQueryTimes)
-{
-#ifndef NDEBUG
-    GTEST_SKIP() << "timings are only meaningful in a Release build";
-#endif
-    const DescriptorKind orb{true, 32};
-    const std::vector<cv::Mat> images = sceneImages(orb, 200, 1000, 50000, 23);
-    auto t0 = std::chrono::steady_clock::now();
-    const Vocabulary voc = Vocabulary::train(images, VocabularyOptions{});
-    const double train_ms = msSince(t0);
-
-    const int reps = 20;
-    t0 = std::chrono::steady_clock::now();
-    BowVector query;
-    for (int r = 0; r < reps; ++r) query = voc.transform(images[r]);
-    const double transform_ms = msSince(t0) / reps;
-
-    // 5000 database images: the 200 real vectors, then vectors of 1000 random words (Zipf-free, a worst
-    // case for list lengths is not the point here: typical lengths are).
-    InvertedIndex index;
-    std::mt19937 rng(3);
-    for (int i = 0; i < 5000; ++i)
-    {
-        if (i < 200)
-        {
-            index.add(i, voc.transform(images[i]));
-            continue;
-        }
-        std::vector<WordId> words(1000);
-        for (auto& w : words) w = WordId(rng() % voc.numWords());
-        std::sort(words.begin(), words.end());
-        BowVector v;
-        for (WordId w : words)
-            if (v.empty() || v.back().first != w) v.emplace_back(w, 1.f);
-        index.add(i, v);
-    }
-    std::vector<BowVector> queries;
-    for (int r = 0; r < reps; ++r) queries.push_back(voc.transform(images[r]));
-    t0 = std::chrono::steady_clock::now();
-    std::vector<RetrievalHit> hits;
-    for (int r = 0; r < reps; ++r) hits = index.query(queries[r], 50);
-    const double query_ms = msSince(t0) / reps;
-    EXPECT_EQ(hits.at(0).image, reps - 1);
-    std::printf("[vocabulary] train 200000 x 32 B (k=10, depth=4, %zu words): %.0f ms\n", voc.numWords(), train_ms);
-    std::printf("[vocabulary] transform 1000 descriptors: %.3f ms (budget 2 ms)\n", transform_ms);
-    std::printf("[vocabulary] query over %zu images (%zu entries): %.3f ms (budget 5 ms)\n", index.size(),
-                index.numEntries(), query_ms);
-}
-
-TEST(VocabularyBenchmark, PrintsFloatTrainAndTransformTimes)
-{
-#ifndef NDEBUG
-    GTEST_SKIP() << "timings are only meaningful in a Release build";
-#endif
-    const std::vector<cv::Mat> images = sceneImages({false, 64}, 200, 1000, 50000, 29);
-    auto t0 = std::chrono::steady_clock::now();
-    const Vocabulary voc = Vocabulary::train(images, VocabularyOptions{});
-    const double train_ms = msSince(t0);
-    t0 = std::chrono::steady_clock::now();
-    size_t words = 0;
-    for (int r = 0; r < 20; ++r) words += voc.transform(images[r]).size();
-    const double transform_ms = msSince(t0) / 20;
-    EXPECT_GT(words, 0u);
-    std::printf("[vocabulary] train 200000 x 64 float (k=10, depth=4, %zu words): %.0f ms\n", voc.numWords(),
-                train_ms);
-    std::printf("[vocabulary] transform 1000 float descriptors: %.3f ms (budget 2 ms)\n", transform_ms);
 }
