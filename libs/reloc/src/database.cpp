@@ -18,7 +18,7 @@ namespace quasiloc::reloc
 namespace
 {
 const std::string kMagic = "quasiloc-reloc-database";
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 
 /** What a view's keypoint stores (cv::KeyPoint is not guaranteed trivially copyable across versions). */
 struct StoredKeypoint
@@ -34,10 +34,11 @@ void writeView(mrpt::serialization::CArchive& out, const DatabaseView& v)
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 4; ++c) out << m(r, c);
     std::vector<StoredKeypoint> kps;
-    kps.reserve(v.keypoints.size());
-    for (const auto& k : v.keypoints) kps.push_back({k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave});
+    kps.reserve(v.points.keypoints.size());
+    for (const auto& k : v.points.keypoints) kps.push_back({k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave});
     detail::writeVector(out, kps);
-    detail::writeMat(out, v.descriptors);
+    detail::writeMat(out, v.points.descriptors);
+    detail::writeVector(out, v.words);
     detail::writeVector(out, v.points_world);
     detail::writeVector(out, v.lines);
     detail::writeVector(out, v.lines_world);
@@ -54,14 +55,16 @@ DatabaseView readView(mrpt::serialization::CArchive& in)
         for (int c = 0; c < 4; ++c) in >> m(r, c);
     v.T_world_cam = mrpt::poses::CPose3D(m);
     for (const auto& k : detail::readVector<StoredKeypoint>(in))
-        v.keypoints.emplace_back(cv::Point2f(k.x, k.y), k.size, k.angle, k.response, k.octave);
-    v.descriptors = detail::readMat(in);
+        v.points.keypoints.emplace_back(cv::Point2f(k.x, k.y), k.size, k.angle, k.response, k.octave);
+    v.points.descriptors = detail::readMat(in);
+    v.words = detail::readVector<WordId>(in);
     v.points_world = detail::readVector<Eigen::Vector3f>(in);
     v.lines = detail::readVector<frontend::LineSegment>(in);
     v.lines_world = detail::readVector<std::array<Eigen::Vector3f, 2>>(in);
     in >> v.valid_fraction;
     v.bow = detail::readVector<std::pair<WordId, float>>(in);
-    if (v.points_world.size() != v.keypoints.size() || int(v.keypoints.size()) != v.descriptors.rows ||
+    const size_t n = v.points.keypoints.size();
+    if (v.points_world.size() != n || size_t(v.points.descriptors.rows) != n || v.words.size() != n ||
         v.lines_world.size() != v.lines.size())
         throw std::runtime_error("view " + std::to_string(v.id) + " has inconsistent array sizes");
     return v;
@@ -147,8 +150,17 @@ Database Database::load(const std::string& path)
         core::require(n < (uint64_t(1) << 24), path, "corrupt view count " + std::to_string(n));
         db.views.reserve(n);
         for (uint64_t i = 0; i < n; ++i) db.views.push_back(readView(in));
+        for (auto& v : db.views)
+        {
+            v.points.type = db.features.featureType();
+            v.points.image_size = cv::Size(db.camera.width, db.camera.height);
+        }
         db.vocabulary = Vocabulary::read(in);
         db.index = InvertedIndex::read(in);
+        for (const auto& v : db.views)
+            for (WordId w : v.words)
+                core::require(w < db.vocabulary.numWords(), path,
+                              "view " + std::to_string(v.id) + " has word " + std::to_string(w) + " outside the vocabulary");
     }
     catch (const core::InputError&)
     {
@@ -168,7 +180,7 @@ std::string Database::summary() const
     size_t kps = 0, lifted = 0, lines = 0;
     for (const auto& v : views)
     {
-        kps += v.keypoints.size();
+        kps += v.points.size();
         lifted += size_t(v.numLifted());
         lines += v.lines.size();
     }

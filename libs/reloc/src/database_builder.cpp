@@ -52,12 +52,14 @@ bool processView(Worker& w, const map::LidarMap& map, const core::CameraModel& c
     if (dropped_for_valid) return false;
     preprocessImage(w.q.gray, cfg.build.image_blur_sigma_px, w.blurred);
     w.extractor->extract(w.blurred, w.q.valid, w.features);
-    view.keypoints = w.features.keypoints;
-    view.descriptors = w.features.descriptors.clone();
-    view.points_world.assign(view.keypoints.size(), kNaN3);
+    view.points.keypoints = w.features.keypoints;
+    view.points.descriptors = w.features.descriptors.clone();
+    view.points.type = w.features.type;
+    view.points.image_size = w.features.image_size;
+    view.points_world.assign(view.points.size(), kNaN3);
     int lifted = 0;
-    for (size_t i = 0; i < view.keypoints.size(); ++i)
-        if (auto p = frontend::liftPixel(w.q, map, view.keypoints[i].pt, cfg.association.lift_search_radius_px))
+    for (size_t i = 0; i < view.points.size(); ++i)
+        if (auto p = frontend::liftPixel(w.q, map, view.points.keypoints[i].pt, cfg.association.lift_search_radius_px))
         {
             view.points_world[i] = p->p_world;
             ++lifted;
@@ -212,14 +214,15 @@ Database buildDatabase(const map::LidarMap& map, const core::CameraModel& camera
     t0 = Clock::now();
     std::vector<cv::Mat> descriptors;
     descriptors.reserve(db.views.size());
-    for (const auto& v : db.views) descriptors.push_back(v.descriptors);
+    for (const auto& v : db.views) descriptors.push_back(v.points.descriptors);
     db.vocabulary = Vocabulary::train(descriptors, config.vocabulary);
     st.ms_vocabulary = msSince(t0);
 
     t0 = Clock::now();
     for (auto& v : db.views)
     {
-        v.bow = db.vocabulary.transform(v.descriptors);
+        v.words = db.vocabulary.words(v.points.descriptors);
+        v.bow = db.vocabulary.bowVector(v.words);
         db.index.add(v.id, v.bow);
     }
     st.ms_index = msSince(t0);

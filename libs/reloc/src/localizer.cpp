@@ -142,18 +142,12 @@ struct Localizer::Impl
     Impl(const Database& database, const LocalizerOptions& opts)
         : db(database), options(opts), extractor(frontend::createFeatureExtractor(database.features))
     {
-        view_features.resize(db.views.size());
-        for (size_t i = 0; i < db.views.size(); ++i)
-        {
-            view_features[i].keypoints = db.views[i].keypoints;
-            view_features[i].descriptors = db.views[i].descriptors;
-            view_features[i].type = db.features.featureType();
-        }
         buildBuckets();
     }
 
     /** The ancestor at match_level of every vocabulary word (the tree is breadth-first with contiguous
-     *  children, so parents follow from firstChild / numChildren), and per view the keypoints of each bucket. */
+     *  children, so parents follow from firstChild / numChildren), and per view the keypoints of each bucket
+     *  (from the words the database stores per keypoint). */
     void buildBuckets()
     {
         const Vocabulary& voc = db.vocabulary;
@@ -175,26 +169,24 @@ struct Localizer::Impl
             bucket_of_word[size_t(voc.nodeWord(v))] = a;
         }
         view_buckets.resize(db.views.size());
-        cv::parallel_for_(cv::Range(0, int(db.views.size())), [&](const cv::Range& range) {
-            for (int i = range.start; i < range.end; ++i)
-            {
-                const std::vector<WordId> words = voc.words(db.views[size_t(i)].descriptors);
-                auto& buckets = view_buckets[size_t(i)];
-                for (size_t k = 0; k < words.size(); ++k) buckets[bucket_of_word[words[k]]].push_back(int(k));
-            }
-        });
+        for (size_t i = 0; i < db.views.size(); ++i)
+        {
+            const std::vector<WordId>& words = db.views[i].words;
+            for (size_t k = 0; k < words.size(); ++k) view_buckets[i][bucket_of_word[words[k]]].push_back(int(k));
+        }
     }
 
     /** Matches the query with view `vid`: within vocabulary buckets (match_level), or all pairs. */
     std::vector<frontend::PointMatch> matchView(int vid) const
     {
-        if (bucket_of_word.empty()) return frontend::matchPoints(query, view_features[size_t(vid)], options.matching);
+        const frontend::Features& view = db.views[size_t(vid)].points;
+        if (bucket_of_word.empty()) return frontend::matchPoints(query, view, options.matching);
         frontend::SearchRegion region;
         region.train_subsets.resize(query.size());
         const auto& buckets = view_buckets[size_t(vid)];
         for (size_t q = 0; q < query.size(); ++q)
             if (auto it = buckets.find(query_buckets[q]); it != buckets.end()) region.train_subsets[q] = it->second;
-        return frontend::matchPoints(query, view_features[size_t(vid)], options.matching, &region);
+        return frontend::matchPoints(query, view, options.matching, &region);
     }
 
     /** Groups of the retrieved views (step 3), best summed score first. */
@@ -412,7 +404,6 @@ struct Localizer::Impl
     const Database& db;
     LocalizerOptions options;
     std::unique_ptr<frontend::FeatureExtractor> extractor;
-    std::vector<frontend::Features> view_features;
     frontend::Features query;
     cv::Mat blurred;
     std::vector<int> bucket_of_word;                                    ///< word -> node at match_level
@@ -450,13 +441,13 @@ LocalizationReport Localizer::localize(const cv::Mat& gray, const core::CameraMo
     r.ms.extract = msSince(t0);
 
     t0 = Clock::now();
-    const std::vector<WordId> query_words = m.db.vocabulary.words(m.query.descriptors);
+    const std::vector<WordId> query_words = m.db.vocabulary.words(m.query.descriptors);  // descended once
     m.query_buckets.clear();
     if (!m.bucket_of_word.empty())
         for (WordId w : query_words) m.query_buckets.push_back(m.bucket_of_word[w]);
     const int first = mode == LocalizationMode::Fast ? o.fast_groups : o.full_groups;
     const int second = mode == LocalizationMode::Fast ? o.fast_groups_retry : o.full_groups_retry;
-    for (const auto& hit : m.db.index.query(m.db.vocabulary.transform(m.query.descriptors), o.retrieval_per_group * second))
+    for (const auto& hit : m.db.index.query(m.db.vocabulary.bowVector(query_words), o.retrieval_per_group * second))
         r.retrieved.push_back({hit.image, hit.score, -1, -1});
     r.groups = m.groupViews(r.retrieved);
     r.ms.retrieval = msSince(t0);

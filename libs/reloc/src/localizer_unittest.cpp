@@ -97,9 +97,12 @@ void checkDatabaseRoundTrip()
     EXPECT_EQ(back.image_blur_sigma_px, f.db.image_blur_sigma_px);
     const auto& a = f.db.views[7];
     const auto& b = back.views[7];
-    EXPECT_EQ(cv::norm(a.descriptors, b.descriptors, cv::NORM_INF), 0.0);
-    ASSERT_EQ(a.keypoints.size(), b.keypoints.size());
-    EXPECT_EQ(a.keypoints[3].pt, b.keypoints[3].pt);
+    EXPECT_EQ(cv::norm(a.points.descriptors, b.points.descriptors, cv::NORM_INF), 0.0);
+    ASSERT_EQ(a.points.keypoints.size(), b.points.keypoints.size());
+    EXPECT_EQ(a.points.keypoints[3].pt, b.points.keypoints[3].pt);
+    EXPECT_EQ(a.words, b.words);
+    EXPECT_EQ(a.words, f.db.vocabulary.words(a.points.descriptors));
+    EXPECT_EQ(b.points.image_size, cv::Size(f.camera.width, f.camera.height));
     EXPECT_EQ(a.bow, b.bow);
     EXPECT_TRUE((a.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>() -
                  b.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>())

@@ -563,9 +563,12 @@ std::vector<WordId> Vocabulary::words(const cv::Mat& descriptors) const
     return out;
 }
 
-BowVector Vocabulary::transform(const cv::Mat& descriptors) const
+BowVector Vocabulary::transform(const cv::Mat& descriptors) const { return bowVector(words(descriptors)); }
+
+BowVector Vocabulary::bowVector(std::vector<WordId> w) const
 {
-    std::vector<WordId> w = words(descriptors);
+    for (WordId id : w)
+        core::require(id < idf_.size(), "Vocabulary::bowVector", "word " + std::to_string(id) + " out of range");
     std::sort(w.begin(), w.end());
     BowVector v;
     double total = 0;

@@ -1,7 +1,7 @@
 #pragma once
 // The database of virtual views: for every view rendered from the LiDAR map, its pose, its point features
 // (keypoints, descriptors) with the map point each keypoint lifts to through the quasi-image's provenance, its
-// line segments with their LiDAR support, and its bag-of-words vector; plus the vocabulary and the inverted
+// line segments with their LiDAR support, and its bag-of-words vector and per-keypoint words; plus the vocabulary and the inverted
 // index trained on those descriptors, the camera model the views were rendered with, and the [Features]
 // options (the localizer extracts query features with exactly these, so the two sides always agree).
 //
@@ -29,8 +29,9 @@ struct DatabaseView
 {
     int id = -1;                          ///< index in Database::views
     mrpt::poses::CPose3D T_world_cam;     ///< where it was rendered
-    std::vector<cv::KeyPoint> keypoints;  ///< all of them (retrieval uses every descriptor)
-    cv::Mat descriptors;                  ///< one row per keypoint
+    /** Keypoints and descriptors, all of them (retrieval uses every descriptor); no dense map. */
+    frontend::Features points;
+    std::vector<WordId> words;            ///< per keypoint: its vocabulary word (the localizer's matching buckets)
     /** Per keypoint: the lifted map point in the world frame; NaN when the keypoint does not lift. */
     std::vector<Eigen::Vector3f> points_world;
     std::vector<frontend::LineSegment> lines;              ///< segments detected on the quasi-image

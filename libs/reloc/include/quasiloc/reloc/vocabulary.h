@@ -50,6 +50,9 @@ class Vocabulary
     BowVector transform(const cv::Mat& descriptors) const;
     /** The word of every row (for matching by shared words). */
     std::vector<WordId> words(const cv::Mat& descriptors) const;
+    /** The tf-idf vector of words already found (transform(d) == bowVector(words(d))): lets a caller that needs
+     *  both the words and the vector descend the tree once. InputError for a word out of range. */
+    BowVector bowVector(std::vector<WordId> words) const;
 
     size_t numWords() const { return idf_.size(); }
     bool binary() const { return descriptor_type_ == CV_8U; }
