@@ -147,3 +147,50 @@ TEST(Features, BadInputIsRejected)
     EXPECT_THROW(ex->extract(cv::Mat::zeros(100, 100, CV_8UC1), cv::Mat::zeros(50, 50, CV_8UC1), f),
                  quasiloc::core::InputError);
 }
+
+TEST(GuidedCandidates, NeverOutsideTheWindow)
+{
+    // Guided association (map_refinement.h): every camera keypoint keeps up to k candidates among the quasi-image
+    // keypoints within radius_px of its own position. The best descriptor matches are planted OUTSIDE the window
+    // (an identical descriptor 30-60 px away), so a gate that leaked would return them first.
+    cv::RNG rng(7);
+    const int n = 200;
+    Features query, train;
+    query.descriptors.create(n, 32, CV_8U);
+    train.descriptors.create(3 * n, 32, CV_8U);
+    rng.fill(query.descriptors, cv::RNG::UNIFORM, 0, 256);
+    rng.fill(train.descriptors, cv::RNG::UNIFORM, 0, 256);
+    for (int i = 0; i < n; ++i)
+    {
+        const cv::Point2f p(rng.uniform(50.f, 590.f), rng.uniform(50.f, 430.f));
+        query.keypoints.emplace_back(p, 7.f);
+        const float a = rng.uniform(0.f, float(2 * M_PI)), r_far = rng.uniform(30.f, 60.f), r_near = rng.uniform(0.f, 12.f);
+        train.keypoints.emplace_back(p + r_far * cv::Point2f(std::cos(a), std::sin(a)), 7.f);       // twin, far
+        train.keypoints.emplace_back(p + r_near * cv::Point2f(std::sin(a), std::cos(a)), 7.f);      // near
+        train.keypoints.emplace_back(p + 0.5f * r_near * cv::Point2f(std::cos(a), -std::sin(a)), 7.f);  // near
+        query.descriptors.row(i).copyTo(train.descriptors.row(3 * i));
+    }
+    SearchRegion region;
+    region.radius_px = 15;
+    const auto candidates = findCandidates(query, train, 3, 256, region);
+    ASSERT_EQ(candidates.size(), size_t(n));
+    size_t total = 0;
+    for (int i = 0; i < n; ++i)
+    {
+        EXPECT_LE(candidates[size_t(i)].size(), 3u);
+        for (const PointCandidate& c : candidates[size_t(i)])
+        {
+            ++total;
+            EXPECT_LE(cv::norm(train.keypoints[size_t(c.index)].pt - query.keypoints[size_t(i)].pt), 15.0 + 1e-4)
+                << "query " << i << " candidate " << c.index;
+        }
+    }
+    EXPECT_GE(total, size_t(n)) << "the near keypoints must still be found";
+    // The same with the window centred on a prediction 40 px to the right: only keypoints near the prediction.
+    for (const auto& k : query.keypoints) region.centers.push_back(k.pt + cv::Point2f(40, 0));
+    const auto shifted = findCandidates(query, train, 3, 256, region);
+    for (int i = 0; i < n; ++i)
+        for (const PointCandidate& c : shifted[size_t(i)])
+            EXPECT_LE(cv::norm(train.keypoints[size_t(c.index)].pt - region.centers[size_t(i)]), 15.0 + 1e-4)
+                << "query " << i << " candidate " << c.index << " (shifted window)";
+}

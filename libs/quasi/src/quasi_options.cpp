@@ -41,6 +41,8 @@ void QuasiOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, 
     min_depth_m = readDouble(cfg, s, "min_depth_m", min_depth_m);
     max_depth_m = readDouble(cfg, s, "max_depth_m", max_depth_m);
     visibility_block_size_m = readDouble(cfg, s, "visibility_block_size_m", visibility_block_size_m);
+    point_size_m = readDouble(cfg, s, "point_size_m", point_size_m);
+    max_splat_radius_px = readInt(cfg, s, "max_splat_radius_px", max_splat_radius_px);
     occlusion_radius_px = readInt(cfg, s, "occlusion_radius_px", occlusion_radius_px);
     occlusion_depth_rel = readDouble(cfg, s, "occlusion_depth_rel", occlusion_depth_rel);
     occlusion_max_gap_deg = readDouble(cfg, s, "occlusion_max_gap_deg", occlusion_max_gap_deg);
@@ -66,6 +68,8 @@ void QuasiOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     c.write(s, "min_depth_m", min_depth_m, 30, 40, "points nearer than this (camera z) are ignored");
     c.write(s, "max_depth_m", max_depth_m, 30, 40, "culling range and farthest rendered camera z");
     c.write(s, "visibility_block_size_m", visibility_block_size_m, 30, 40, "VisibilityIndex block size");
+    c.write(s, "point_size_m", point_size_m, 30, 40, "splat footprint of a point; 0: one pixel");
+    c.write(s, "max_splat_radius_px", max_splat_radius_px, 30, 40, "largest splat half-width");
     c.write(s, "occlusion_radius_px", occlusion_radius_px, 30, 40, "see-through filter window; 0: off");
     c.write(s, "occlusion_depth_rel", occlusion_depth_rel, 30, 40, "nearer by more than rel*depth occludes");
     c.write(s, "occlusion_max_gap_deg", occlusion_max_gap_deg, 30, 40, "largest angle between nearer pixels: surrounded");
@@ -92,6 +96,9 @@ void QuasiOptions::check(const std::string& input) const
     core::require(min_depth_m > 0, key("min_depth_m"), "must be > 0");
     core::require(max_depth_m > min_depth_m, key("max_depth_m"), "must be > min_depth_m");
     core::require(visibility_block_size_m > 0, key("visibility_block_size_m"), "must be > 0");
+    core::require(point_size_m >= 0, key("point_size_m"), "must be >= 0");
+    core::require(max_splat_radius_px >= 0 && max_splat_radius_px <= 32, key("max_splat_radius_px"),
+                  "must be 0..32");
     core::require(occlusion_radius_px >= 0 && occlusion_radius_px <= 15, key("occlusion_radius_px"),
                   "must be 0..15");
     core::require(occlusion_depth_rel > 0, key("occlusion_depth_rel"), "must be > 0");

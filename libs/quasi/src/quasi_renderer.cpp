@@ -21,6 +21,7 @@ struct QuasiRenderer::Buffers
     std::vector<int32_t> proj_pix;                  ///< per candidate: pixel (-1: rejected), with several threads
     std::vector<float> proj_depth;                  ///< per candidate: camera z
     detail::SparsePlanes sparse;                    ///< the z-buffer image
+    detail::SparsePlanes unsplatted;                ///< its copy before splatting
     cv::Mat window_min;                             ///< its minimum over the see-through window
     std::vector<std::vector<int32_t>> hidden;       ///< per row stripe: pixels the see-through filter drops
     std::vector<std::vector<uint32_t>> histograms;  ///< per row stripe
@@ -173,6 +174,18 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     }
     for (int s = 0; s < S; ++s) st.projected_points += b.counts[s];
     const int row_stripes = int(b.counts.size());
+    if (o.point_size_m > 0 && o.max_splat_radius_px > 0)
+    {
+        if (b.unsplatted.depth.size() != cv::Size(W, H)) b.unsplatted.create(W, H);
+        b.sparse.depth.copyTo(b.unsplatted.depth);
+        b.sparse.refl.copyTo(b.unsplatted.refl);
+        b.sparse.index.copyTo(b.unsplatted.index);
+        const float radius_px_at_1m = float(0.5 * camera.fx * o.point_size_m);
+        parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
+            b.counts[s] = detail::splatRows(b.unsplatted, y0, y1, radius_px_at_1m, o.max_splat_radius_px, b.sparse);
+        });
+        st.splatted_pixels = sum(b.counts);
+    }
     clock.lap(st.ms_projection, st.cpu_ms_projection);
 
     // See-through filter, then completion into the output images.

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/program_options.h>
+#include <quasiloc/quasi/quasi_renderer.h>
 #include <quasiloc/quasi/synthetic_scene.h>
 
 #include "render_stages.h"
@@ -184,4 +185,67 @@ TEST(QuasiOptions, IniRoundTripAndRejections)
     wrong = quasi::QuasiOptions{};
     wrong.value_gain = 0.9;  // b1 + b2 > 1
     EXPECT_THROW(wrong.check("test.ini"), core::InputError);
+}
+
+TEST(Splatting, NearPointsCoverTheirFootprintAndStripesAgree)
+{
+    const int W = 160, H = 120;
+    const auto src = randomSparse(W, H, 0.05, 11);  // layers at 2 m and 4 m, 5 % of the pixels hit
+    // Footprint radius = radius_px_at_1m / z: 3 px at 2 m, 1 px at 4 m.
+    const float radius_px_at_1m = 6.5f;
+    auto whole = src;
+    whole.depth = src.depth.clone(), whole.refl = src.refl.clone(), whole.index = src.index.clone();
+    const size_t covered = quasi::detail::splatRows(src, 0, H, radius_px_at_1m, 6, whole);
+    EXPECT_GT(covered, size_t(W * H / 4)) << "splats must fill most holes";
+    // Every pixel shows the nearest point whose square covers it (brute force).
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+        {
+            float best = quasi::detail::kNoDepth;
+            int best_index = -1;
+            for (int ys = std::max(0, y - 6); ys < std::min(H, y + 7); ++ys)
+                for (int xs = std::max(0, x - 6); xs < std::min(W, x + 7); ++xs)
+                {
+                    const float z = src.depth.at<float>(ys, xs);
+                    if (!(z < quasi::detail::kNoDepth)) continue;
+                    const int r = std::min(6, int(radius_px_at_1m / z));
+                    if (std::abs(ys - y) > r || std::abs(xs - x) > r) continue;
+                    const int idx = src.index.at<int32_t>(ys, xs);
+                    if (z < best || (z == best && idx < best_index)) best = z, best_index = idx;
+                }
+            ASSERT_EQ(whole.index.at<int32_t>(y, x), best_index) << "pixel " << x << "," << y;
+            ASSERT_EQ(whole.depth.at<float>(y, x), best);
+        }
+    // Row stripes (as the renderer runs them in parallel) give the same image.
+    auto striped = src;
+    striped.depth = src.depth.clone(), striped.refl = src.refl.clone(), striped.index = src.index.clone();
+    for (const auto& [y0, y1] : {std::pair{0, 37}, std::pair{37, 38}, std::pair{38, 90}, std::pair{90, H}})
+        quasi::detail::splatRows(src, y0, y1, radius_px_at_1m, 6, striped);
+    EXPECT_EQ(cv::norm(whole.index, striped.index, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(whole.refl, striped.refl, cv::NORM_INF), 0.0);
+}
+
+TEST(Splatting, RendererFillsACloseSparseWall)
+{
+    // The synthetic room thinned to 60k points seen from 1 m: single-pixel points leave most of the image empty.
+    const map::LidarMap map = quasi::makeSyntheticRoom(60000);
+    const core::CameraModel camera = core::CameraModel::pinhole(752, 480, 458.0, 457.0, 367.0, 248.0);
+    mrpt::poses::CPose3D T_world_cam(2.0, 0.0, 1.3, -M_PI / 2, 0, -M_PI / 2);  // looking along +x at the wall
+    quasi::QuasiOptions o;
+    o.completion_radius_px = 0;
+    o.occlusion_radius_px = 0;
+    quasi::QuasiImage plain, splatted;
+    quasi::QuasiRenderer(map, o).render(T_world_cam, camera, plain);
+    o.point_size_m = 0.05;
+    quasi::QuasiRenderer(map, o).render(T_world_cam, camera, splatted);
+    const double f_plain = cv::countNonZero(plain.valid) / double(plain.valid.total());
+    const double f_splat = cv::countNonZero(splatted.valid) / double(splatted.valid.total());
+    std::printf("valid pixels: %.1f %% one pixel per point, %.1f %% splatted (%zu splatted pixels)\n", 100 * f_plain,
+                100 * f_splat, splatted.stats.splatted_pixels);
+    EXPECT_GT(f_splat, f_plain + 0.2);
+    EXPECT_GT(splatted.stats.splatted_pixels, 0u);
+    // Every valid pixel still lifts to a map point.
+    for (int y = 0; y < splatted.height(); y += 7)
+        for (int x = 0; x < splatted.width(); x += 7)
+            if (splatted.valid.at<uint8_t>(y, x)) EXPECT_GE(splatted.provenance.at<int32_t>(y, x), 0);
 }

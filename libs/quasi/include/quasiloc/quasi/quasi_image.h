@@ -16,6 +16,7 @@ struct RenderStats
 {
     size_t candidate_points = 0;   ///< points in the culled ranges of the VisibilityIndex
     size_t projected_points = 0;   ///< of those, in depth range and inside the image
+    size_t splatted_pixels = 0;    ///< empty pixels covered by a point's splat (QuasiOptions::point_size_m)
     size_t sparse_pixels = 0;      ///< pixels won by a point (after the see-through filter)
     size_t occluded_pixels = 0;    ///< pixels dropped by the see-through filter
     size_t completed_pixels = 0;   ///< pixels filled by completion
@@ -39,7 +40,8 @@ struct QuasiImage
     cv::Mat reflectivity;
     /** 255 where the pixel has a value (sparse or completed), else 0. CV_8UC1. */
     cv::Mat valid;
-    /** 255 where a map point projects into the pixel and won its z-buffer (exact value), else 0. CV_8UC1. */
+    /** 255 where a map point projects into the pixel (or, with QuasiOptions::point_size_m, its splat covers it)
+     *  and won its z-buffer (a point's own value), else 0. CV_8UC1. */
     cv::Mat sparse;
     /** LidarMap index of the point the pixel shows (-1: none). Sparse pixels: the z-buffer winner.
      *  Completed pixels: the pixel-nearest neighbour that is consistent with the completed value in both

@@ -1,0 +1,51 @@
+#include "cost_profile.h"
+
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <quasiloc/core/pose.h>
+
+namespace quasiloc::bench
+{
+CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
+                               const estimation::DirectAlignmentOptions& options, double step_m, double step_deg)
+{
+    CostProfile p;
+    quasi::QuasiImage q;
+    for (const QueryFrame& fr : seq.frames)
+    {
+        renderer.render(core::fromIsometry(fr.T_world_cam), seq.camera, q);
+        p.mean_valid_fraction += double(cv::countNonZero(q.valid)) / double(q.valid.total());
+        const auto field = estimation::buildCameraEdgeField(options, fr.image);
+        const auto model = estimation::buildDirectAlignmentModel(options, q.depth, q.reflectivity, q.valid, q.sparse,
+                                                                 seq.camera, fr.T_world_cam);
+        p.mean_edge_points += double(model.edge_points_world.size());
+        const double e0 = estimation::edgeCost(options, field, 0, seq.camera, model, fr.T_world_cam);
+        const double n0 = estimation::normalizedMutualInformation(options, field, seq.camera, model, fr.T_world_cam);
+        for (int axis = 0; axis < 6; ++axis)
+            for (const double sign : {-1.0, 1.0})
+            {
+                Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
+                if (axis < 3)
+                    d.translation()[axis] = sign * step_m;
+                else
+                    d.linear() = Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3))
+                                     .toRotationMatrix();
+                const Eigen::Isometry3d T = fr.T_world_cam * d;
+                const double e = estimation::edgeCost(options, field, 0, seq.camera, model, T);
+                const double n = estimation::normalizedMutualInformation(options, field, seq.camera, model, T);
+                ++p.steps;
+                p.edge_truth_best += e0 < e;
+                p.nmi_truth_best += n0 > n;
+                p.mean_edge_rise += (e - e0) / std::max(1e-9, e0);
+                p.mean_nmi_drop += n0 - n;
+            }
+    }
+    const double nf = double(std::max<size_t>(1, seq.frames.size()));
+    p.mean_valid_fraction /= nf;
+    p.mean_edge_points /= nf;
+    p.mean_edge_rise /= std::max(1, p.steps);
+    p.mean_nmi_drop /= std::max(1, p.steps);
+    return p;
+}
+
+}  // namespace quasiloc::bench

@@ -1,0 +1,27 @@
+#pragma once
+// Does a direct term single out the true pose? For every frame: the map model is built from a quasi-image
+// rendered at the true pose, and the term at the true pose is compared with the term one step away along each
+// of the 12 axis directions (+-x, +-y, +-z by step_m; +-roll, +-pitch, +-yaw by step_deg, camera frame). A
+// term that cannot tell the truth from its neighbours cannot pull a perturbed pose back, whatever optimiser
+// runs it: this is the quick evidence for a rendering or encoding choice.
+#include <quasiloc/estimation/direct_alignment.h>
+#include <quasiloc/quasi/quasi_renderer.h>
+
+#include "kitti_sequence.h"
+
+namespace quasiloc::bench
+{
+struct CostProfile
+{
+    int steps = 0;              ///< frames x 12
+    int edge_truth_best = 0;    ///< steps where the edge cost is lower at the truth
+    int nmi_truth_best = 0;     ///< steps where NMI is higher at the truth
+    double mean_edge_rise = 0;  ///< mean of (cost(step) - cost(truth)) / cost(truth)
+    double mean_nmi_drop = 0;   ///< mean of NMI(truth) - NMI(step)
+    double mean_valid_fraction = 0, mean_edge_points = 0;
+};
+
+CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
+                               const estimation::DirectAlignmentOptions& options, double step_m, double step_deg);
+
+}  // namespace quasiloc::bench
