@@ -8,41 +8,16 @@
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/estimation/pose_parametrization.h>
 
+#include "direct_alignment_detail.h"
+
 namespace quasiloc::estimation
 {
 namespace
 {
-/** Bilinear sample of a CV_32F image at (x, y); the caller guarantees 0 <= x < cols - 1, 0 <= y < rows - 1. */
-inline float bilinear(const cv::Mat& m, float x, float y)
-{
-    const int x0 = int(x), y0 = int(y);
-    const float ax = x - float(x0), ay = y - float(y0);
-    const float* r0 = m.ptr<float>(y0) + x0;
-    const float* r1 = m.ptr<float>(y0 + 1) + x0;
-    return (1 - ay) * ((1 - ax) * r0[0] + ax * r0[1]) + ay * ((1 - ax) * r1[0] + ax * r1[1]);
-}
-
-/** Inside with a one-pixel border, so that the central differences of the field can be sampled too. */
-inline bool insideForBilinear(const cv::Mat& m, double x, double y)
-{
-    return x >= 1 && y >= 1 && x < m.cols - 2 && y < m.rows - 2;
-}
-
+using detail::bilinear;
+using detail::projectToLevel;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
-
-/** Projection of a world point into level `L` of the field: false when behind the camera or outside. */
-inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLevel& L, const Eigen::Isometry3d& T_cam_world,
-                           const Eigen::Vector3d& p_world, Eigen::Vector3d& p_cam, Eigen::Vector2d& u_level,
-                           Eigen::Matrix<double, 2, 3>* J_level)
-{
-    p_cam = T_cam_world * p_world;
-    Eigen::Vector2d u;
-    if (!camera.project(p_cam, u, J_level, 1e-3)) return false;
-    u_level = (u.array() + 0.5) * L.scale - 0.5;
-    if (J_level) *J_level *= L.scale;
-    return insideForBilinear(L.edges, u_level.x(), u_level.y());
-}
 
 double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)

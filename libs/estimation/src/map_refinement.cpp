@@ -6,6 +6,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/absolute_pose.h>
+#include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/map_refinement.h>
 #include <quasiloc/frontend/lifting.h>
 #include <unordered_map>
@@ -49,6 +50,7 @@ void MapRefinementOptions::loadFromConfigFile(const mrpt::config::CConfigFileBas
     direct_prior_weight = core::readIniDouble(cfg, s, "direct_prior_weight", direct_prior_weight);
     lift_radius_px = core::readIniDouble(cfg, s, "lift_radius_px", lift_radius_px);
     pnp_max_error_px = core::readIniDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
+    direct_solver = cfg.read_string(s, "direct_solver", direct_solver);
     direct.loadFromConfigFile(cfg, "DirectAlignment");
 }
 
@@ -67,6 +69,7 @@ void MapRefinementOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     c.write(s, "direct_prior_weight", direct_prior_weight, 24, 10, "prediction prior in the direct term (0: none)");
     c.write(s, "lift_radius_px", lift_radius_px, 24, 10);
     c.write(s, "pnp_max_error_px", pnp_max_error_px, 24, 10);
+    c.write(s, "direct_solver", direct_solver, 24, 10, "lm | ceres (direct_factor.h)");
     direct.saveToConfigFile(c, "DirectAlignment");
 }
 
@@ -82,6 +85,8 @@ void MapRefinementOptions::check(const std::string& input) const
     core::require(agree_m > 0 && agree_deg > 0, k + "agree_m/agree_deg", "must be > 0");
     core::require(gate_sigmas > 0, k + "gate_sigmas", "must be > 0");
     core::require(direct_prior_weight >= 0, k + "direct_prior_weight", "must be >= 0");
+    core::require(direct_solver == "lm" || direct_solver == "ceres", k + "direct_solver",
+                  "'" + direct_solver + "' is not lm or ceres");
     core::require(lift_radius_px >= 0 && lift_radius_px <= 20, k + "lift_radius_px", "must be in [0, 20]");
     core::require(pnp_max_error_px > 0, k + "pnp_max_error_px", "must be > 0");
     direct.check(input);
@@ -240,8 +245,10 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
         Eigen::Isometry3d T = T_world_cam_pred;
         DirectAlignmentStats ds;
         DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, options_.direct_prior_weight};
-        const bool ok = alignDirect(options_.direct, edge_field_, camera_, model, T, &ds,
-                                    options_.direct_prior_weight > 0 ? &prior : nullptr);
+        const DirectPrior* p = options_.direct_prior_weight > 0 ? &prior : nullptr;
+        const bool ok = options_.direct_solver == "ceres"
+                            ? alignDirectCeres(options_.direct, edge_field_, camera_, model, T, &ds, p)
+                            : alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);
         const double ms_direct = tic.Tac() * 1e3;
         if (method == RefinementMethod::Direct)
         {

@@ -30,6 +30,8 @@
 //                              ;   cost (0: no prior)
 //   lift_radius_px = 2         ; provenance search radius when lifting a Q keypoint
 //   pnp_max_error_px = 3       ; PnP inlier threshold
+//   direct_solver = lm         ; direct/combined: lm (alignDirect's own Levenberg-Marquardt) | ceres (the same
+//                              ;   problem as a Ceres factor, direct_factor.h: what an estimator window would add)
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -64,6 +66,7 @@ struct MapRefinementOptions : public mrpt::config::CLoadableOptions
     double direct_prior_weight = 0.2;
     double lift_radius_px = 2;
     double pnp_max_error_px = 3;
+    std::string direct_solver = "lm";
     DirectAlignmentOptions direct;  ///< section [DirectAlignment]
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
