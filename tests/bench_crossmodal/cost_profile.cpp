@@ -2,12 +2,14 @@
 
 #include <cmath>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 #include <quasiloc/core/pose.h>
 
 namespace quasiloc::bench
 {
 CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
-                               const estimation::DirectAlignmentOptions& options, double step_m, double step_deg)
+                               const estimation::DirectAlignmentOptions& options, double step_m, double step_deg,
+                               frontend::Frontend& frontend)
 {
     CostProfile p;
     quasi::QuasiImage q;
@@ -21,6 +23,21 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
         p.mean_edge_points += double(model.edge_points_world.size());
         const double e0 = estimation::edgeCost(options, field, 0, seq.camera, model, fr.T_world_cam);
         const double n0 = estimation::normalizedMutualInformation(options, field, seq.camera, model, fr.T_world_cam);
+        // Feature-metric score (feature_metric_alignment.h), when the features have a dense map.
+        frontend::FrameFeatures fc, fq;
+        cv::Mat gray;
+        if (fr.image.channels() == 3)
+            cv::cvtColor(fr.image, gray, cv::COLOR_BGR2GRAY);
+        else
+            gray = fr.image;
+        frontend.extract(gray, cv::Mat(), fc);
+        frontend.extract(q.gray, q.valid, fq);
+        const bool fm = !fc.points.dense.empty() && !fq.points.dense.empty();
+        const frontend::DenseMap cam_dense = fm ? centredDenseMap(fc.points.dense) : frontend::DenseMap{};
+        const FeatureMetricModel fm_model =
+            fm ? buildFeatureMetricModel(fq.points.dense, q.depth, q.valid, seq.camera, fr.T_world_cam)
+               : FeatureMetricModel{};
+        const double f0 = fm ? featureMetricScore(cam_dense, fm_model, seq.camera, fr.T_world_cam) : 0.0;
         for (int axis = 0; axis < 6; ++axis)
             for (const double sign : {-1.0, 1.0})
             {
@@ -38,6 +55,14 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
                 p.nmi_truth_best += n0 > n;
                 p.mean_edge_rise += (e - e0) / std::max(1e-9, e0);
                 p.mean_nmi_drop += n0 - n;
+                if (fm)
+                {
+                    const double f = featureMetricScore(cam_dense, fm_model, seq.camera, T);
+                    p.fm_truth_best += f0 > f;
+                    p.mean_fm_drop += f0 - f;
+                }
+                else
+                    p.fm_truth_best = -1;
             }
     }
     const double nf = double(std::max<size_t>(1, seq.frames.size()));
@@ -45,6 +70,7 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
     p.mean_edge_points /= nf;
     p.mean_edge_rise /= std::max(1, p.steps);
     p.mean_nmi_drop /= std::max(1, p.steps);
+    p.mean_fm_drop /= std::max(1, p.steps);
     return p;
 }
 

@@ -5,8 +5,10 @@
 // term that cannot tell the truth from its neighbours cannot pull a perturbed pose back, whatever optimiser
 // runs it: this is the quick evidence for a rendering or encoding choice.
 #include <quasiloc/estimation/direct_alignment.h>
+#include <quasiloc/frontend/frontend.h>
 #include <quasiloc/quasi/quasi_renderer.h>
 
+#include "feature_metric_score.h"
 #include "kitti_sequence.h"
 
 namespace quasiloc::bench
@@ -18,10 +20,13 @@ struct CostProfile
     int nmi_truth_best = 0;     ///< steps where NMI is higher at the truth
     double mean_edge_rise = 0;  ///< mean of (cost(step) - cost(truth)) / cost(truth)
     double mean_nmi_drop = 0;   ///< mean of NMI(truth) - NMI(step)
+    int fm_truth_best = 0;      ///< steps where the feature-metric score is higher at the truth (-1: no dense map)
+    double mean_fm_drop = 0;    ///< mean of score(truth) - score(step)
     double mean_valid_fraction = 0, mean_edge_points = 0;
 };
 
 CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
-                               const estimation::DirectAlignmentOptions& options, double step_m, double step_deg);
+                               const estimation::DirectAlignmentOptions& options, double step_m, double step_deg,
+                               frontend::Frontend& frontend);
 
 }  // namespace quasiloc::bench

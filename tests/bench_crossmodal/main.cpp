@@ -174,15 +174,21 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
         writeOverlay(b.overlay_dir + "/" + seq.name + "_edges.png", seq.frames.front(), seq.camera, renderer, ro.direct);
     if (b.profile)
     {
-        const bench::CostProfile p = bench::profileDirectTerms(seq, renderer, ro.direct, b.profile_step_m, b.profile_step_deg);
+        const bench::CostProfile p = bench::profileDirectTerms(seq, renderer, ro.direct, b.profile_step_m, b.profile_step_deg, frontend);
         std::cout << "\n## " << seq.name << ": cost profile at the true pose (" << seq.frames.size() << " frames x 12 steps of "
                   << b.profile_step_m << " m / " << b.profile_step_deg << " deg)\n\n"
-                  << "| valid pixels | edge points | edge cost lowest at truth | mean edge cost rise | NMI highest at truth | mean NMI drop |\n"
-                  << "|---|---|---|---|---|---|\n"
+                  << "| valid pixels | edge points | edge cost lowest at truth | mean edge cost rise | NMI highest at truth | mean NMI drop | feature-metric highest at truth | mean feature-metric drop |\n"
+                  << "|---|---|---|---|---|---|---|---|\n"
                   << std::fixed << std::setprecision(1) << "| " << 100 * p.mean_valid_fraction << " % | " << p.mean_edge_points
                   << " | " << 100.0 * p.edge_truth_best / std::max(1, p.steps) << " % | " << std::setprecision(3)
                   << 100 * p.mean_edge_rise << " % | " << std::setprecision(1) << 100.0 * p.nmi_truth_best / std::max(1, p.steps)
-                  << " % | " << std::setprecision(4) << p.mean_nmi_drop << " |\n\n" << std::flush;
+                  << " % | " << std::setprecision(4) << p.mean_nmi_drop << " | ";
+        if (p.fm_truth_best < 0)
+            std::cout << "- | - |\n\n";
+        else
+            std::cout << std::setprecision(1) << 100.0 * p.fm_truth_best / std::max(1, p.steps) << " % | " << std::setprecision(4)
+                      << p.mean_fm_drop << " |\n\n";
+        std::cout << std::flush;
     }
     if (!b.refine) return;
     std::map<std::pair<int, int>, Cell> cells;  // (method, level)
