@@ -18,10 +18,13 @@ inline float bilinear(const cv::Mat& m, float x, float y)
     return (1 - ay) * ((1 - ax) * r0[0] + ax * r0[1]) + ay * ((1 - ax) * r1[0] + ax * r1[1]);
 }
 
-/** Inside with a one-pixel border, so that the central differences of the field can be sampled too. */
-inline bool insideForBilinear(const cv::Mat& m, double x, double y)
+/** Inside with a one-pixel border, so that the central differences of the field can be sampled too. Tested on
+ *  the FLOAT coordinates the sampler will use: a double just below cols - 2 can round up to cols - 2 as a float,
+ *  and the +1 sample would then read past the end of the image (found by AddressSanitizer: the garbage it read
+ *  made the tracker's results differ from run to run). */
+inline bool insideForBilinear(const cv::Mat& m, float x, float y)
 {
-    return x >= 1 && y >= 1 && x < m.cols - 2 && y < m.rows - 2;
+    return x >= 1.f && y >= 1.f && x < float(m.cols - 2) && y < float(m.rows - 2);
 }
 
 /** Projection of a world point into level `L` of the field: false when behind the camera or outside. */
@@ -34,7 +37,7 @@ inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLeve
     if (!camera.project(p_cam, u, J_level, 1e-3)) return false;
     u_level = (u.array() + 0.5) * L.scale - 0.5;
     if (J_level) *J_level *= L.scale;
-    return insideForBilinear(L.edges, u_level.x(), u_level.y());
+    return insideForBilinear(L.edges, float(u_level.x()), float(u_level.y()));
 }
 
 }  // namespace quasiloc::estimation::detail

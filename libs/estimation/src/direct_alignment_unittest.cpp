@@ -12,6 +12,8 @@
 #include <quasiloc/quasi/quasi_renderer.h>
 #include <quasiloc/quasi/synthetic_scene.h>
 
+#include "direct_alignment_detail.h"
+
 using namespace quasiloc;
 
 namespace
@@ -242,4 +244,15 @@ TEST(DirectEdgeFactor, CeresSolvesTheDirectProblemLikeAlignDirect)
         EXPECT_LT(st_ceres.final_edge_cost, 0.5 * st_ceres.initial_edge_cost);
         EXPECT_LT(st_ceres.final_edge_cost, 1.2 * st_lm.final_edge_cost) << "seed " << seed;
     }
+}
+
+TEST(DirectAlignment, SamplingGuardUsesTheFloatCoordinates)
+{
+    // A coordinate just below rows - 2 in double rounds to rows - 2 in float; the central difference at +1 would
+    // then read a row past the image. The guard must reject it (this read made the tracker non-deterministic).
+    const cv::Mat m(120, 188, CV_32FC1, cv::Scalar(0));
+    const double y = 118.0 - 1e-9;
+    ASSERT_EQ(float(y), 118.0f);
+    EXPECT_FALSE(estimation::detail::insideForBilinear(m, 50.f, float(y)));
+    EXPECT_TRUE(estimation::detail::insideForBilinear(m, 50.f, 117.99f));
 }
