@@ -219,6 +219,8 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
         st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step);
     if (o.nmi_polish && !model.nmi_points_world.empty()) polishNmi(o, field, camera, model, T_world_cam);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
+    Vector6d gradient;
+    normalEquations(o, field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
     if (!model.nmi_points_world.empty()) st.final_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;

@@ -6,6 +6,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
+#include <quasiloc/estimation/map_measurement.h>
 #include <quasiloc/tracking/tracker.h>
 
 
@@ -196,10 +197,11 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         {
             estimation::PoseMeasurement m;
             m.T_map_body = r.T_world_cam * T_body_cam_.inverse();
-            estimation::Vector6d info;
-            info << Eigen::Vector3d::Constant(1.0 / std::pow(options_.direct_sigma_deg * kDeg, 2)),
-                Eigen::Vector3d::Constant(1.0 / std::pow(options_.direct_sigma_m, 2));
-            m.information = info.asDiagonal();
+            const double sr = options_.direct_sigma_deg * kDeg, sm = options_.direct_sigma_m;
+            const estimation::Matrix6d info_cam = options_.map_information == "observability"
+                                                      ? estimation::observabilityMapInformation(r.direct.hessian, sr, sm)
+                                                      : estimation::fixedMapInformation(sr, sm);
+            m.information = estimation::cameraToBodyInformation(info_cam, T_body_cam_);
             in.pose_measurements.push_back(m);
         }
         misses_ = rep.map_update ? 0 : misses_ + 1;

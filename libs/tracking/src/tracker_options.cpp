@@ -11,6 +11,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     keyframe_every = core::readIniInt(c, s, "keyframe_every", keyframe_every);
     direct_sigma_m = readIniDouble(c, s, "direct_sigma_m", direct_sigma_m);
     direct_sigma_deg = readIniDouble(c, s, "direct_sigma_deg", direct_sigma_deg);
+    map_information = c.read_string(s, "map_information", map_information);
     min_prior_sigma_m = readIniDouble(c, s, "min_prior_sigma_m", min_prior_sigma_m);
     min_prior_sigma_deg = readIniDouble(c, s, "min_prior_sigma_deg", min_prior_sigma_deg);
     max_correction_m = readIniDouble(c, s, "max_correction_m", max_correction_m);
@@ -33,6 +34,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "keyframe_every", keyframe_every, 24, 10, "map alignment every N frames");
     c.write(s, "direct_sigma_m", direct_sigma_m, 24, 10, "map-alignment measurement sigma");
     c.write(s, "direct_sigma_deg", direct_sigma_deg, 24, 10);
+    c.write(s, "map_information", map_information, 24, 10, "fixed | observability (map_measurement.h)");
     c.write(s, "min_prior_sigma_m", min_prior_sigma_m, 24, 10, "alignment prior: predicted sigma, at least this");
     c.write(s, "min_prior_sigma_deg", min_prior_sigma_deg, 24, 10);
     c.write(s, "max_correction_m", max_correction_m, 24, 10, "larger map corrections are rejected");
@@ -54,6 +56,8 @@ void TrackerOptions::check(const std::string& input) const
     const std::string k = input + ": [Tracking] ";
     core::require(keyframe_every >= 1, k + "keyframe_every", "must be >= 1");
     core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
+    core::require(map_information == "fixed" || map_information == "observability", k + "map_information",
+                  "'" + map_information + "' is not fixed or observability");
     core::require(min_prior_sigma_m > 0 && min_prior_sigma_deg > 0, k + "min_prior_sigma_m/deg", "must be > 0");
     core::require(max_correction_m > 0 && max_correction_deg > 0, k + "max_correction_m/deg", "must be > 0");
     core::require(lost_after_misses >= 1, k + "lost_after_misses", "must be >= 1");

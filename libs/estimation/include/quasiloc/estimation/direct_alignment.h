@@ -133,6 +133,10 @@ struct DirectAlignmentStats
     double final_inlier_ratio = 0;  ///< share of edge points with DT < huber_px at full resolution
     double initial_nmi = 0, final_nmi = 0;
     double ms = 0;
+    /** Gauss-Newton Hessian of the mean edge cost at the final pose, full resolution, prior excluded (tangent
+     *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. alignDirect
+     *  fills it; alignDirectCeres leaves it zero. */
+    Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
 /** Mean Huber cost of the edge residuals at pyramid level `level` (points outside the image or beyond the

@@ -33,6 +33,8 @@
 //   keyframe_every = 1
 //   direct_sigma_m = 0.01         ; information of a map-alignment pose measurement
 //   direct_sigma_deg = 0.2
+//   map_information = fixed       ; fixed: those sigmas in every direction; observability: shaped by what the
+//                                 ;   alignment's edges observe (estimation/map_measurement.h)
 //   min_prior_sigma_m = 0.05      ; the alignment's prior: the predicted covariance, at least these
 //   min_prior_sigma_deg = 0.5
 //   max_correction_m = 0.15       ; larger map corrections are rejected
@@ -69,6 +71,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     bool map_updates = true;
     int keyframe_every = 1;
     double direct_sigma_m = 0.01, direct_sigma_deg = 0.2;
+    std::string map_information = "fixed";
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
     int lost_after_misses = 20;
