@@ -4,13 +4,15 @@
 //
 // [Tracking]: the tracker's keys (tracker.h) and
 //   input_rawlog, calibration_ini (StereoRig keys + [imu] noise densities, as sim-rawlog writes), map_file,
-//   groundtruth (TUM of T_world_cam0: initial state and the error table), output_dir, max_frames (0 = all).
+//   groundtruth (TUM of T_world_cam0: initial state and the error table), output_dir, max_frames (0 = all),
+//   write_scene (true: also scene.3Dscene).
 // Other sections: [MapRefinement] [DirectAlignment] [Estimator] [Reweighting] [QuasiImage] and the front-end's.
 // The initial state is given: the ground-truth pose of the first frame that has one, and the velocity from the
 // ground truth of the first two frames (global-localization initialisation is not in this version).
 //
 // Outputs in output_dir, all or nothing: trajectory.tum (T_world_cam0), diagnostics.csv (one row per frame),
-// quasiloc-track.ini (effective configuration). Prints the error against ground truth and the time per frame.
+// quasiloc-track.ini (effective configuration), scene.3Dscene (map, ground truth in green, estimate in red: open with
+// SceneViewer3D). Prints the error against ground truth and the time per frame.
 #include <mrpt/config/CConfigFile.h>
 
 #include <algorithm>
@@ -28,6 +30,8 @@
 #include <quasiloc/tracking/tracker.h>
 #include <sstream>
 
+#include "scene_export.h"
+
 namespace
 {
 using namespace quasiloc;
@@ -37,6 +41,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
 {
     std::string input_rawlog, calibration_ini, map_file, groundtruth, output_dir = "out/track";
     int max_frames = 0;
+    bool write_scene = true;
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
     {
         TrackerOptions::loadFromConfigFile(c, s);
@@ -46,6 +51,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
         groundtruth = c.read_string(s, "groundtruth", groundtruth);
         output_dir = c.read_string(s, "output_dir", output_dir);
         max_frames = core::readIniInt(c, s, "max_frames", max_frames);
+        write_scene = core::readIniBool(c, s, "write_scene", write_scene);
     }
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
     {
@@ -56,6 +62,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
         c.write(s, "groundtruth", groundtruth);
         c.write(s, "output_dir", output_dir);
         c.write(s, "max_frames", max_frames);
+        c.write(s, "write_scene", write_scene ? "true" : "false");
     }
 };
 
@@ -133,6 +140,8 @@ int run(const core::CommandLine& cmd)
     core::Trajectory traj;
     traj.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)";
     traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
+    core::Trajectory gt_traj;  // the ground truth at the tracked frames (for the .3Dscene)
+    gt_traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
     std::ostringstream csv;
     csv << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
            "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total\n";
@@ -150,6 +159,7 @@ int run(const core::CommandLine& cmd)
             e_m = (r.T_world_cam0.translation() - G.translation()).norm();
             e_deg = Eigen::AngleAxisd(r.T_world_cam0.linear().transpose() * G.linear()).angle() * 180 / M_PI;
             err_m.push_back(e_m);
+            gt_traj.poses.push_back({r.t, *f.T_world_cam0});
         }
         ms.push_back(r.ms_total);
         updates += r.map_update, keyframes += r.keyframe, lost_frames += r.lost;
@@ -163,6 +173,7 @@ int run(const core::CommandLine& cmd)
 
     core::StagedOutputs out;
     core::writeTum(out.addFile(o.output_dir + "/trajectory.tum"), traj);
+    if (o.write_scene) app::writeTrackingScene(out.addFile(o.output_dir + "/scene.3Dscene"), map, gt_traj, traj);
     core::writeTextFileAtomically(out.addFile(o.output_dir + "/diagnostics.csv"), csv.str());
     auto sections = fo.sections();
     sections.insert(sections.end(), {{"Tracking", &o}, {"MapRefinement", &ro}, {"Estimator", &eo}, {"Reweighting", &rw},
@@ -180,7 +191,8 @@ int run(const core::CommandLine& cmd)
               << " cm (map frame, no alignment, vs ground truth at " << err_m.size() << " frames)\n"
               << "time/frame  median " << percentile(ms, 50) << " ms, p90 " << percentile(ms, 90) << " ms, max "
               << percentile(ms, 100) << " ms\n"
-              << "outputs     " << o.output_dir << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini}" << std::endl;
+              << "outputs     " << o.output_dir << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini"
+              << (o.write_scene ? ",scene.3Dscene" : "") << "}" << std::endl;
     return 0;
 }
 }  // namespace

@@ -17,7 +17,7 @@ track() {  # track <output_dir> [--set ...]: prints the ATE RMSE in cm
   sed -n 's/^ATE *RMSE \([0-9.]*\) cm.*/\1/p' "$out.log"
 }
 ate=$(track "$WORK/track")
-for f in trajectory.tum diagnostics.csv quasiloc-track.ini; do [ -s "$WORK/track/$f" ] || fail "$f missing"; done
+for f in trajectory.tum diagnostics.csv quasiloc-track.ini scene.3Dscene; do [ -s "$WORK/track/$f" ] || fail "$f missing"; done
 n=$(grep -vc '^#' "$WORK/track/trajectory.tum")
 [ "$n" -ge 100 ] || fail "trajectory.tum has $n poses, expected >= 100 (5 s at 20 Hz)"
 keyframes=$(sed -n 's/^frames .*keyframes \([0-9]*\), map updates accepted \([0-9]*\),.*/\1/p' "$WORK/track.log")
