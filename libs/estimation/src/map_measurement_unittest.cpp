@@ -58,3 +58,14 @@ TEST(MapMeasurement, BodyInformationMatchesTheCameraOneThroughTheExtrinsic)
         EXPECT_NEAR(dc.dot(I_cam * dc), db.dot(I_body * db), 1e-6 * db.dot(I_body * db)) << "direction " << k;
     }
 }
+
+TEST(MapMeasurement, DirectionsObservedAsWellAsTheMedianKeepTheConfiguredSigma)
+{
+    // One direction observed far better than the rest must not deweight the rest (they are observed as well as
+    // the median direction).
+    const double sr = 0.2 * M_PI / 180, sm = 0.01;
+    Vector6d h;
+    h << 1000 / (sr * sr), 50 / (sr * sr), 50 / (sr * sr), 50 / (sm * sm), 50 / (sm * sm), 60 / (sm * sm);
+    const Matrix6d I = observabilityMapInformation(Matrix6d(h.asDiagonal()), sr, sm);
+    EXPECT_LT((I - fixedMapInformation(sr, sm)).norm() / fixedMapInformation(sr, sm).norm(), 1e-9);
+}

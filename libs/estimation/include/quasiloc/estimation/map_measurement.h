@@ -7,9 +7,10 @@
 //
 // observability: the alignment's Gauss-Newton Hessian H (DirectAlignmentStats::hessian, camera tangent
 // [dtheta; dp]) is made unitless with D = diag(sigma_rad I3, sigma_m I3): Hn = D H D = V diag(l) V^T. The
-// measurement's information is D^-1 V diag(l / l_max) V^T D^-1: the best-observed direction keeps the configured
-// sigma, a direction observed k times less gets k times less information, an unobserved one none. Then it is
-// moved from the camera tangent to the body tangent (the state's) through the extrinsic.
+// measurement's information is D^-1 V diag(min(1, l / l_med)) V^T D^-1 with l_med the median eigenvalue: the
+// directions observed at least as well as the median one keep the configured sigma, a direction observed k times
+// less gets k times less information, an unobserved one none. Then it is moved from the camera tangent to the
+// body tangent (the state's) through the extrinsic.
 #include <Eigen/Geometry>
 #include <quasiloc/estimation/pose_parametrization.h>
 
