@@ -240,8 +240,9 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
         renderer_.render(core::fromIsometry(T_world_cam_pred), camera_, q_);
         const double ms_render = tic.Tac() * 1e3;
         tic.Tic();
-        const DirectAlignmentModel model = buildDirectAlignmentModel(options_.direct, q_.depth, q_.reflectivity, q_.valid,
-                                                                     q_.sparse, camera_, T_world_cam_pred);
+        auto model_ptr = std::make_shared<const DirectAlignmentModel>(buildDirectAlignmentModel(
+            options_.direct, q_.depth, q_.reflectivity, q_.valid, q_.sparse, camera_, T_world_cam_pred));
+        const DirectAlignmentModel& model = *model_ptr;
         Eigen::Isometry3d T = T_world_cam_pred;
         DirectAlignmentStats ds;
         DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, options_.direct_prior_weight};
@@ -267,6 +268,7 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
             }
         }
         res.direct = ds;
+        res.direct_model = model_ptr;
         res.ms_render += ms_render;
         res.ms_direct = ms_direct;
     }

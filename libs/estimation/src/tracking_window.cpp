@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <quasiloc/core/error.h>
+#include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/tracking_window.h>
 
 #include "marginalization.h"
@@ -75,6 +76,10 @@ void checkInput(const WindowInput& in)
     for (const FrameState* s : {&in.current, &in.previous})
         core::require(s->T_map_body.matrix().allFinite() && s->v_map.allFinite(), "WindowInput state",
                       "pose or velocity is not finite");
+    for (const DirectEdgeTerm& d : in.direct_terms)
+        core::require(d.field && d.model && d.camera && !d.model->edge_points_world.empty() && d.sigma_px > 0 &&
+                          d.effective_points > 0,
+                      "WindowInput.direct_terms", "needs a field, a camera, a model with edge points and sigmas > 0");
 }
 
 class Window
@@ -160,6 +165,15 @@ void Window::build()
     }
     for (const auto& m : in_.pose_measurements)
         add(new PosePriorFactor(m.T_map_body, m.information), robustLoss(opt_, 6), {cur_.pose});
+    for (const auto& d : in_.direct_terms)
+    {
+        const double n = double(d.model->edge_points_world.size());
+        const double sigma = d.sigma_px * std::sqrt(std::max(1.0, n / d.effective_points));
+        // The Huber is inside the residual (direct_factor.h), in units of this sigma.
+        add(new DirectEdgeCostFunction(*d.field, 0, *d.camera, *d.model, cam.T_body_cam, sigma, d.truncation_px,
+                                       d.huber_px),
+            nullptr, {cur_.pose});
+    }
     if (opt_.usePoints())
         for (const auto& p : in_.points)
             add(new PointReprojectionFactor(cam, p.px, p.p_map, p.sigma_px), robustLoss(opt_, 2), {cur_.pose});

@@ -2,6 +2,8 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <memory>
+#include <optional>
 #include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
@@ -48,6 +50,7 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       reweighting_(reweighting),
       imu_noise_(imu_noise),
       refiner_(refinement, renderer, frontend),
+      refinement_direct_(refinement.direct),
       frontend_(frontend),
       stereo_matcher_(rig, frontend.options().stereo)
 {
@@ -176,6 +179,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
 
     // 2. Map alignment on keyframes.
     estimation::WindowInput in;
+    std::shared_ptr<const estimation::DirectAlignmentModel> direct_model;  // map_term = factor: alive until the window
+    std::optional<Eigen::Isometry3d> aligned_T_map_body;                     // ... and its linearisation point
     rep.keyframe = options_.map_updates && frames_ % size_t(options_.keyframe_every) == 0;
     if (rep.keyframe)
     {
@@ -193,7 +198,22 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         rep.edge_points = r.direct.edge_points;
         rep.map_update = r.success && rep.correction_m <= options_.max_correction_m &&
                          rep.correction_deg <= options_.max_correction_deg;
-        if (rep.map_update)
+        if (rep.map_update && options_.map_term == "factor")
+        {
+            // The edge residuals themselves in the window, linearised from the alignment's pose.
+            direct_model = r.direct_model;
+            estimation::DirectEdgeTerm d;
+            d.field = &refiner_.edgeField();
+            d.model = direct_model.get();
+            d.camera = &stereo_.left.model;
+            d.sigma_px = options_.direct_factor_sigma_px;
+            d.effective_points = options_.direct_factor_effective_points;
+            d.truncation_px = refinement_direct_.truncation_px;
+            d.huber_px = refinement_direct_.huber_px;
+            in.direct_terms.push_back(d);
+            aligned_T_map_body = r.T_world_cam * T_body_cam_.inverse();
+        }
+        else if (rep.map_update)
         {
             estimation::PoseMeasurement m;
             m.T_map_body = r.T_world_cam * T_body_cam_.inverse();
@@ -229,6 +249,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     in.prior = prior_;
     in.imu = &imu;
     in.current = predicted;
+    if (aligned_T_map_body) in.current.T_map_body = *aligned_T_map_body;
     estimation::WindowResult result;
     if (estimation::estimateWindow(estimator_, reweighting_, in, result))
     {

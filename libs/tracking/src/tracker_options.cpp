@@ -12,6 +12,9 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     direct_sigma_m = readIniDouble(c, s, "direct_sigma_m", direct_sigma_m);
     direct_sigma_deg = readIniDouble(c, s, "direct_sigma_deg", direct_sigma_deg);
     map_information = c.read_string(s, "map_information", map_information);
+    map_term = c.read_string(s, "map_term", map_term);
+    direct_factor_sigma_px = readIniDouble(c, s, "direct_factor_sigma_px", direct_factor_sigma_px);
+    direct_factor_effective_points = readIniDouble(c, s, "direct_factor_effective_points", direct_factor_effective_points);
     min_prior_sigma_m = readIniDouble(c, s, "min_prior_sigma_m", min_prior_sigma_m);
     min_prior_sigma_deg = readIniDouble(c, s, "min_prior_sigma_deg", min_prior_sigma_deg);
     max_correction_m = readIniDouble(c, s, "max_correction_m", max_correction_m);
@@ -35,6 +38,9 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "direct_sigma_m", direct_sigma_m, 24, 10, "map-alignment measurement sigma");
     c.write(s, "direct_sigma_deg", direct_sigma_deg, 24, 10);
     c.write(s, "map_information", map_information, 24, 10, "fixed | observability (map_measurement.h)");
+    c.write(s, "map_term", map_term, 24, 10, "measurement | factor (direct_factor.h in the window)");
+    c.write(s, "direct_factor_sigma_px", direct_factor_sigma_px, 24, 10);
+    c.write(s, "direct_factor_effective_points", direct_factor_effective_points, 24, 10);
     c.write(s, "min_prior_sigma_m", min_prior_sigma_m, 24, 10, "alignment prior: predicted sigma, at least this");
     c.write(s, "min_prior_sigma_deg", min_prior_sigma_deg, 24, 10);
     c.write(s, "max_correction_m", max_correction_m, 24, 10, "larger map corrections are rejected");
@@ -58,6 +64,10 @@ void TrackerOptions::check(const std::string& input) const
     core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
     core::require(map_information == "fixed" || map_information == "observability", k + "map_information",
                   "'" + map_information + "' is not fixed or observability");
+    core::require(map_term == "measurement" || map_term == "factor", k + "map_term",
+                  "'" + map_term + "' is not measurement or factor");
+    core::require(direct_factor_sigma_px > 0 && direct_factor_effective_points > 0,
+                  k + "direct_factor_sigma_px/effective_points", "must be > 0");
     core::require(min_prior_sigma_m > 0 && min_prior_sigma_deg > 0, k + "min_prior_sigma_m/deg", "must be > 0");
     core::require(max_correction_m > 0 && max_correction_deg > 0, k + "max_correction_m/deg", "must be > 0");
     core::require(lost_after_misses >= 1, k + "lost_after_misses", "must be >= 1");

@@ -40,6 +40,7 @@
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/frontend/frontend.h>
 #include <quasiloc/quasi/quasi_renderer.h>
+#include <memory>
 #include <string>
 
 namespace quasiloc::estimation
@@ -84,6 +85,9 @@ struct MapRefinementResult
     int inliers = 0;
     double window_px = 0;
     DirectAlignmentStats direct;
+    /** direct/combined: the map model the alignment used (built at the prediction), e.g. for a DirectEdgeTerm of
+     *  the estimator window together with edgeField(). */
+    std::shared_ptr<const DirectAlignmentModel> direct_model;
     double ms_render = 0, ms_extract = 0, ms_match = 0, ms_pnp = 0, ms_direct = 0, ms_total = 0;
 };
 
@@ -103,6 +107,8 @@ class MapRefiner
                                double sigma_rad);
 
     double lastImageMs() const { return image_ms_; }
+    /** The camera side of the direct term for the current image (valid until the next setImage). */
+    const CameraEdgeField& edgeField() const { return edge_field_; }
     const frontend::FrameFeatures& cameraFeatures() const { return camera_features_; }
 
    private:

@@ -27,6 +27,7 @@
 #include <quasiloc/estimation/estimator_options.h>
 #include <quasiloc/estimation/imu_preintegration.h>
 #include <quasiloc/estimation/measurements.h>
+#include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/estimation/prior_factor.h>
 #include <quasiloc/estimation/reweighting.h>
 #include <quasiloc/estimation/visual_factors.h>
@@ -39,6 +40,20 @@ struct PoseMeasurement
 {
     Eigen::Isometry3d T_map_body = Eigen::Isometry3d::Identity();
     Matrix6d information = Matrix6d::Identity();  ///< tangent order [dtheta; dp]
+};
+
+/** The direct map-edge term as a factor on the current pose (direct_factor.h) instead of a pose measurement: the
+ *  field, camera and model must outlive the solve. Each of the model's n points gets sigma_px *
+ *  sqrt(n / effective_points): the points' errors are correlated (one rendering, one pose), so together they count
+ *  as `effective_points` independent pixel observations, not n. */
+struct DirectEdgeTerm
+{
+    const CameraEdgeField* field = nullptr;
+    const DirectAlignmentModel* model = nullptr;
+    const core::CameraModel* camera = nullptr;
+    double sigma_px = 2.0;
+    double effective_points = 100;
+    double truncation_px = 12, huber_px = 2;
 };
 
 struct WindowInput
@@ -54,6 +69,7 @@ struct WindowInput
     std::vector<PlaneFactorInput> planes;
     std::vector<TemporalLandmark> landmarks;  ///< used only with a previous frame
     std::vector<PoseMeasurement> pose_measurements;  ///< on the current frame (map measurements: part of H_0)
+    std::vector<DirectEdgeTerm> direct_terms;        ///< on the current frame (the left camera's image)
 };
 
 struct WindowStats

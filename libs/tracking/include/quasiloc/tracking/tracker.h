@@ -35,6 +35,11 @@
 //   direct_sigma_deg = 0.2
 //   map_information = fixed       ; fixed: those sigmas in every direction; observability: shaped by what the
 //                                 ;   alignment's edges observe (estimation/map_measurement.h)
+//   map_term = measurement        ; measurement: the alignment's pose as a Gaussian measurement (above); factor: the
+//                                 ;   edge residuals themselves as a Ceres factor in the window (direct_factor.h),
+//                                 ;   linearised from the alignment's pose
+//   direct_factor_sigma_px = 2    ; factor: pixel sigma of the edge residuals ...
+//   direct_factor_effective_points = 100 ; ... which count as this many independent observations together
 //   min_prior_sigma_m = 0.05      ; the alignment's prior: the predicted covariance, at least these
 //   min_prior_sigma_deg = 0.5
 //   max_correction_m = 0.15       ; larger map corrections are rejected
@@ -72,6 +77,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     int keyframe_every = 1;
     double direct_sigma_m = 0.01, direct_sigma_deg = 0.2;
     std::string map_information = "fixed";
+    std::string map_term = "measurement";
+    double direct_factor_sigma_px = 2.0, direct_factor_effective_points = 100;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
     int lost_after_misses = 20;
@@ -148,6 +155,7 @@ class Tracker
     estimation::StereoGeometry stereo_;
     estimation::ImuNoise imu_noise_;
     estimation::MapRefiner refiner_;
+    estimation::DirectAlignmentOptions refinement_direct_;  ///< the direct term's truncation and Huber (map_term = factor)
     frontend::Frontend& frontend_;
     frontend::StereoMatcher stereo_matcher_;
     frontend::FrameFeatures prev_left_;
