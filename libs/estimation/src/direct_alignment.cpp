@@ -206,12 +206,7 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
 {
     mrpt::system::CTicTac tic;
     DirectAlignmentStats st;
-    st.edge_points = int(model.edge_points_world.size());
-    if (field.levels.empty() || model.edge_points_world.size() < 20)
-    {
-        if (stats) *stats = st;
-        return false;
-    }
+    if (!detail::canAlign(field, model, st, stats)) return false;
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
     if (!model.nmi_points_world.empty()) st.initial_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     bool any_step = false;

@@ -40,4 +40,15 @@ inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLeve
     return insideForBilinear(L.edges, float(u_level.x()), float(u_level.y()));
 }
 
+/** The start both solvers share: st.edge_points set; false (and *stats = st) when there is nothing to align
+ *  (no field level, fewer than 20 edge points). */
+inline bool canAlign(const CameraEdgeField& field, const DirectAlignmentModel& model, DirectAlignmentStats& st,
+                     DirectAlignmentStats* stats)
+{
+    st.edge_points = int(model.edge_points_world.size());
+    if (!field.levels.empty() && model.edge_points_world.size() >= 20) return true;
+    if (stats) *stats = st;
+    return false;
+}
+
 }  // namespace quasiloc::estimation::detail

@@ -95,12 +95,7 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
 {
     mrpt::system::CTicTac tic;
     DirectAlignmentStats st;
-    st.edge_points = int(model.edge_points_world.size());
-    if (field.levels.empty() || model.edge_points_world.size() < 20)
-    {
-        if (stats) *stats = st;
-        return false;
-    }
+    if (!detail::canAlign(field, model, st, stats)) return false;
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
     double params[kPoseSize];
     poseToParams(T_world_cam, params);
