@@ -144,7 +144,8 @@ int run(const core::CommandLine& cmd)
     gt_traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
     std::ostringstream csv;
     csv << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
-           "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total\n";
+           "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
+           "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z\n";
     std::vector<double> err_m, ms;
     int updates = 0, keyframes = 0, lost_frames = 0;
     size_t n = 1;
@@ -167,7 +168,8 @@ int run(const core::CommandLine& cmd)
             << r.correction_m << "," << r.correction_deg << "," << r.edge_inlier_ratio << "," << r.edge_points << ","
             << r.prior_sigma_m << "," << r.prior_sigma_deg << "," << r.lost << "," << r.landmarks << "," << e_m << ","
             << e_deg << "," << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_visual << ","
-            << r.ms_window << "," << r.ms_total << "\n";
+            << r.ms_window << "," << r.ms_total << "," << r.gyro_bias.x() << "," << r.gyro_bias.y() << ","
+            << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << "\n";
         if (++n % 50 == 0) std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << e_m << " m" << std::endl;
     } while ((o.max_frames <= 0 || int(n) < o.max_frames) && source->next(f));
 

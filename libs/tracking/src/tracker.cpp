@@ -265,6 +265,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     rep.ms_window = tic.Tac() * 1e3;
     ++frames_;
     rep.T_world_cam0 = state_.T_map_body * T_body_cam_;
+    rep.gyro_bias = state_.gyro_bias;
+    rep.acc_bias = state_.acc_bias;
     rep.ms_total = total.Tac() * 1e3;
     return rep;
 }

@@ -110,6 +110,7 @@ struct FrameReport
     double prior_sigma_m = 0, prior_sigma_deg = 0;
     bool lost = false;
     int landmarks = 0;
+    Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
     /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
      *  points and temporal matching (with concurrent_stages the extraction runs beside the alignment and only the
      *  wait for it and the matching count); ms_total: the whole frame. */
