@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Tracking against the map vs the baselines of issue 9, on the simulated sequences that scripts/track_sequences.sh
 # left in <root> (reused, not simulated again): quasiloc-track with config.ini (IMU + map alignment + stereo
-# landmarks) with the map measurement's information uniform ([Tracking] map_information = fixed) and shaped by
-# what the alignment observes (observability), the edge residuals as a factor in the window (map_term = factor),
+# landmarks) with the map as a pose measurement ([Tracking] map_term = measurement) whose information is uniform
+# (map_information = fixed) or shaped by what the alignment observes (observability), the edge residuals as a
+# factor in the window (map_term = factor, the default),
 # visual-inertial odometry with the same front-end and no map
 # ([Tracking] map_updates = false), and IMU-only propagation (map_updates = false, temporal_landmarks = false).
 # All start from the same ground-truth state; the tracker is deterministic, so one run per cell.
@@ -32,8 +33,8 @@ run() {  # run <seq> <variant> [--set ...]: prints "RMSE max" in cm
 for dir in "$SEQ_ROOT"/*/sim; do
   seq=$(basename "$(dirname "$dir")")
   mkdir -p "$OUT/$seq"
-  set -- $(run "$seq" map_fixed --set Tracking.map_information=fixed) \
-    $(run "$seq" map_observability --set Tracking.map_information=observability) \
+  set -- $(run "$seq" map_fixed --set Tracking.map_term=measurement --set Tracking.map_information=fixed) \
+    $(run "$seq" map_observability --set Tracking.map_term=measurement --set Tracking.map_information=observability) \
     $(run "$seq" map_factor --set Tracking.map_term=factor) \
     $(run "$seq" vio --set Tracking.map_updates=false) \
     $(run "$seq" imu --set Tracking.map_updates=false --set Tracking.temporal_landmarks=false)
