@@ -103,10 +103,10 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
     const double n = double(model.edge_points_world.size());
     for (int l = int(field.levels.size()) - 1; l >= 0; --l)
     {
+        PoseManifold manifold;  // declared before the problem that points to it, so it outlives it
         ceres::Problem::Options po;
         po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
         ceres::Problem problem(po);
-        PoseManifold manifold;
         // The body is the camera here: the block is T_world_cam itself.
         problem.AddResidualBlock(new DirectEdgeCostFunction(field, l, camera, model, Eigen::Isometry3d::Identity(), 1.0,
                                                             o.truncation_px, o.huber_px),
