@@ -14,6 +14,7 @@
 #include <quasiloc/quasi/synthetic_scene.h>
 
 #include "direct_alignment_detail.h"
+#include "test_helpers.h"
 
 using namespace quasiloc;
 
@@ -23,17 +24,11 @@ struct Scene
 {
     map::LidarMap map = quasi::makeSyntheticRoom(400000);
     core::CameraModel camera = core::CameraModel::pinhole(752, 480, 458.0, 457.0, 367.0, 248.0);
-    Eigen::Isometry3d T_world_cam_true = Eigen::Isometry3d::Identity();
+    Eigen::Isometry3d T_world_cam_true = estimation::test::syntheticRoomCameraPose();
     quasi::QuasiOptions qo;
     std::unique_ptr<quasi::QuasiRenderer> renderer;
     Scene()
     {
-        // Looking along +x from inside the room, tilted down a little, towards a corner with boxes.
-        Eigen::Matrix3d R;
-        R << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera z -> world x, camera x -> world -y, camera y -> world -z
-        T_world_cam_true.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-                                    R * Eigen::AngleAxisd(0.15, Eigen::Vector3d::UnitX()).toRotationMatrix();
-        T_world_cam_true.translation() = Eigen::Vector3d(-2.0, -0.5, 1.4);
         renderer = std::make_unique<quasi::QuasiRenderer>(map, qo);
     }
     quasi::QuasiImage render(const Eigen::Isometry3d& T)
@@ -49,14 +44,7 @@ struct Scene
     }
 };
 
-Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, double t_m, double rot_deg, int seed)
-{
-    estimation::Vector6d d;
-    const Eigen::Vector3d a = Eigen::Vector3d(std::sin(seed), std::cos(3 * seed), std::sin(5 * seed + 1)).normalized();
-    const Eigen::Vector3d b = Eigen::Vector3d(std::cos(2 * seed), std::sin(7 * seed), std::cos(seed + 2)).normalized();
-    d << a * rot_deg * M_PI / 180, b * t_m;
-    return estimation::boxPlus(T, d);
-}
+using estimation::test::perturbedPose;
 
 double translationError(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B)
 {
@@ -110,7 +98,7 @@ TEST(DirectAlignment, ConvergesFromPerturbedPoses)
     const auto field = estimation::buildCameraEdgeField(o, s.render(s.T_world_cam_true).gray);
     for (int seed = 1; seed <= 3; ++seed)
     {
-        const Eigen::Isometry3d T0 = perturbed(s.T_world_cam_true, 0.1, 1.0, seed);
+        const Eigen::Isometry3d T0 = perturbedPose(s.T_world_cam_true, 0.1, 1.0, seed);
         const auto model = s.model(o, T0);  // built where the prediction is, as a tracker would
         Eigen::Isometry3d T = T0;
         estimation::DirectAlignmentStats st;
@@ -167,7 +155,7 @@ TEST(DirectEdgeFactor, AnalyticJacobianMatchesNumeric)
     Eigen::Isometry3d T_body_cam = Eigen::Isometry3d::Identity();
     T_body_cam.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
     T_body_cam.translation() = Eigen::Vector3d(0.05, -0.02, 0.1);
-    const Eigen::Isometry3d T_map_body = perturbed(s.T_world_cam_true, 0.03, 0.5, 2) * T_body_cam.inverse();
+    const Eigen::Isometry3d T_map_body = perturbedPose(s.T_world_cam_true, 0.03, 0.5, 2) * T_body_cam.inverse();
     // huber_px large: the derivative check is about the chain rule, not the robust kernel.
     estimation::DirectEdgeCostFunction f(field, 0, s.camera, model, T_body_cam, 1.5, o.truncation_px, 100.0);
     const int n = f.num_residuals();
@@ -228,7 +216,7 @@ TEST(DirectEdgeFactor, CeresSolvesTheDirectProblemLikeAlignDirect)
     const auto field = estimation::buildCameraEdgeField(o, s.render(s.T_world_cam_true).gray);
     for (int seed = 1; seed <= 3; ++seed)
     {
-        const Eigen::Isometry3d T0 = perturbed(s.T_world_cam_true, 0.1, 1.0, seed);
+        const Eigen::Isometry3d T0 = perturbedPose(s.T_world_cam_true, 0.1, 1.0, seed);
         const auto model = s.model(o, T0);
         const estimation::DirectPrior prior{T0, 0.1, M_PI / 180, 0.2};
         Eigen::Isometry3d T_lm = T0, T_ceres = T0;
@@ -275,7 +263,7 @@ TEST(DirectEdgeFactor, WindowWithTheDirectTermConvergesFromLevelA)
     stereo.right = s.camera;
     for (int seed = 1; seed <= 2; ++seed)
     {
-        const Eigen::Isometry3d T0 = perturbed(s.T_world_cam_true, 0.1, 1.0, seed);
+        const Eigen::Isometry3d T0 = perturbedPose(s.T_world_cam_true, 0.1, 1.0, seed);
         const auto model = s.model(o, T0);
         estimation::WindowInput in;
         in.stereo = &stereo;

@@ -10,31 +10,11 @@
 #include <quasiloc/quasi/quasi_renderer.h>
 #include <quasiloc/quasi/synthetic_scene.h>
 
+#include "test_helpers.h"
+
 using namespace quasiloc;
 
-namespace
-{
-Eigen::Isometry3d trueCameraPose()
-{
-    // Inside the synthetic room, looking along +x and a little down, towards a corner with boxes.
-    Eigen::Matrix3d R;
-    R << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera z -> world x, camera x -> world -y, camera y -> world -z
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R *
-                 Eigen::AngleAxisd(0.15, Eigen::Vector3d::UnitX()).toRotationMatrix();
-    T.translation() = Eigen::Vector3d(-2.0, -0.5, 1.4);
-    return T;
-}
-
-Eigen::Isometry3d perturbed(const Eigen::Isometry3d& T, double t_m, double rot_deg, int seed)
-{
-    const Eigen::Vector3d a = Eigen::Vector3d(std::sin(seed), std::cos(3 * seed), std::sin(5 * seed + 1)).normalized();
-    const Eigen::Vector3d b = Eigen::Vector3d(std::cos(2 * seed), std::sin(7 * seed), std::cos(seed + 2)).normalized();
-    estimation::Vector6d d;
-    d << a * rot_deg * M_PI / 180, b * t_m;
-    return estimation::boxPlus(T, d);
-}
-}  // namespace
+using estimation::test::perturbedPose;
 
 TEST(MapRefinement, EveryMethodRecoversFromLevelA)
 {
@@ -46,7 +26,7 @@ TEST(MapRefinement, EveryMethodRecoversFromLevelA)
     estimation::MapRefinementOptions ro;
     estimation::MapRefiner refiner(ro, renderer, frontend);
 
-    const Eigen::Isometry3d T_true = trueCameraPose();
+    const Eigen::Isometry3d T_true = estimation::test::syntheticRoomCameraPose();
     quasi::QuasiImage q;
     renderer.render(core::fromIsometry(T_true), camera, q);
     refiner.setImage(q.gray, camera);
@@ -54,7 +34,7 @@ TEST(MapRefinement, EveryMethodRecoversFromLevelA)
                               estimation::RefinementMethod::Direct, estimation::RefinementMethod::Combined})
         for (int seed = 1; seed <= 3; ++seed)
         {
-            const Eigen::Isometry3d T0 = perturbed(T_true, 0.1, 1.0, seed);
+            const Eigen::Isometry3d T0 = perturbedPose(T_true, 0.1, 1.0, seed);
             const auto r = refiner.refine(method, T0, 0.1, M_PI / 180);
             const Eigen::Isometry3d E = T_true.inverse() * r.T_world_cam;
             const double err_m = E.translation().norm();

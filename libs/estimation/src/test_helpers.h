@@ -1,6 +1,8 @@
 #pragma once
 // Shared by the unit tests: numeric differentiation on the pose manifold and small scene helpers.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
 #include <functional>
 #include <quasiloc/estimation/pose_parametrization.h>
 #include <quasiloc/estimation/visual_factors.h>
@@ -54,6 +56,29 @@ inline CameraGeometry pinholeCamera(const Eigen::Isometry3d& T_body_cam = Eigen:
     cam.model = core::CameraModel::pinhole(640, 480, 400, 400, 320, 240);
     cam.T_body_cam = T_body_cam;
     return cam;
+}
+
+/** The test view of quasi::makeSyntheticRoom: inside the room looking along +x, tilted down a little, towards a
+ *  corner with boxes (T_world_cam). */
+inline Eigen::Isometry3d syntheticRoomCameraPose()
+{
+    Eigen::Matrix3d R;
+    R << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera z -> world x, camera x -> world -y, camera y -> world -z
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R *
+                 Eigen::AngleAxisd(0.15, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(-2.0, -0.5, 1.4);
+    return T;
+}
+
+/** T (+) delta with a rotation of exactly rot_deg and a translation of exactly t_m along directions fixed by seed. */
+inline Eigen::Isometry3d perturbedPose(const Eigen::Isometry3d& T, double t_m, double rot_deg, int seed)
+{
+    const Eigen::Vector3d a = Eigen::Vector3d(std::sin(seed), std::cos(3 * seed), std::sin(5 * seed + 1)).normalized();
+    const Eigen::Vector3d b = Eigen::Vector3d(std::cos(2 * seed), std::sin(7 * seed), std::cos(seed + 2)).normalized();
+    Vector6d d;
+    d << a * rot_deg * M_PI / 180, b * t_m;
+    return boxPlus(T, d);
 }
 
 /** Relative difference of two matrices (max abs difference over max(1, max abs of the reference)). */
