@@ -82,10 +82,7 @@ double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d*
 {
     if (!prior) return 0;
     const Vector6d d = boxMinus(T, prior->T_world_cam);
-    Vector6d info;
-    info << Eigen::Vector3d::Constant(1 / (prior->sigma_rad * prior->sigma_rad)),
-        Eigen::Vector3d::Constant(1 / (prior->sigma_m * prior->sigma_m));
-    info *= prior->weight;
+    const Vector6d info = prior->weight * poseInformationDiagonal(prior->sigma_rad, prior->sigma_m);
     if (H) H->diagonal() += info;
     if (b) *b += info.cwiseProduct(d);
     return 0.5 * d.dot(info.cwiseProduct(d));

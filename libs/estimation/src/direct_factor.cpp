@@ -114,10 +114,8 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
         if (prior)
         {
             // alignDirect minimises the MEAN edge cost plus the prior; Ceres the sum: scale the prior by n.
-            Vector6d info;
-            info << Eigen::Vector3d::Constant(1 / (prior->sigma_rad * prior->sigma_rad)),
-                Eigen::Vector3d::Constant(1 / (prior->sigma_m * prior->sigma_m));
-            const Matrix6d information = (n * prior->weight * info).asDiagonal();
+            const Matrix6d information =
+                (n * prior->weight * poseInformationDiagonal(prior->sigma_rad, prior->sigma_m)).asDiagonal();
             problem.AddResidualBlock(new PosePriorFactor(prior->T_world_cam, information), nullptr, params);
         }
         problem.SetManifold(params, &manifold);

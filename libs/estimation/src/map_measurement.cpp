@@ -6,9 +6,7 @@ namespace quasiloc::estimation
 {
 Matrix6d fixedMapInformation(double sigma_rad, double sigma_m)
 {
-    Vector6d info;
-    info << Eigen::Vector3d::Constant(1.0 / (sigma_rad * sigma_rad)), Eigen::Vector3d::Constant(1.0 / (sigma_m * sigma_m));
-    return info.asDiagonal();
+    return poseInformationDiagonal(sigma_rad, sigma_m).asDiagonal();
 }
 
 Matrix6d observabilityMapInformation(const Matrix6d& H, double sigma_rad, double sigma_m)

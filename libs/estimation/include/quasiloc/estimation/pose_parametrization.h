@@ -48,6 +48,15 @@ Eigen::Matrix3d rightJacobianInvSO3(const Eigen::Vector3d& phi);
 void poseToParams(const Eigen::Isometry3d& T_map_body, double* params);
 Eigen::Isometry3d paramsToPose(const double* params);
 
+/** Diagonal information of a pose Gaussian with sigma_rad on every rotation axis and sigma_m on every translation
+ *  axis, in the tangent order [dtheta; dp]. */
+inline Vector6d poseInformationDiagonal(double sigma_rad, double sigma_m)
+{
+    Vector6d info;
+    info << Eigen::Vector3d::Constant(1.0 / (sigma_rad * sigma_rad)), Eigen::Vector3d::Constant(1.0 / (sigma_m * sigma_m));
+    return info;
+}
+
 /** T' = T (+) delta with the right perturbation above; and delta = T2 (-) T1 (so T1 (+) delta = T2). */
 Eigen::Isometry3d boxPlus(const Eigen::Isometry3d& T, const Vector6d& delta);
 Vector6d boxMinus(const Eigen::Isometry3d& T2, const Eigen::Isometry3d& T1);
