@@ -50,7 +50,6 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       reweighting_(reweighting),
       imu_noise_(imu_noise),
       refiner_(refinement, renderer, frontend),
-      refinement_direct_(refinement.direct),
       frontend_(frontend),
       stereo_matcher_(rig, frontend.options().stereo)
 {
@@ -208,8 +207,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
             d.camera = &stereo_.left.model;
             d.sigma_px = options_.direct_factor_sigma_px;
             d.effective_points = options_.direct_factor_effective_points;
-            d.truncation_px = refinement_direct_.truncation_px;
-            d.huber_px = refinement_direct_.huber_px;
+            d.truncation_px = refiner_.options().direct.truncation_px;
+            d.huber_px = refiner_.options().direct.huber_px;
             in.direct_terms.push_back(d);
             aligned_T_map_body = r.T_world_cam * T_body_cam_.inverse();
         }

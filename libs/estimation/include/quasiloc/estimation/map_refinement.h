@@ -107,6 +107,7 @@ class MapRefiner
                                double sigma_rad);
 
     double lastImageMs() const { return image_ms_; }
+    const MapRefinementOptions& options() const { return options_; }
     /** The camera side of the direct term for the current image (valid until the next setImage). */
     const CameraEdgeField& edgeField() const { return edge_field_; }
     const frontend::FrameFeatures& cameraFeatures() const { return camera_features_; }

@@ -162,7 +162,6 @@ class Tracker
     estimation::StereoGeometry stereo_;
     estimation::ImuNoise imu_noise_;
     estimation::MapRefiner refiner_;
-    estimation::DirectAlignmentOptions refinement_direct_;  ///< the direct term's truncation and Huber (map_term = factor)
     frontend::Frontend& frontend_;
     frontend::StereoMatcher stereo_matcher_;
     frontend::FrameFeatures prev_left_;
