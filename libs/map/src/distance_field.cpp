@@ -1,0 +1,137 @@
+// DistanceField: exact squared Euclidean distance transform, one axis at a time (distance_field.h).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <quasiloc/core/error.h>
+#include <quasiloc/map/distance_field.h>
+#include <sstream>
+
+namespace quasiloc::map
+{
+namespace
+{
+constexpr float kFar = 1e20f;
+
+/** 1-D squared distance transform of f (n samples, stride apart) in place: f'(q) = min_p (q - p)^2 + f(p).
+ *  The lower envelope of the parabolas rooted at every sample (Felzenszwalb & Huttenlocher, algorithm DT).
+ *  v, z, tmp: scratch of size n, n + 1, n. */
+void squaredDistance1d(float* f, int n, size_t stride, std::vector<int>& v, std::vector<float>& z, std::vector<float>& tmp)
+{
+    for (int q = 0; q < n; ++q) tmp[q] = f[size_t(q) * stride];
+    int k = 0;
+    v[0] = 0;
+    z[0] = -kFar;
+    z[1] = kFar;
+    for (int q = 1; q < n; ++q)
+    {
+        if (tmp[q] >= kFar) continue;  // no parabola rooted here
+        if (tmp[v[k]] >= kFar)
+        {  // the envelope so far holds only "infinitely far" roots: start it here
+            v[0] = q, k = 0, z[0] = -kFar, z[1] = kFar;
+            continue;
+        }
+        float s;
+        while (true)
+        {
+            const int p = v[k];
+            s = ((tmp[q] + float(q) * float(q)) - (tmp[p] + float(p) * float(p))) / (2.f * float(q - p));
+            if (s > z[k] || k == 0) break;
+            --k;
+        }
+        if (s <= z[k])
+        {  // k == 0 and the new parabola is lower everywhere
+            v[0] = q, z[0] = -kFar, z[1] = kFar;
+            continue;
+        }
+        ++k;
+        v[k] = q, z[k] = s, z[k + 1] = kFar;
+    }
+    if (tmp[v[0]] >= kFar) return;  // no occupied sample on this line: it stays far
+    k = 0;
+    for (int q = 0; q < n; ++q)
+    {
+        while (z[k + 1] < float(q)) ++k;
+        const float d = float(q - v[k]);
+        f[size_t(q) * stride] = d * d + tmp[v[k]];
+    }
+}
+}  // namespace
+
+void DistanceFieldOptions::check(const std::string& input) const
+{
+    core::require(voxel_m > 0 && std::isfinite(voxel_m), input, "distance field voxel_m must be > 0");
+    core::require(margin_m >= 0 && std::isfinite(margin_m), input, "distance field margin_m must be >= 0");
+    core::require(max_distance_m > 0 && std::isfinite(max_distance_m), input,
+                  "distance field max_distance_m must be > 0");
+    core::require(max_voxels > 0, input, "distance field max_voxels must be > 0");
+}
+
+DistanceField DistanceField::build(const LidarMap& map, const DistanceFieldOptions& o, const std::string& input)
+{
+    o.check(input);
+    core::require(!map.empty(), input, "the map is empty: no distance field");
+    const MapBounds b = map.bounds();
+    DistanceField f;
+    f.voxel_ = float(o.voxel_m);
+    f.max_distance_ = float(o.max_distance_m);
+    f.origin_ = b.min - Eigen::Vector3f::Constant(float(o.margin_m));
+    const Eigen::Vector3f extent = b.max - b.min + Eigen::Vector3f::Constant(float(2 * o.margin_m));
+    const Eigen::Vector3d n = (extent.cast<double>() / o.voxel_m).array().ceil() + 1;
+    const double voxels = n.x() * n.y() * n.z();
+    if (voxels > double(o.max_voxels))
+    {
+        std::ostringstream s;
+        s << "a distance field of " << n.x() << " x " << n.y() << " x " << n.z() << " voxels of " << o.voxel_m
+          << " m exceeds max_voxels = " << o.max_voxels << ": use a larger voxel";
+        throw core::InputError(input, s.str());
+    }
+    f.nx_ = int(n.x()), f.ny_ = int(n.y()), f.nz_ = int(n.z());
+    f.d_.assign(size_t(voxels), kFar);
+    for (size_t i = 0; i < map.size(); ++i)
+    {
+        const Eigen::Vector3f g = (map.point(i) - f.origin_) / f.voxel_;
+        const int x = int(std::lround(g.x())), y = int(std::lround(g.y())), z = int(std::lround(g.z()));
+        f.d_[f.index(x, y, z)] = 0.f;
+    }
+    const int longest = std::max({f.nx_, f.ny_, f.nz_});
+    std::vector<int> v(static_cast<size_t>(longest));
+    std::vector<float> z(static_cast<size_t>(longest) + 1), tmp(static_cast<size_t>(longest));
+    const size_t sx = 1, sy = size_t(f.nx_), sz = size_t(f.nx_) * size_t(f.ny_);
+    for (int k = 0; k < f.nz_; ++k)
+        for (int j = 0; j < f.ny_; ++j) squaredDistance1d(&f.d_[f.index(0, j, k)], f.nx_, sx, v, z, tmp);
+    for (int k = 0; k < f.nz_; ++k)
+        for (int i = 0; i < f.nx_; ++i) squaredDistance1d(&f.d_[f.index(i, 0, k)], f.ny_, sy, v, z, tmp);
+    for (int j = 0; j < f.ny_; ++j)
+        for (int i = 0; i < f.nx_; ++i) squaredDistance1d(&f.d_[f.index(i, j, 0)], f.nz_, sz, v, z, tmp);
+    for (float& d : f.d_) d = std::min(f.max_distance_, std::sqrt(d) * f.voxel_);
+    return f;
+}
+
+float DistanceField::distance(const Eigen::Vector3f& p_world) const
+{
+    Eigen::Vector3f unused;
+    return distance(p_world, unused);
+}
+
+float DistanceField::distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& gradient) const
+{
+    gradient.setZero();
+    const Eigen::Vector3f g = (p_world - origin_) / voxel_;
+    if (!(g.x() >= 0 && g.y() >= 0 && g.z() >= 0 && g.x() < float(nx_ - 1) && g.y() < float(ny_ - 1) &&
+          g.z() < float(nz_ - 1)))
+        return max_distance_;
+    const int i = int(g.x()), j = int(g.y()), k = int(g.z());
+    const float a = g.x() - float(i), b = g.y() - float(j), c = g.z() - float(k);
+    const size_t o = index(i, j, k), dy = size_t(nx_), dz = size_t(nx_) * size_t(ny_);
+    const float d000 = d_[o], d100 = d_[o + 1], d010 = d_[o + dy], d110 = d_[o + dy + 1];
+    const float d001 = d_[o + dz], d101 = d_[o + dz + 1], d011 = d_[o + dz + dy], d111 = d_[o + dz + dy + 1];
+    // Bilinear in (x, y) on the two z layers, then linear in z.
+    const float l0 = (1 - b) * ((1 - a) * d000 + a * d100) + b * ((1 - a) * d010 + a * d110);
+    const float l1 = (1 - b) * ((1 - a) * d001 + a * d101) + b * ((1 - a) * d011 + a * d111);
+    const float dx0 = (1 - b) * (d100 - d000) + b * (d110 - d010), dx1 = (1 - b) * (d101 - d001) + b * (d111 - d011);
+    const float dy0 = (1 - a) * (d010 - d000) + a * (d110 - d100), dy1 = (1 - a) * (d011 - d001) + a * (d111 - d101);
+    gradient = Eigen::Vector3f((1 - c) * dx0 + c * dx1, (1 - c) * dy0 + c * dy1, l1 - l0) / voxel_;
+    return (1 - c) * l0 + c * l1;
+}
+
+}  // namespace quasiloc::map
