@@ -7,11 +7,13 @@
 //   groundtruth (TUM of T_world_cam0: initial state and the error table), output_dir, max_frames (0 = all),
 //   write_scene (true: also scene.3Dscene).
 // Other sections: [MapRefinement] [DirectAlignment] [Estimator] [Reweighting] [QuasiImage] and the front-end's.
-// The initial state is given: the ground-truth pose of the first frame that has one, and the velocity from the
-// ground truth of the first two frames (global-localization initialisation is not in this version).
+// The initial state: [Tracking] init = groundtruth: the ground-truth pose of the first frame that has one, and the
+// velocity from the ground truth of the first two frames; init = global: global localization by geometry of two
+// frames and the IMU between them ([GeometricLocalization], tracking/global_initialization.h); the attempts are
+// written to initialization.txt and the start's error against the ground truth is printed.
 //
 // Outputs in output_dir, all or nothing: trajectory.tum (T_world_cam0), diagnostics.csv (one row per frame),
-// quasiloc-track.ini (effective configuration), scene.3Dscene (map, ground truth in green, estimate in red: open with
+// quasiloc-track.ini (effective configuration), initialization.txt (init = global), scene.3Dscene (map, ground truth in green, estimate in red: open with
 // SceneViewer3D). Prints the error against ground truth and the time per frame.
 #include <mrpt/config/CConfigFile.h>
 
@@ -28,8 +30,11 @@
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/tracking/tracker.h>
+#include <deque>
 #include <sstream>
 
+#include "global_start.h"
+#include <memory>
 #include "scene_export.h"
 
 namespace
@@ -42,6 +47,14 @@ struct TrackRunOptions : public tracking::TrackerOptions
     std::string input_rawlog, calibration_ini, map_file, groundtruth, output_dir = "out/track";
     int max_frames = 0;
     bool write_scene = true;
+    bool relocalize = true;
+    /** A test of loss recovery ("kidnapping"): at this time after the start (< 0: never) the tracker is restarted
+     *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
+    double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
+    /** Loss detection by geometry (relocalize = true): every check_every frames, the share of the frame's stereo
+     *  points the map explains at the tracked pose; below lost_explained_ratio twice in a row, the track is lost. */
+    int check_every = 10;
+    double lost_explained_ratio = 0.3;
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
     {
         TrackerOptions::loadFromConfigFile(c, s);
@@ -52,6 +65,12 @@ struct TrackRunOptions : public tracking::TrackerOptions
         output_dir = c.read_string(s, "output_dir", output_dir);
         max_frames = core::readIniInt(c, s, "max_frames", max_frames);
         write_scene = core::readIniBool(c, s, "write_scene", write_scene);
+        relocalize = core::readIniBool(c, s, "relocalize", relocalize);
+        kidnap_at_s = core::readIniDouble(c, s, "kidnap_at_s", kidnap_at_s);
+        kidnap_m = core::readIniDouble(c, s, "kidnap_m", kidnap_m);
+        kidnap_deg = core::readIniDouble(c, s, "kidnap_deg", kidnap_deg);
+        check_every = core::readIniInt(c, s, "check_every", check_every);
+        lost_explained_ratio = core::readIniDouble(c, s, "lost_explained_ratio", lost_explained_ratio);
     }
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
     {
@@ -63,6 +82,12 @@ struct TrackRunOptions : public tracking::TrackerOptions
         c.write(s, "output_dir", output_dir);
         c.write(s, "max_frames", max_frames);
         c.write(s, "write_scene", write_scene ? "true" : "false");
+        c.write(s, "relocalize", relocalize ? "true" : "false");
+        c.write(s, "kidnap_at_s", kidnap_at_s);
+        c.write(s, "kidnap_m", kidnap_m);
+        c.write(s, "kidnap_deg", kidnap_deg);
+        c.write(s, "check_every", check_every);
+        c.write(s, "lost_explained_ratio", lost_explained_ratio);
     }
 };
 
@@ -98,6 +123,9 @@ int run(const core::CommandLine& cmd)
     TrackRunOptions o;
     core::loadOptionsChecked(o, cfg, "Tracking", name);
     o.check(name);
+    core::require(o.check_every >= 1, name + ": [Tracking] check_every", "must be >= 1");
+    core::require(o.lost_explained_ratio >= 0 && o.lost_explained_ratio < 1, name + ": [Tracking] lost_explained_ratio",
+                  "must be in [0, 1)");
     core::requireInputFiles(name, "Tracking",
                             {{"input_rawlog", o.input_rawlog}, {"calibration_ini", o.calibration_ini},
                              {"map_file", o.map_file}, {"groundtruth", o.groundtruth}});
@@ -124,30 +152,69 @@ int run(const core::CommandLine& cmd)
     auto source = dataset::openRawlog(o.input_rawlog, so);
     quasi::QuasiRenderer renderer(map, qo);
     frontend::Frontend frontend(fo);
-    tracking::Tracker tracker(o, ro, eo, rw, source->rig(), readImuNoise(o.calibration_ini), renderer, frontend);
+    const estimation::ImuNoise imu_noise = readImuNoise(o.calibration_ini);
+    tracking::Tracker tracker(o, ro, eo, rw, source->rig(), imu_noise, renderer, frontend);
     std::cout << "map " << map.summary() << "\n" << source->description() << std::endl;
 
-    // The first two frames with ground truth give the initial pose and velocity.
-    dataset::StereoFrame f0, f;
-    while (source->next(f0) && !f0.T_world_cam0) {}
-    core::require(bool(f0.T_world_cam0), o.input_rawlog, "no frame with a ground-truth pose");
-    core::require(source->next(f) && f.T_world_cam0, o.input_rawlog, "the second frame has no ground-truth pose");
+    // The start: given by the ground truth, or found by global localization (init = global).
     const Eigen::Isometry3d T_body_cam = core::toIsometry(source->rig().T_body_left);
-    const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam.inverse()).translation();
-    const Eigen::Vector3d p1 = (core::toIsometry(*f.T_world_cam0) * T_body_cam.inverse()).translation();
-    tracker.initialize(f0.timestamp, core::toIsometry(*f0.T_world_cam0), (p1 - p0) / (f.timestamp - f0.timestamp), &f0);
+    dataset::StereoFrame f0;
+    std::deque<dataset::StereoFrame> queued;  // frames read during the initialisation, still to be tracked
+    reloc::GeometricLocalizationOptions go;
+    core::loadOptionsChecked(go, cfg, "GeometricLocalization", name);
+    go.check(name);
+    Eigen::Isometry3d T_world_cam_start;
+    std::unique_ptr<app::GlobalStarter> starter;  // global localization by geometry: start and relocalization
+    if (o.init == "global" || o.relocalize)
+        starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, T_body_cam, imu_noise, o.map_file);
+    if (o.init == "groundtruth")
+    {
+        // The first two frames with ground truth give the initial pose and velocity.
+        dataset::StereoFrame f1;
+        while (source->next(f0) && !f0.T_world_cam0) {}
+        core::require(bool(f0.T_world_cam0), o.input_rawlog, "no frame with a ground-truth pose");
+        core::require(source->next(f1) && f1.T_world_cam0, o.input_rawlog, "the second frame has no ground-truth pose");
+        const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam.inverse()).translation();
+        const Eigen::Vector3d p1 = (core::toIsometry(*f1.T_world_cam0) * T_body_cam.inverse()).translation();
+        T_world_cam_start = core::toIsometry(*f0.T_world_cam0);
+        tracker.initialize(f0.timestamp, T_world_cam_start, (p1 - p0) / (f1.timestamp - f0.timestamp), &f0);
+        queued.push_back(std::move(f1));
+    }
+    else
+    {
+        auto found = starter->find([&](dataset::StereoFrame& out) { return source->next(out); }, "init");
+        core::require(found.has_value(), o.input_rawlog,
+                      "global initialisation found no start: no two frames localized by geometry and agreed with the "
+                      "IMU (see the printed attempts)");
+        auto& start = *found;
+        f0 = std::move(start.anchor);
+        T_world_cam_start = start.T_world_cam0;
+        tracker.initializeFromGlobal(f0.timestamp, T_world_cam_start, start.v_world, &f0);
+        for (auto& p : start.pending) queued.push_back(std::move(p));
+    }
+    dataset::StereoFrame f;
+    auto nextFrame = [&](dataset::StereoFrame& out) {
+        if (queued.empty()) return source->next(out);
+        out = std::move(queued.front());
+        queued.pop_front();
+        return true;
+    };
+    core::require(nextFrame(f), o.input_rawlog, "no frame after the initial one");
 
     core::Trajectory traj;
     traj.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)";
-    traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
+    traj.poses.push_back({f0.timestamp, core::fromIsometry(T_world_cam_start)});
     core::Trajectory gt_traj;  // the ground truth at the tracked frames (for the .3Dscene)
-    gt_traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
+    if (f0.T_world_cam0) gt_traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
     std::ostringstream csv;
     csv << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
            "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
-           "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z\n";
+           "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,explained_ratio\n";
     std::vector<double> err_m, ms;
-    int updates = 0, keyframes = 0, lost_frames = 0;
+    int updates = 0, keyframes = 0, lost_frames = 0, relocalizations = 0;
+    double last_update_t = f0.timestamp, longest_gap_s = 0;  // time without an accepted map update
+    bool kidnapped = false;
+    int low_checks = 0;  // consecutive geometry checks below lost_explained_ratio
     size_t n = 1;
     do
     {
@@ -169,17 +236,55 @@ int run(const core::CommandLine& cmd)
             << r.prior_sigma_m << "," << r.prior_sigma_deg << "," << r.lost << "," << r.landmarks << "," << e_m << ","
             << e_deg << "," << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_visual << ","
             << r.ms_window << "," << r.ms_total << "," << r.gyro_bias.x() << "," << r.gyro_bias.y() << ","
-            << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << "\n";
+            << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << ",";
         if (++n % 50 == 0) std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << e_m << " m" << std::endl;
-    } while ((o.max_frames <= 0 || int(n) < o.max_frames) && source->next(f));
+        if (r.map_update) last_update_t = r.t;
+        longest_gap_s = std::max(longest_gap_s, r.t - last_update_t);
+        if (o.kidnap_at_s >= 0 && !kidnapped && r.t >= f0.timestamp + o.kidnap_at_s)
+        {
+            kidnapped = true;
+            Eigen::Isometry3d T_wrong = r.T_world_cam0;
+            T_wrong.translation() += r.T_world_cam0.linear() * Eigen::Vector3d(o.kidnap_m, 0, 0);
+            T_wrong.linear() = T_wrong.linear() * Eigen::AngleAxisd(o.kidnap_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+            std::cout << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted " << o.kidnap_m
+                      << " m to the side, " << o.kidnap_deg << " deg turned" << std::endl;
+            tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
+        }
+        double explained = NAN;
+        if (starter && o.relocalize && n % size_t(o.check_every) == 0)
+        {
+            explained = starter->explainedRatio(f, r.T_world_cam0);
+            low_checks = explained < o.lost_explained_ratio ? low_checks + 1 : 0;
+        }
+        csv << explained << "\n";
+        if ((r.lost || low_checks >= 2) && starter && o.relocalize)
+        {
+            // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry does not fit the
+            // map where the tracker believes it is): find a new start by global localization in the next frames,
+            // keep the biases, and go on from there.
+            low_checks = 0;
+            ++relocalizations;
+            std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
+            auto found = starter->find(nextFrame, "reloc " + std::to_string(relocalizations));
+            if (!found) break;
+            tracker.initializeFromGlobal(found->anchor.timestamp, found->T_world_cam0, found->v_world, &found->anchor, true);
+            traj.poses.push_back({found->anchor.timestamp, core::fromIsometry(found->T_world_cam0)});
+            if (found->anchor.T_world_cam0) gt_traj.poses.push_back({found->anchor.timestamp, *found->anchor.T_world_cam0});
+            for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it) queued.push_front(std::move(*it));
+            longest_gap_s = std::max(longest_gap_s, found->anchor.timestamp - last_update_t);
+            last_update_t = found->anchor.timestamp;
+        }
+    } while ((o.max_frames <= 0 || int(n) < o.max_frames) && nextFrame(f));
 
     core::StagedOutputs out;
     core::writeTum(out.addFile(o.output_dir + "/trajectory.tum"), traj);
     if (o.write_scene) app::writeTrackingScene(out.addFile(o.output_dir + "/scene.3Dscene"), map, gt_traj, traj);
     core::writeTextFileAtomically(out.addFile(o.output_dir + "/diagnostics.csv"), csv.str());
+    if (starter) core::writeTextFileAtomically(out.addFile(o.output_dir + "/initialization.txt"), starter->record());
     auto sections = fo.sections();
     sections.insert(sections.end(), {{"Tracking", &o}, {"MapRefinement", &ro}, {"Estimator", &eo}, {"Reweighting", &rw},
                                      {"QuasiImage", &qo}});
+    if (starter) sections.push_back({"GeometricLocalization", &go});
     core::writeEffectiveConfig(out.addFile(o.output_dir + "/quasiloc-track.ini"), sections,
                                "quasiloc-track effective configuration");
     out.commit();
@@ -187,7 +292,8 @@ int run(const core::CommandLine& cmd)
     double sq = 0;
     for (double e : err_m) sq += e * e;
     std::cout << std::fixed << std::setprecision(3) << "frames      " << n << " (keyframes " << keyframes
-              << ", map updates accepted " << updates << ", frames marked lost " << lost_frames << ")\n"
+              << ", map updates accepted " << updates << ", frames marked lost " << lost_frames << ", relocalizations "
+              << relocalizations << ", longest time without a map update " << longest_gap_s << " s)\n"
               << "ATE         RMSE " << 100 * std::sqrt(sq / double(std::max<size_t>(1, err_m.size()))) << " cm, median "
               << 100 * percentile(err_m, 50) << " cm, max " << 100 * percentile(err_m, 100)
               << " cm (map frame, no alignment, vs ground truth at " << err_m.size() << " frames)\n"

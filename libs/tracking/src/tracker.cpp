@@ -67,16 +67,35 @@ Tracker::~Tracker() = default;
 void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                          const dataset::StereoFrame* frame)
 {
+    start(t, T_world_cam0, v_world, frame, options_.init_sigma_m, options_.init_sigma_deg, options_.init_sigma_v, false);
+}
+
+void Tracker::initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
+                                   const dataset::StereoFrame* frame, bool keep_biases)
+{
+    start(t, T_world_cam0, v_world, frame, options_.init_global_sigma_m, options_.init_global_sigma_deg,
+          options_.init_global_sigma_v, keep_biases);
+}
+
+void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
+                    const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v, bool keep_biases)
+{
     core::require(T_world_cam0.matrix().allFinite() && v_world.allFinite(), "Tracker::initialize",
                   "initial pose or velocity is not finite");
+    const estimation::FrameState previous = state_;
     state_ = estimation::FrameState{};
+    if (keep_biases)
+    {  // a relocalization: the IMU biases estimated so far are still the best guess
+        state_.gyro_bias = previous.gyro_bias;
+        state_.acc_bias = previous.acc_bias;
+    }
     state_.t = t;
     state_.T_map_body = T_world_cam0 * T_body_cam_.inverse();
     state_.v_map = v_world;
     prior_.mean = state_;
     Eigen::Matrix<double, 15, 1> sigma;
-    sigma << Eigen::Vector3d::Constant(options_.init_sigma_deg * kDeg), Eigen::Vector3d::Constant(options_.init_sigma_m),
-        Eigen::Vector3d::Constant(options_.init_sigma_v), Eigen::Vector3d::Constant(options_.init_sigma_bg),
+    sigma << Eigen::Vector3d::Constant(sigma_deg * kDeg), Eigen::Vector3d::Constant(sigma_m),
+        Eigen::Vector3d::Constant(sigma_v), Eigen::Vector3d::Constant(options_.init_sigma_bg),
         Eigen::Vector3d::Constant(options_.init_sigma_ba);
     prior_.information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
     frames_ = 0;
@@ -195,8 +214,10 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         rep.correction_deg = rotationAngle(r.T_world_cam, T_world_cam_pred) / kDeg;
         rep.edge_inlier_ratio = r.direct.final_inlier_ratio;
         rep.edge_points = r.direct.edge_points;
-        rep.map_update = r.success && rep.correction_m <= options_.max_correction_m &&
-                         rep.correction_deg <= options_.max_correction_deg;
+        // The gate: max_correction_*, or three predicted sigmas when the prediction is less certain than that
+        // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
+        rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
+                         rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
         if (rep.map_update && options_.map_term == "factor")
         {
             // The edge residuals themselves in the window, linearised from the alignment's pose.

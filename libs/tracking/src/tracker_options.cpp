@@ -29,6 +29,13 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     init_sigma_bg = readIniDouble(c, s, "init_sigma_bg", init_sigma_bg);
     init_sigma_ba = readIniDouble(c, s, "init_sigma_ba", init_sigma_ba);
     concurrent_stages = core::readIniBool(c, s, "concurrent_stages", concurrent_stages);
+    init = c.read_string(s, "init", init);
+    init_velocity_interval_s = readIniDouble(c, s, "init_velocity_interval_s", init_velocity_interval_s);
+    init_max_disagreement_deg = readIniDouble(c, s, "init_max_disagreement_deg", init_max_disagreement_deg);
+    init_max_speed_m_s = readIniDouble(c, s, "init_max_speed_m_s", init_max_speed_m_s);
+    init_global_sigma_m = readIniDouble(c, s, "init_global_sigma_m", init_global_sigma_m);
+    init_global_sigma_deg = readIniDouble(c, s, "init_global_sigma_deg", init_global_sigma_deg);
+    init_global_sigma_v = readIniDouble(c, s, "init_global_sigma_v", init_global_sigma_v);
 }
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -55,6 +62,13 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "init_sigma_bg", init_sigma_bg, 24, 10);
     c.write(s, "init_sigma_ba", init_sigma_ba, 24, 10);
     c.write(s, "concurrent_stages", concurrent_stages ? "true" : "false", 24, 10, "independent stages in parallel");
+    c.write(s, "init", init, 24, 10, "groundtruth | global (global localization by geometry)");
+    c.write(s, "init_velocity_interval_s", init_velocity_interval_s, 24, 10, "global: time between the two fixes");
+    c.write(s, "init_max_disagreement_deg", init_max_disagreement_deg, 24, 10, "global: fixes vs gyroscope");
+    c.write(s, "init_max_speed_m_s", init_max_speed_m_s, 24, 10);
+    c.write(s, "init_global_sigma_m", init_global_sigma_m, 24, 10, "global: uncertainty of the start");
+    c.write(s, "init_global_sigma_deg", init_global_sigma_deg, 24, 10);
+    c.write(s, "init_global_sigma_v", init_global_sigma_v, 24, 10);
 }
 
 void TrackerOptions::check(const std::string& input) const
@@ -75,6 +89,11 @@ void TrackerOptions::check(const std::string& input) const
     core::require(max_landmarks >= 0, k + "max_landmarks", "must be >= 0");
     core::require(init_sigma_m > 0 && init_sigma_deg > 0 && init_sigma_v > 0 && init_sigma_bg > 0 && init_sigma_ba > 0,
                   k + "init_sigma_*", "must be > 0");
+    core::require(init == "groundtruth" || init == "global", k + "init", "'" + init + "' is not groundtruth or global");
+    core::require(init_velocity_interval_s > 0 && init_max_disagreement_deg > 0 && init_max_speed_m_s > 0,
+                  k + "init_velocity_interval_s/max_disagreement_deg/max_speed_m_s", "must be > 0");
+    core::require(init_global_sigma_m > 0 && init_global_sigma_deg > 0 && init_global_sigma_v > 0,
+                  k + "init_global_sigma_*", "must be > 0");
 }
 
 }  // namespace quasiloc::tracking

@@ -46,7 +46,7 @@
 //   direct_factor_effective_points = 100 ; ... which count as this many independent observations together
 //   min_prior_sigma_m = 0.05      ; the alignment's prior: the predicted covariance, at least these
 //   min_prior_sigma_deg = 0.5
-//   max_correction_m = 0.15       ; larger map corrections are rejected
+//   max_correction_m = 0.15       ; larger map corrections are rejected (the gate is 3 predicted sigmas when wider)
 //   max_correction_deg = 1.5
 //   lost_after_misses = 20
 //   temporal_landmarks = true     ; stereo landmarks between consecutive frames
@@ -59,6 +59,13 @@
 //                                 ;   the first windows set the bias from whatever the map term and the IMU disagree
 //                                 ;   on, and its random walk then freezes it (V1_03: -0.0125 rad/s, 1 deg/s drift)
 //   init_sigma_ba = 0.05          ; m/s^2
+//   init = groundtruth            ; global: start from global localization by geometry (global_initialization.h)
+//   init_velocity_interval_s = 0.5 ; global: time between the two fixes that give the velocity
+//   init_max_disagreement_deg = 2 ; global: the fixes' rotation must agree with the gyroscope's
+//   init_max_speed_m_s = 4
+//   init_global_sigma_m = 0.05    ; global: uncertainty of the start
+//   init_global_sigma_deg = 1
+//   init_global_sigma_v = 0.15
 //   concurrent_stages = true      ; stereo point extraction on a worker thread beside the map alignment
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
@@ -92,6 +99,11 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     double temporal_window_px = 60;
     int max_landmarks = 150;
     double init_sigma_m = 0.01, init_sigma_deg = 0.1, init_sigma_v = 0.05, init_sigma_bg = 0.0005, init_sigma_ba = 0.05;
+    /** groundtruth: the initial state is given (quasiloc-track: from the ground truth); global: from global
+     *  localization by geometry (global_initialization.h), with the init_global_* keys. */
+    std::string init = "groundtruth";
+    double init_velocity_interval_s = 0.5, init_max_disagreement_deg = 2.0, init_max_speed_m_s = 4.0;
+    double init_global_sigma_m = 0.05, init_global_sigma_deg = 1.0, init_global_sigma_v = 0.15;
     /** Independent stages of a frame run concurrently (needs more than one OpenCV thread, cv::getNumThreads()): the
      *  stereo point extraction (images only, mostly single-threaded ORB) runs on the tracker's worker thread beside
      *  the map alignment (edge field, render, LM: the render and OpenCV's filters use OpenCV's pool). Same results
@@ -138,6 +150,11 @@ class Tracker
      *  the frame at t) gives the first stereo points for temporal landmarks. */
     void initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                     const dataset::StereoFrame* frame = nullptr);
+    /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*. */
+    void initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
+                              const dataset::StereoFrame* frame, bool keep_biases = false);
+    /** The current estimate (body frame = IMU). */
+    const estimation::FrameState& state() const { return state_; }
     bool initialized() const { return initialized_; }
 
     /** Tracks one stereo frame (its IMU samples since the previous frame included). */
@@ -153,6 +170,8 @@ class Tracker
     };
     /** Depends on the images alone (and the front-end, used by no other stage): may run on a second thread. */
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
+    void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
+               const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v, bool keep_biases);
     /** Landmarks between the previous frame's stereo points and `current`, which are then kept for the next frame. */
     void temporalLandmarks(StereoPoints current, std::vector<estimation::TemporalLandmark>& out);
 

@@ -1,0 +1,95 @@
+#include "global_start.h"
+
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/pose.h>
+
+#include <chrono>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+namespace quasiloc::app
+{
+GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& rig, const tracking::TrackerOptions& o,
+                             const reloc::GeometricLocalizationOptions& localization, const Eigen::Isometry3d& T_body_cam,
+                             const estimation::ImuNoise& imu_noise, const std::string& map_name)
+    : T_body_cam_(T_body_cam), imu_noise_(imu_noise)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    localizer_ = std::make_unique<reloc::GeometricLocalizer>(map, rig, localization, map_name);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    init_options_.velocity_interval_s = o.init_velocity_interval_s;
+    init_options_.max_disagreement_deg = o.init_max_disagreement_deg;
+    init_options_.max_speed_m_s = o.init_max_speed_m_s;
+    std::ostringstream r;
+    r << std::fixed << std::setprecision(1) << "# global localization by geometry: distance field and "
+      << localizer_->positions() << " candidate positions built in " << ms << " ms\n"
+      << "# occasion, t, localized, inlier_ratio, runner_up_inlier_ratio, query_points, candidates, ms_cloud, "
+         "ms_search, ms_refine, error_m, error_deg, note\n";
+    record_ = r.str();
+    std::cout << "global localization by geometry ready (" << localizer_->positions() << " candidate positions, "
+              << std::fixed << std::setprecision(0) << ms << " ms)" << std::endl;
+}
+
+GlobalStarter::~GlobalStarter() = default;
+
+std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::function<bool(dataset::StereoFrame&)>& next,
+                                                                const std::string& label)
+{
+    tracking::GlobalInitializer init(*localizer_, T_body_cam_, imu_noise_, init_options_);
+    std::ostringstream r;
+    r << std::fixed << std::setprecision(3);
+    dataset::StereoFrame f;
+    std::optional<tracking::GlobalInitialState> start;
+    size_t reported = 0;
+    std::map<double, mrpt::poses::CPose3D> truth;  // ground truth of the frames fed, for the record
+    while (!start && next(f))
+    {
+        if (f.T_world_cam0) truth[f.timestamp] = *f.T_world_cam0;
+        start = init.feed(f);
+        for (; reported < init.attempts().size(); ++reported)
+        {
+            const tracking::InitAttempt& a = init.attempts()[reported];
+            double e_m = NAN, e_deg = NAN;
+            if (auto it = truth.find(a.t); it != truth.end())
+            {
+                const Eigen::Isometry3d G = core::toIsometry(it->second);
+                e_m = (a.result.T_world_cam.translation() - G.translation()).norm();
+                e_deg = Eigen::AngleAxisd(a.result.T_world_cam.linear().transpose() * G.linear()).angle() * 180 / M_PI;
+            }
+            const auto& g = a.result;
+            r << label << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", "
+              << g.runner_up_inlier_ratio << ", " << g.query_points << ", " << g.candidates << ", " << g.ms_cloud << ", "
+              << g.ms_search << ", " << g.ms_refine << ", " << e_m << ", " << e_deg << ", " << a.note << "\n";
+            std::cout << label << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
+                      << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
+                      << g.ms_cloud + g.ms_search + g.ms_refine << " ms)" << std::endl;
+        }
+    }
+    if (start)
+    {
+        r << "# " << label << ": start at t " << start->anchor.timestamp << "\n";
+        if (start->anchor.T_world_cam0 && !start->pending.empty() && start->pending.front().T_world_cam0)
+        {
+            const Eigen::Isometry3d G = core::toIsometry(*start->anchor.T_world_cam0);
+            const auto& n = start->pending.front();
+            const Eigen::Vector3d dp_gt = (core::toIsometry(*n.T_world_cam0) * T_body_cam_.inverse()).translation() -
+                                          (G * T_body_cam_.inverse()).translation();
+            const double dt = n.timestamp - start->anchor.timestamp;
+            std::ostringstream s;
+            s << std::fixed << std::setprecision(3) << label << " start error "
+              << 100 * (start->T_world_cam0.translation() - G.translation()).norm() << " cm, "
+              << Eigen::AngleAxisd(start->T_world_cam0.linear().transpose() * G.linear()).angle() * 180 / M_PI
+              << " deg; velocity " << start->v_world.norm() << " m/s, error " << (start->v_world - dp_gt / dt).norm()
+              << " m/s (ground truth by differences over " << dt << " s)";
+            r << "# " << s.str() << "\n";
+            std::cout << s.str() << std::endl;
+        }
+    }
+    else
+        r << "# " << label << ": the frames ended before a start was found\n";
+    record_ += r.str();
+    return start;
+}
+}  // namespace quasiloc::app

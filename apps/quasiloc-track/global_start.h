@@ -1,0 +1,45 @@
+#pragma once
+// quasiloc-track's starts without ground truth: at the beginning ([Tracking] init = global) and after a loss
+// ([Tracking] relocalize = true). Reads frames until two of them localize by geometry and agree with the IMU
+// (tracking/global_initialization.h), and keeps a readable record of every attempt (initialization.txt).
+#include <functional>
+#include <memory>
+#include <quasiloc/dataset/frame_source.h>
+#include <quasiloc/map/lidar_map.h>
+#include <quasiloc/tracking/global_initialization.h>
+#include <quasiloc/tracking/tracker.h>
+#include <string>
+
+namespace quasiloc::app
+{
+class GlobalStarter
+{
+   public:
+    /** Builds the localizer (distance field, candidate positions). InputError naming `map_name` on failure. */
+    GlobalStarter(const map::LidarMap& map, const core::StereoRig& rig, const tracking::TrackerOptions& options,
+                  const reloc::GeometricLocalizationOptions& localization, const Eigen::Isometry3d& T_body_cam,
+                  const estimation::ImuNoise& imu_noise, const std::string& map_name);
+    ~GlobalStarter();
+
+    /** Feeds frames from `next` (false: no more) to a fresh GlobalInitializer until a start is found; nullopt when
+     *  the frames end first. `label` names the occasion in the record ("initialisation", "relocalization 2"). */
+    std::optional<tracking::GlobalInitialState> find(const std::function<bool(dataset::StereoFrame&)>& next,
+                                                     const std::string& label);
+
+    /** Share of the frame's stereo points that the map explains at T_world_cam0 (GeometricLocalizer::inlierRatio). */
+    double explainedRatio(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0) const
+    {
+        return localizer_->inlierRatio(localizer_->stereoPoints(frame.left, frame.right), T_world_cam0);
+    }
+
+    /** One line per attempt (t, result, error against ground truth when the frames have it), and every start. */
+    const std::string& record() const { return record_; }
+
+   private:
+    std::unique_ptr<reloc::GeometricLocalizer> localizer_;
+    Eigen::Isometry3d T_body_cam_;
+    estimation::ImuNoise imu_noise_;
+    tracking::GlobalInitOptions init_options_;
+    std::string record_;
+};
+}  // namespace quasiloc::app

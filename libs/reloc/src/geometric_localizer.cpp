@@ -1,0 +1,398 @@
+// Global localization by geometry (geometric_localizer.h): coarse 4-DoF search, 6-DoF refinement, decision.
+#include <opencv2/core/utility.hpp>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+#include <quasiloc/reloc/geometric_localizer.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+namespace quasiloc::reloc
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+std::string vectorText(const std::vector<double>& v)
+{
+    std::ostringstream s;
+    for (size_t i = 0; i < v.size(); ++i) s << (i ? " " : "") << v[i];
+    return s.str();
+}
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v)
+{
+    Eigen::Matrix3d S;
+    S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+    return S;
+}
+
+struct Candidate
+{
+    Eigen::Isometry3d T_world_cam;
+    double score = 0;  ///< coarse: mean truncated squared distance (lower is better); refined: inlier share
+};
+
+double rotationDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b)
+{
+    return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
+}
+}  // namespace
+
+void GeometricLocalizationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    field_voxel_m = core::readIniDouble(c, s, "field_voxel_m", field_voxel_m);
+    field_max_distance_m = core::readIniDouble(c, s, "field_max_distance_m", field_max_distance_m);
+    stereo.num_disparities = core::readIniInt(c, s, "num_disparities", stereo.num_disparities);
+    stereo.block_size = core::readIniInt(c, s, "block_size", stereo.block_size);
+    stereo.uniqueness_ratio = core::readIniInt(c, s, "uniqueness_ratio", stereo.uniqueness_ratio);
+    stereo.min_depth_m = core::readIniDouble(c, s, "min_depth_m", stereo.min_depth_m);
+    stereo.max_depth_m = core::readIniDouble(c, s, "max_depth_m", stereo.max_depth_m);
+    stereo.voxel_m = core::readIniDouble(c, s, "query_voxel_m", stereo.voxel_m);
+    stereo.max_points = core::readIniInt(c, s, "max_points", stereo.max_points);
+    stereo.disparity_sigma_px = core::readIniDouble(c, s, "disparity_sigma_px", stereo.disparity_sigma_px);
+    grid_spacing_m = core::readIniDouble(c, s, "grid_spacing_m", grid_spacing_m);
+    heights_m = core::readIniVector(c, s, "heights_m", heights_m);
+    clearance_m = core::readIniDouble(c, s, "clearance_m", clearance_m);
+    require_enclosed = core::readIniBool(c, s, "require_enclosed", require_enclosed);
+    region = core::readIniVector(c, s, "region", region);
+    num_yaws = core::readIniInt(c, s, "num_yaws", num_yaws);
+    score_points = core::readIniInt(c, s, "score_points", score_points);
+    coarse_truncation_m = core::readIniDouble(c, s, "coarse_truncation_m", coarse_truncation_m);
+    refine_candidates = core::readIniInt(c, s, "refine_candidates", refine_candidates);
+    refine_truncations_m = core::readIniVector(c, s, "refine_truncations_m", refine_truncations_m);
+    refine_iterations = core::readIniInt(c, s, "refine_iterations", refine_iterations);
+    polish_truncations_m = core::readIniVector(c, s, "polish_truncations_m", polish_truncations_m);
+    inlier_m = core::readIniDouble(c, s, "inlier_m", inlier_m);
+    min_inlier_ratio = core::readIniDouble(c, s, "min_inlier_ratio", min_inlier_ratio);
+    ambiguity_ratio = core::readIniDouble(c, s, "ambiguity_ratio", ambiguity_ratio);
+}
+
+void GeometricLocalizationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
+{
+    c.write(s, "field_voxel_m", field_voxel_m, 30, 40, "distance field voxel");
+    c.write(s, "field_max_distance_m", field_max_distance_m, 30, 40, "distance field truncation");
+    c.write(s, "num_disparities", stereo.num_disparities, 30, 40, "SGBM disparity range");
+    c.write(s, "block_size", stereo.block_size, 30, 40, "SGBM block size");
+    c.write(s, "uniqueness_ratio", stereo.uniqueness_ratio, 30, 40, "SGBM uniqueness ratio [%]");
+    c.write(s, "min_depth_m", stereo.min_depth_m, 30, 40, "nearest stereo point kept");
+    c.write(s, "max_depth_m", stereo.max_depth_m, 30, 40, "farthest stereo point kept");
+    c.write(s, "query_voxel_m", stereo.voxel_m, 30, 40, "one stereo point per voxel");
+    c.write(s, "max_points", stereo.max_points, 30, 40, "query points at most");
+    c.write(s, "disparity_sigma_px", stereo.disparity_sigma_px, 30, 40, "disparity noise (depth-dependent weights)");
+    c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "candidate position grid");
+    c.write(s, "heights_m", vectorText(heights_m), 30, 40, "candidate heights above the floor");
+    c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a candidate position");
+    c.write(s, "require_enclosed", require_enclosed, 30, 40, "indoors: positions enclosed by the map");
+    c.write(s, "region", vectorText(region), 30, 40, "optional xmin ymin xmax ymax");
+    c.write(s, "num_yaws", num_yaws, 30, 40, "headings per candidate position");
+    c.write(s, "score_points", score_points, 30, 40, "query points scored per coarse candidate");
+    c.write(s, "coarse_truncation_m", coarse_truncation_m, 30, 40, "coarse score truncation");
+    c.write(s, "refine_candidates", refine_candidates, 30, 40, "distinct candidates refined");
+    c.write(s, "refine_truncations_m", vectorText(refine_truncations_m), 30, 40, "refinement truncations");
+    c.write(s, "refine_iterations", refine_iterations, 30, 40, "Gauss-Newton iterations per truncation");
+    c.write(s, "polish_truncations_m", vectorText(polish_truncations_m), 30, 40, "point-to-point ICP of the best");
+    c.write(s, "inlier_m", inlier_m, 30, 40, "a query point this close to the map is an inlier");
+    c.write(s, "min_inlier_ratio", min_inlier_ratio, 30, 40, "answer only with this share of inliers");
+    c.write(s, "ambiguity_ratio", ambiguity_ratio, 30, 40, "reject when another place reaches this share");
+}
+
+void GeometricLocalizationOptions::check(const std::string& input) const
+{
+    const std::string s = "GeometricLocalization";
+    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName(s, k); };
+    core::require(field_voxel_m > 0, key("field_voxel_m"), "must be > 0");
+    core::require(field_max_distance_m > 0, key("field_max_distance_m"), "must be > 0");
+    stereo.check(input, s);
+    core::require(grid_spacing_m > 0, key("grid_spacing_m"), "must be > 0");
+    core::require(!heights_m.empty(), key("heights_m"), "needs at least one height");
+    core::require(clearance_m >= 0, key("clearance_m"), "must be >= 0");
+    core::require(region.empty() || (region.size() == 4 && region[0] < region[2] && region[1] < region[3]),
+                  key("region"), "must be empty or [xmin ymin xmax ymax] with xmin < xmax, ymin < ymax");
+    core::require(num_yaws >= 1 && num_yaws <= 720, key("num_yaws"), "must be in [1, 720]");
+    core::require(score_points >= 10, key("score_points"), "must be >= 10");
+    core::require(coarse_truncation_m > 0, key("coarse_truncation_m"), "must be > 0");
+    core::require(refine_candidates >= 1, key("refine_candidates"), "must be >= 1");
+    core::require(!refine_truncations_m.empty(), key("refine_truncations_m"), "needs at least one truncation");
+    for (double t : refine_truncations_m) core::require(t > 0, key("refine_truncations_m"), "truncations must be > 0");
+    core::require(refine_iterations >= 1, key("refine_iterations"), "must be >= 1");
+    for (double t : polish_truncations_m) core::require(t > 0, key("polish_truncations_m"), "truncations must be > 0");
+    core::require(inlier_m > 0, key("inlier_m"), "must be > 0");
+    core::require(min_inlier_ratio > 0 && min_inlier_ratio <= 1, key("min_inlier_ratio"), "must be in (0, 1]");
+    core::require(ambiguity_ratio > 0 && ambiguity_ratio <= 1, key("ambiguity_ratio"), "must be in (0, 1]");
+}
+
+Eigen::Vector3d upInCamera(const std::vector<Eigen::Vector3d>& acc_body, const Eigen::Matrix3d& R_cam_body)
+{
+    core::require(!acc_body.empty(), "IMU", "no accelerometer sample for the gravity direction");
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& a : acc_body) mean += a;
+    core::require(mean.norm() > 1e-6, "IMU", "zero mean specific force: no gravity direction");
+    return (R_cam_body * mean).normalized();
+}
+
+GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig,
+                                       const GeometricLocalizationOptions& o, const std::string& input)
+    : map_(&map),
+      options_(o),
+      field_([&] {
+          o.check(input);
+          map::DistanceFieldOptions f;
+          f.voxel_m = o.field_voxel_m;
+          f.max_distance_m = o.field_max_distance_m;
+          f.margin_m = std::max(1.0, o.field_max_distance_m);
+          return map::DistanceField::build(map, f, input);
+      }()),
+      stereo_(rig, o.stereo)
+{
+    ViewSamplingOptions vs;
+    vs.grid_spacing_m = o.grid_spacing_m;
+    vs.heights_m = o.heights_m;
+    vs.num_headings = 1;
+    vs.pitches_deg = {0.0};
+    vs.clearance_m = o.clearance_m;
+    vs.require_enclosed = o.require_enclosed;
+    vs.region = o.region;
+    for (const auto& p : sampleViewpoints(map, vs)) positions_.emplace_back(p.x(), p.y(), p.z());
+    core::require(!positions_.empty(), input, "no free camera position for global localization by geometry");
+    if (!o.polish_truncations_m.empty())
+    {  // build the k-d tree now, not inside the first query
+        float x, y, z, d2;
+        map.points().kdTreeClosestPoint3D(0, 0, 0, x, y, z, d2);
+    }
+}
+
+GeometricLocalizer::~GeometricLocalizer() = default;
+
+GeometricLocalization GeometricLocalizer::localize(const cv::Mat& left_raw, const cv::Mat& right_raw,
+                                                   const Eigen::Vector3d& up_cam) const
+{
+    const auto t0 = Clock::now();
+    const std::vector<Eigen::Vector3f> points = stereo_.compute(left_raw, right_raw);
+    const double ms_cloud = msSince(t0);
+    GeometricLocalization r = localizePoints(points, up_cam);
+    r.ms_cloud = ms_cloud;
+    return r;
+}
+
+double GeometricLocalizer::inlierRatio(const std::vector<Eigen::Vector3f>& points_cam,
+                                       const Eigen::Isometry3d& T_world_cam) const
+{
+    if (points_cam.empty()) return 0;
+    const Eigen::Matrix3f R = T_world_cam.linear().cast<float>();
+    const Eigen::Vector3f t = T_world_cam.translation().cast<float>();
+    size_t in = 0;
+    for (const auto& p : points_cam)
+        in += field_.distance(R * p + t) < float(options_.inlier_m + 2 * stereo_.depthSigma(p.z()));
+    return double(in) / double(points_cam.size());
+}
+
+double GeometricLocalizer::refine(const std::vector<Eigen::Vector3f>& points_cam, Eigen::Isometry3d& T_world_cam) const
+{
+    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+    using Vector6d = Eigen::Matrix<double, 6, 1>;
+    const std::vector<double> weight = pointWeights(points_cam);
+    for (double truncation : options_.refine_truncations_m)
+        for (int it = 0; it < options_.refine_iterations; ++it)
+        {
+            // Residual: the distance of each point to the map; right perturbation T exp([dtheta; dp]):
+            // d q / d dtheta = -R [p]x, d q / d dp = R.
+            Matrix6d H = Matrix6d::Zero();
+            Vector6d g = Vector6d::Zero();
+            const Eigen::Matrix3d R = T_world_cam.linear();
+            const Eigen::Matrix3f Rf = R.cast<float>();
+            const Eigen::Vector3f tf = T_world_cam.translation().cast<float>();
+            int used = 0;
+            for (size_t i = 0; i < points_cam.size(); ++i)
+            {
+                const Eigen::Vector3f& p = points_cam[i];
+                Eigen::Vector3f grad;
+                const float d = field_.distance(Rf * p + tf, grad);
+                if (d >= truncation) continue;  // truncated least squares: unexplained points do not pull
+                const Eigen::Vector3d gw = grad.cast<double>();
+                Vector6d J;
+                J.head<3>() = -(gw.transpose() * R * skew(p.cast<double>())).transpose();
+                J.tail<3>() = R.transpose() * gw;
+                H += weight[i] * J * J.transpose();
+                g += weight[i] * J * double(d);
+                ++used;
+            }
+            if (used < 6) break;
+            H.diagonal().array() += 1e-6 * (1.0 + H.diagonal().array());
+            const Vector6d step = -H.ldlt().solve(g);
+            if (!step.allFinite()) break;
+            Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+            const double angle = step.head<3>().norm();
+            if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, step.head<3>() / angle).toRotationMatrix();
+            delta.translation() = step.tail<3>();
+            T_world_cam = T_world_cam * delta;
+            if (step.tail<3>().norm() < 1e-4 && angle < 1e-5) break;
+        }
+    return inlierRatio(points_cam, T_world_cam);
+}
+
+std::vector<double> GeometricLocalizer::pointWeights(const std::vector<Eigen::Vector3f>& points_cam) const
+{
+    // Each point weighs by its noise: the field's own (half a voxel) and the stereo depth's, which grows with the
+    // depth squared (far points are many, since far surfaces are large, and each is a few centimetres off).
+    std::vector<double> weight(points_cam.size());
+    const double field_sigma = 0.5 * field_.voxelSize();
+    for (size_t i = 0; i < points_cam.size(); ++i)
+        weight[i] = field_sigma * field_sigma /
+                    (field_sigma * field_sigma + std::pow(stereo_.depthSigma(points_cam[i].z()), 2));
+    return weight;
+}
+
+void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, Eigen::Isometry3d& T_world_cam) const
+{
+    using Matrix6d = Eigen::Matrix<double, 6, 6>;
+    using Vector6d = Eigen::Matrix<double, 6, 1>;
+    const std::vector<double> weight = pointWeights(points_cam);
+    for (double truncation : options_.polish_truncations_m)
+        for (int it = 0; it < options_.refine_iterations; ++it)
+        {
+            // Residual: point minus its nearest map point (3-D); same right perturbation as refine().
+            Matrix6d H = Matrix6d::Zero();
+            Vector6d g = Vector6d::Zero();
+            const Eigen::Matrix3d R = T_world_cam.linear();
+            int used = 0;
+            for (size_t i = 0; i < points_cam.size(); ++i)
+            {
+                const Eigen::Vector3d p = points_cam[i].cast<double>();
+                const Eigen::Vector3d q = T_world_cam * p;
+                float mx, my, mz, d2;
+                map_->points().kdTreeClosestPoint3D(float(q.x()), float(q.y()), float(q.z()), mx, my, mz, d2);
+                if (double(d2) >= truncation * truncation) continue;
+                const Eigen::Vector3d e = q - Eigen::Vector3d(mx, my, mz);
+                Eigen::Matrix<double, 3, 6> J;
+                J.leftCols<3>() = -R * skew(p);
+                J.rightCols<3>() = R;
+                H += weight[i] * J.transpose() * J;
+                g += weight[i] * J.transpose() * e;
+                ++used;
+            }
+            if (used < 6) break;
+            H.diagonal().array() += 1e-6 * (1.0 + H.diagonal().array());
+            const Vector6d step = -H.ldlt().solve(g);
+            if (!step.allFinite()) break;
+            Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+            const double angle = step.head<3>().norm();
+            if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, step.head<3>() / angle).toRotationMatrix();
+            delta.translation() = step.tail<3>();
+            T_world_cam = T_world_cam * delta;
+            if (step.tail<3>().norm() < 1e-4 && angle < 1e-5) break;
+        }
+}
+
+GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen::Vector3f>& points_cam,
+                                                         const Eigen::Vector3d& up_cam) const
+{
+    GeometricLocalization r;
+    r.query_points = points_cam.size();
+    if (points_cam.size() < size_t(options_.score_points))
+    {
+        r.reason = "too few stereo points (" + std::to_string(points_cam.size()) + " < score_points " +
+                   std::to_string(options_.score_points) + ")";
+        return r;
+    }
+    // Coarse search: rotation R_world_cam = Rz(yaw) * R_level, where R_level turns the camera's up into world +z.
+    auto t0 = Clock::now();
+    const Eigen::Matrix3d R_level = Eigen::Quaterniond::FromTwoVectors(up_cam.normalized(), Eigen::Vector3d::UnitZ())
+                                        .toRotationMatrix();
+    std::vector<Eigen::Vector3f> scored;
+    const double stride = double(points_cam.size()) / options_.score_points;
+    for (int i = 0; i < options_.score_points; ++i) scored.push_back(points_cam[size_t(i * stride)]);
+    const int yaws = options_.num_yaws;
+    std::vector<Eigen::Matrix3f> rotations;
+    std::vector<std::vector<Eigen::Vector3f>> rotated(static_cast<size_t>(yaws));
+    for (int k = 0; k < yaws; ++k)
+    {
+        const Eigen::Matrix3d R =
+            Eigen::AngleAxisd(2 * M_PI * k / yaws, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R_level;
+        rotations.push_back(R.cast<float>());
+        for (const auto& p : scored) rotated[size_t(k)].push_back(R.cast<float>() * p);
+    }
+    const float trunc2 = float(options_.coarse_truncation_m * options_.coarse_truncation_m);
+    std::vector<float> scores(positions_.size() * size_t(yaws));
+    cv::parallel_for_(cv::Range(0, int(positions_.size())), [&](const cv::Range& range) {
+        for (int i = range.start; i < range.end; ++i)
+        {
+            const Eigen::Vector3f t = positions_[size_t(i)].cast<float>();
+            for (int k = 0; k < yaws; ++k)
+            {
+                float sum = 0;
+                for (const auto& p : rotated[size_t(k)])
+                {
+                    const float d = field_.distance(p + t);
+                    sum += std::min(d * d, trunc2);
+                }
+                scores[size_t(i) * size_t(yaws) + size_t(k)] = sum / float(scored.size());
+            }
+        }
+    });
+    r.candidates = scores.size();
+    std::vector<size_t> order(scores.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return scores[a] < scores[b] || (scores[a] == scores[b] && a < b); });
+    // Distinct starting candidates: > 0.5 m or > 20 deg of heading from every one already taken.
+    std::vector<Candidate> starts;
+    for (size_t idx : order)
+    {
+        if (int(starts.size()) >= options_.refine_candidates) break;
+        Candidate c;
+        c.T_world_cam.setIdentity();
+        c.T_world_cam.linear() = rotations[idx % size_t(yaws)].cast<double>();
+        c.T_world_cam.translation() = positions_[idx / size_t(yaws)];
+        const bool near_taken = std::any_of(starts.begin(), starts.end(), [&](const Candidate& s) {
+            return (s.T_world_cam.translation() - c.T_world_cam.translation()).norm() < 0.5 &&
+                   rotationDeg(s.T_world_cam.linear(), c.T_world_cam.linear()) < 20;
+        });
+        if (!near_taken) starts.push_back(c);
+    }
+    r.ms_search = msSince(t0);
+
+    t0 = Clock::now();
+    std::vector<Candidate> refined(starts.size());
+    cv::parallel_for_(cv::Range(0, int(starts.size())), [&](const cv::Range& range) {
+        for (int i = range.start; i < range.end; ++i)
+        {
+            refined[size_t(i)] = starts[size_t(i)];
+            refined[size_t(i)].score = refine(points_cam, refined[size_t(i)].T_world_cam);
+        }
+    });
+    r.ms_refine = msSince(t0);
+    std::stable_sort(refined.begin(), refined.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    const Candidate& best = refined.front();
+    r.T_world_cam = best.T_world_cam;
+    if (!options_.polish_truncations_m.empty())
+    {
+        const auto t1 = Clock::now();
+        polish(points_cam, r.T_world_cam);
+        r.ms_refine += msSince(t1);
+    }
+    r.inlier_ratio = inlierRatio(points_cam, r.T_world_cam);
+    for (const Candidate& c : refined)
+        if ((c.T_world_cam.translation() - best.T_world_cam.translation()).norm() > 0.3 ||
+            rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear()) > 5)
+        {
+            r.runner_up_inlier_ratio = c.score;
+            break;
+        }
+    std::ostringstream why;
+    why.precision(3);
+    if (r.inlier_ratio < options_.min_inlier_ratio)
+        why << "best pose explains " << 100 * r.inlier_ratio << " % of the stereo points (< min_inlier_ratio "
+            << 100 * options_.min_inlier_ratio << " %)";
+    else if (r.runner_up_inlier_ratio >= options_.ambiguity_ratio * r.inlier_ratio)
+        why << "ambiguous: another place explains " << 100 * r.runner_up_inlier_ratio << " % against "
+            << 100 * r.inlier_ratio << " %";
+    r.reason = why.str();
+    r.localized = r.reason.empty();
+    return r;
+}
+
+}  // namespace quasiloc::reloc

@@ -1,0 +1,86 @@
+// StereoCloud: dense stereo points of one frame (stereo_cloud.h).
+#include <opencv2/calib3d.hpp>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+#include <quasiloc/reloc/stereo_cloud.h>
+#include <unordered_set>
+
+namespace quasiloc::reloc
+{
+void StereoCloudOptions::check(const std::string& input, const std::string& section) const
+{
+    auto key = [&](const char* k) { return input + ": " + core::iniKeyName(section, k); };
+    core::require(num_disparities >= 16 && num_disparities % 16 == 0, key("num_disparities"),
+                  "must be a positive multiple of 16");
+    core::require(block_size >= 1 && block_size % 2 == 1, key("block_size"), "must be odd and >= 1");
+    core::require(uniqueness_ratio >= 0 && uniqueness_ratio <= 100, key("uniqueness_ratio"), "must be in [0, 100]");
+    core::require(min_depth_m > 0 && max_depth_m > min_depth_m, key("max_depth_m"),
+                  "needs 0 < min_depth_m < max_depth_m");
+    core::require(voxel_m >= 0, key("query_voxel_m"), "must be >= 0");
+    core::require(max_points >= 10, key("max_points"), "must be >= 10");
+    core::require(disparity_sigma_px >= 0, key("disparity_sigma_px"), "must be >= 0");
+}
+
+StereoCloud::StereoCloud(const core::StereoRig& rig, const StereoCloudOptions& options)
+    : options_(options), rect_(rig.rectify(0.0)), size_(rig.left.width, rig.left.height)
+{
+    options_.check("stereo cloud", "GeometricLocalization");
+}
+
+std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const cv::Mat& right_raw,
+                                                  const std::string& input) const
+{
+    for (const cv::Mat* im : {&left_raw, &right_raw})
+    {
+        core::require(!im->empty() && im->type() == CV_8UC1, input, "stereo images must be 8-bit grey");
+        core::require(im->size() == size_, input,
+                      "image size " + std::to_string(im->cols) + " x " + std::to_string(im->rows) +
+                          " differs from the calibration's " + std::to_string(size_.width) + " x " +
+                          std::to_string(size_.height));
+    }
+    cv::Mat left, right, disparity;
+    rect_.rectify(left_raw, right_raw, left, right);
+    const int b = options_.block_size;
+    auto sgbm = cv::StereoSGBM::create(0, options_.num_disparities, b, 8 * b * b, 32 * b * b, 1, 63,
+                                       options_.uniqueness_ratio, 100, 2, cv::StereoSGBM::MODE_SGBM_3WAY);
+    sgbm->compute(left, right, disparity);  // CV_16S, disparity x 16
+
+    const double f = rect_.P_left(0, 0), cx = rect_.P_left(0, 2), cy = rect_.P_left(1, 2);
+    const double fb = f * rect_.baseline_m;
+    const Eigen::Matrix3f R_cam_rect =
+        Eigen::Matrix3d(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(rect_.R_left.val))
+            .transpose()
+            .cast<float>();
+    std::vector<Eigen::Vector3f> points;
+    std::unordered_set<int64_t> occupied;
+    const double v = options_.voxel_m;
+    for (int y = 0; y < disparity.rows; ++y)
+    {
+        const int16_t* row = disparity.ptr<int16_t>(y);
+        for (int x = 0; x < disparity.cols; ++x)
+        {
+            if (row[x] <= 0) continue;
+            const double z = fb / (row[x] / 16.0);
+            if (z < options_.min_depth_m || z > options_.max_depth_m) continue;
+            const Eigen::Vector3f p_rect(float((x - cx) * z / f), float((y - cy) * z / f), float(z));
+            if (v > 0)
+            {
+                const int64_t ix = int64_t(std::floor(p_rect.x() / v)) & 0x1fffff,
+                              iy = int64_t(std::floor(p_rect.y() / v)) & 0x1fffff,
+                              iz = int64_t(std::floor(p_rect.z() / v)) & 0x1fffff;
+                if (!occupied.insert((ix << 42) | (iy << 21) | iz).second) continue;
+            }
+            points.push_back(R_cam_rect * p_rect);
+        }
+    }
+    if (points.size() > size_t(options_.max_points))
+    {
+        std::vector<Eigen::Vector3f> kept;
+        const double step = double(points.size()) / options_.max_points;
+        for (int i = 0; i < options_.max_points; ++i) kept.push_back(points[size_t(i * step)]);
+        points.swap(kept);
+    }
+    return points;
+}
+
+}  // namespace quasiloc::reloc

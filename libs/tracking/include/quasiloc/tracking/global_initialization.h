@@ -1,0 +1,79 @@
+#pragma once
+// GlobalInitializer: the tracker's initial state (pose and velocity) with no initial guess, from global
+// localization by geometry (reloc/geometric_localizer.h) of two frames and the IMU between them.
+//
+// Frames are fed in order. A frame that localizes becomes the anchor a; the frames after it are kept. The first
+// later frame b at least init_velocity_interval_s after a that also localizes closes the pair when
+//   - the rotation between the two localizations agrees with the gyroscope's within init_max_disagreement_deg
+//     (two independent answers and the IMU confirm each other: a wrong place almost never passes), and
+//   - the velocity they imply is below init_max_speed_m_s;
+// the velocity at a is then the one that carries the IMU from a to b (Forster preintegration, zero biases):
+//   p_b = p_a + v_a dt + g dt^2 / 2 + R_a dp   =>   v_a = (p_b - p_a - g dt^2 / 2 - R_a dp) / dt.
+// The position errors of the two fixes (a few cm) make an error of about sqrt(2) * 3 cm / 0.5 s = 8 cm/s: the
+// tracker starts with init_global_sigma_v and the map terms of the first frames correct the rest.
+// A pair that fails replaces the anchor by b (when b localized) or drops it. The tracker then starts at a and
+// tracks the kept frames. Gravity for the localization: the mean accelerometer reading of the last
+// gravity_window_s (a platform that does not accelerate much: the refinement over 6 DoF absorbs the tilt error).
+#include <deque>
+#include <optional>
+#include <quasiloc/dataset/frame.h>
+#include <quasiloc/estimation/imu_preintegration.h>
+#include <quasiloc/reloc/geometric_localizer.h>
+#include <string>
+#include <vector>
+
+namespace quasiloc::tracking
+{
+struct GlobalInitOptions
+{
+    double velocity_interval_s = 0.5;
+    double max_disagreement_deg = 2.0;
+    double max_speed_m_s = 4.0;
+    double gravity_window_s = 0.2;
+};
+
+/** The state the tracker starts from, and the frames after it still to be tracked. */
+struct GlobalInitialState
+{
+    dataset::StereoFrame anchor;
+    Eigen::Isometry3d T_world_cam0 = Eigen::Isometry3d::Identity();
+    Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
+    std::vector<dataset::StereoFrame> pending;  ///< frames after the anchor, in order (the closing frame included)
+};
+
+/** One localization attempt, for the diagnostics a person reads when initialisation takes long. */
+struct InitAttempt
+{
+    double t = 0;
+    reloc::GeometricLocalization result;
+    std::string note;  ///< anchor / pair closed / why the pair failed
+};
+
+class GlobalInitializer
+{
+   public:
+    GlobalInitializer(const reloc::GeometricLocalizer& localizer, const Eigen::Isometry3d& T_body_cam,
+                      const estimation::ImuNoise& imu_noise, const GlobalInitOptions& options);
+
+    /** Feeds the next frame; returns the initial state once a pair closes. */
+    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame);
+
+    const std::vector<InitAttempt>& attempts() const { return attempts_; }
+
+   private:
+    reloc::GeometricLocalization localize(const dataset::StereoFrame& frame);
+    /** Closes the pair (anchor, b): checks and the velocity; the failure reason otherwise. */
+    std::optional<Eigen::Vector3d> velocity(const Eigen::Isometry3d& T_world_cam_b, double t_b, std::string& why) const;
+
+    const reloc::GeometricLocalizer& localizer_;
+    Eigen::Isometry3d T_body_cam_;
+    estimation::ImuNoise imu_noise_;
+    GlobalInitOptions options_;
+    std::deque<dataset::ImuSample> recent_imu_;  ///< the last gravity_window_s of samples
+    std::optional<dataset::StereoFrame> anchor_;
+    Eigen::Isometry3d T_world_anchor_ = Eigen::Isometry3d::Identity();
+    std::vector<dataset::StereoFrame> pending_;
+    std::vector<InitAttempt> attempts_;
+};
+
+}  // namespace quasiloc::tracking

@@ -1,0 +1,103 @@
+// GlobalInitializer: two geometric localizations and the IMU between them (global_initialization.h).
+#include <quasiloc/core/error.h>
+#include <quasiloc/tracking/global_initialization.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace quasiloc::tracking
+{
+GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer, const Eigen::Isometry3d& T_body_cam,
+                                     const estimation::ImuNoise& imu_noise, const GlobalInitOptions& options)
+    : localizer_(localizer), T_body_cam_(T_body_cam), imu_noise_(imu_noise), options_(options)
+{
+}
+
+reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame)
+{
+    std::vector<Eigen::Vector3d> acc;
+    for (const auto& s : recent_imu_) acc.push_back(s.acc);
+    const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
+    return localizer_.localize(frame.left, frame.right, up_cam);
+}
+
+std::optional<Eigen::Vector3d> GlobalInitializer::velocity(const Eigen::Isometry3d& T_world_cam_b, double t_b,
+                                                           std::string& why) const
+{
+    std::vector<estimation::ImuMeasurement> samples;
+    for (const auto& f : pending_)
+        for (const auto& s : f.imu) samples.push_back({s.t, s.acc, s.gyro});
+    estimation::ImuPreintegration imu(imu_noise_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    imu.integrateInterval(samples, anchor_->timestamp, t_b);
+    const Eigen::Isometry3d T_a = T_world_anchor_ * T_body_cam_.inverse(), T_b = T_world_cam_b * T_body_cam_.inverse();
+    const double dt = imu.dt();
+    const double disagreement_deg =
+        Eigen::AngleAxisd((T_a.linear() * imu.deltaR()).transpose() * T_b.linear()).angle() * 180.0 / M_PI;
+    const Eigen::Vector3d v = (T_b.translation() - T_a.translation() - 0.5 * imu_noise_.gravity() * dt * dt -
+                               T_a.linear() * imu.deltaP()) / dt;
+    std::ostringstream s;
+    s.precision(3);
+    if (disagreement_deg > options_.max_disagreement_deg)
+        s << "the two fixes' rotation differs from the gyroscope's by " << disagreement_deg << " deg (> "
+          << options_.max_disagreement_deg << ")";
+    else if (v.norm() > options_.max_speed_m_s)
+        s << "implied speed " << v.norm() << " m/s (> " << options_.max_speed_m_s << ")";
+    why = s.str();
+    if (!why.empty()) return std::nullopt;
+    return v;
+}
+
+std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame)
+{
+    for (const auto& s : frame.imu) recent_imu_.push_back(s);
+    while (!recent_imu_.empty() && recent_imu_.front().t < frame.timestamp - options_.gravity_window_s)
+        recent_imu_.pop_front();
+    if (recent_imu_.empty()) return std::nullopt;  // no gravity direction yet
+    if (anchor_)
+    {
+        pending_.push_back(frame);
+        if (frame.timestamp - anchor_->timestamp < options_.velocity_interval_s) return std::nullopt;
+    }
+    InitAttempt attempt;
+    attempt.t = frame.timestamp;
+    attempt.result = localize(frame);
+    if (anchor_ && attempt.result.localized)
+    {
+        std::string why;
+        if (const auto v = velocity(attempt.result.T_world_cam, frame.timestamp, why))
+        {
+            attempt.note = "pair closed";
+            attempts_.push_back(attempt);
+            GlobalInitialState s;
+            s.anchor = *anchor_;
+            s.T_world_cam0 = T_world_anchor_;
+            s.v_world = *v;
+            s.pending = std::move(pending_);
+            anchor_.reset();
+            pending_.clear();
+            return s;
+        }
+        attempt.note = "pair rejected: " + why;
+    }
+    else if (anchor_ && frame.timestamp - anchor_->timestamp < 2 * options_.velocity_interval_s)
+    {  // the closing fix may come a little later: keep the anchor for another interval
+        attempt.note = "not localized (anchor kept): " + attempt.result.reason;
+        attempts_.push_back(attempt);
+        return std::nullopt;
+    }
+    // Without a closed pair the newest fix (if any) becomes the anchor.
+    pending_.clear();
+    anchor_.reset();
+    if (attempt.result.localized)
+    {
+        anchor_ = frame;
+        T_world_anchor_ = attempt.result.T_world_cam;
+        attempt.note += attempt.note.empty() ? "anchor" : "; new anchor";
+    }
+    else if (attempt.note.empty())
+        attempt.note = "not localized: " + attempt.result.reason;
+    attempts_.push_back(attempt);
+    return std::nullopt;
+}
+
+}  // namespace quasiloc::tracking
