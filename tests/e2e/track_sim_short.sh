@@ -17,7 +17,7 @@ track() {  # track <output_dir> [--set ...]: prints the ATE RMSE in cm
   cat "$out.log" >&2
   sed -n 's/^ATE *RMSE \([0-9.]*\) cm.*/\1/p' "$out.log"
 }
-ate=$(track "$WORK/track")
+ate=$(track "$WORK/track" --set Tracking.init=groundtruth)
 for f in trajectory.tum diagnostics.csv quasiloc-track.ini scene.3Dscene; do [ -s "$WORK/track/$f" ] || fail "$f missing"; done
 n=$(grep -vc '^#' "$WORK/track/trajectory.tum")
 [ "$n" -ge 100 ] || fail "trajectory.tum has $n poses, expected >= 100 (5 s at 20 Hz)"
@@ -33,11 +33,19 @@ start_cm=$(sed -n 's/^init start error \([0-9.]*\) cm.*/\1/p' "$WORK/global.log"
 awk -v e="$start_cm" 'BEGIN { exit !(e != "" && e < 10) }' || fail "global start error '$start_cm' cm (expected < 10 cm)"
 awk -v a="$ate_global" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a < b) }' \
   || fail "tracked ATE RMSE after global initialisation $ate_global cm >= $BOUND_CM cm"
-imu_only=$(track "$WORK/imu_only" --set Tracking.map_updates=false --set Tracking.temporal_landmarks=false)
+imu_only=$(track "$WORK/imu_only" --set Tracking.init=groundtruth --set Tracking.map_updates=false \
+  --set Tracking.temporal_landmarks=false)
 echo "ATE RMSE: tracked $ate cm ($accepted of $keyframes map updates accepted), after global initialisation $ate_global cm (start error $start_cm cm), IMU only $imu_only cm, bound $BOUND_CM cm"
 awk -v a="$ate" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a < b) }' || fail "tracked ATE RMSE $ate cm >= $BOUND_CM cm"
 awk -v a="$imu_only" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a > b) }' \
   || fail "the IMU alone ($imu_only cm) already meets the bound: the test would not catch a broken map term"
+# Loss and recovery: at 2 s the tracker is restarted 1 m / 10 deg off with full confidence (as if it had silently
+# gone wrong); the geometry check must notice, relocalize, and the last frame must be back within 5 cm.
+track "$WORK/kidnap" --set Tracking.init=groundtruth --set Tracking.kidnap_at_s=2 > /dev/null
+grep -q "relocalizations [1-9]" "$WORK/kidnap.log" || fail "the kidnapped tracker did not relocalize"
+last_err=$(tail -1 "$WORK/kidnap/diagnostics.csv" | cut -d, -f12)
+awk -v e="$last_err" 'BEGIN { exit !(e != "" && e < 0.05) }' || fail "after relocalization the last error is $last_err m"
+echo "kidnapped at 2 s: relocalized, last frame's error $last_err m"
 # Bad input: a missing map is named, nothing is written.
 expect_failure "$WORK/bad.txt" "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \
   --set Tracking.calibration_ini="$SIM/calib.ini" --set Tracking.groundtruth="$SIM/gt.tum" \
