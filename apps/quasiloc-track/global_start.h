@@ -26,6 +26,8 @@ class GlobalStarter
     std::optional<tracking::GlobalInitialState> find(const std::function<bool(dataset::StereoFrame&)>& next,
                                                      const std::string& label);
 
+    const map::DistanceField& field() const { return localizer_->field(); }
+
     /** Share of the frame's stereo points that the map explains at T_world_cam0 (GeometricLocalizer::inlierRatio). */
     double explainedRatio(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0) const
     {

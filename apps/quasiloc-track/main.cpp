@@ -165,8 +165,11 @@ int run(const core::CommandLine& cmd)
     go.check(name);
     Eigen::Isometry3d T_world_cam_start;
     std::unique_ptr<app::GlobalStarter> starter;  // global localization by geometry: start and relocalization
-    if (o.init == "global" || o.relocalize)
+    if (o.init == "global" || o.relocalize || (o.stereo_map_factor && o.map_updates))
+    {
         starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, T_body_cam, imu_noise, o.map_file);
+        if (o.stereo_map_factor) tracker.setMapDistanceField(&starter->field());
+    }
     if (o.init == "groundtruth")
     {
         // The first two frames with ground truth give the initial pose and velocity.
@@ -209,7 +212,7 @@ int run(const core::CommandLine& cmd)
     std::ostringstream csv;
     csv << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
            "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
-           "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,explained_ratio\n";
+           "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio\n";
     std::vector<double> err_m, ms;
     int updates = 0, keyframes = 0, lost_frames = 0, relocalizations = 0;
     // Time the track went unverified: from the last frame whose pose the stereo geometry confirmed (a check that
@@ -238,7 +241,7 @@ int run(const core::CommandLine& cmd)
             << r.prior_sigma_m << "," << r.prior_sigma_deg << "," << r.lost << "," << r.landmarks << "," << e_m << ","
             << e_deg << "," << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_visual << ","
             << r.ms_window << "," << r.ms_total << "," << r.gyro_bias.x() << "," << r.gyro_bias.y() << ","
-            << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << ",";
+            << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << "," << r.stereo_map_points << ",";
         if (++n % 50 == 0) std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << e_m << " m" << std::endl;
         if (o.kidnap_at_s >= 0 && !kidnapped && r.t >= f0.timestamp + o.kidnap_at_s)
         {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 #include <quasiloc/core/error.h>
+#include <quasiloc/estimation/map_distance_factor.h>
 #include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/tracking_window.h>
 
@@ -80,6 +81,9 @@ void checkInput(const WindowInput& in)
         core::require(d.field && d.model && d.camera && !d.model->edge_points_world.empty() && d.sigma_px > 0 &&
                           d.effective_points > 0,
                       "WindowInput.direct_terms", "needs a field, a camera, a model with edge points and sigmas > 0");
+    for (const MapDistanceTerm& m : in.map_distance_terms)
+        core::require(m.field && !m.p_cam.empty() && m.p_cam.size() == m.sigma_m.size() && m.effective_points > 0,
+                      "WindowInput.map_distance_terms", "needs a field and one sigma per point (at least one point)");
 }
 
 class Window
@@ -172,6 +176,14 @@ void Window::build()
         // The Huber is inside the residual (direct_factor.h), in units of this sigma.
         add(new DirectEdgeCostFunction(*d.field, 0, *d.camera, *d.model, cam.T_body_cam, sigma, d.truncation_px,
                                        d.huber_px),
+            nullptr, {cur_.pose});
+    }
+    for (const auto& m : in_.map_distance_terms)
+    {
+        const double scale = std::sqrt(std::max(1.0, double(m.p_cam.size()) / m.effective_points));
+        std::vector<double> sigma = m.sigma_m;
+        for (double& s : sigma) s *= scale;
+        add(new MapDistanceCostFunction(*m.field, m.p_cam, sigma, cam.T_body_cam, m.truncation_m, m.huber_sigmas),
             nullptr, {cur_.pose});
     }
     if (opt_.usePoints())

@@ -110,6 +110,24 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     initialized_ = true;
 }
 
+void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
+{
+    estimation::MapDistanceTerm term;
+    term.field = distance_field_;
+    term.effective_points = options_.stereo_map_effective_points;
+    term.truncation_m = options_.stereo_map_truncation_m;
+    const double fb = stereo_.left.model.fx * stereo_.T_left_right.translation().norm();
+    for (const frontend::StereoPoint& s : points.stereo)
+    {
+        const double z = s.p_left.z();
+        if (z < 0.2 || z > options_.stereo_map_max_depth_m || !s.p_left.allFinite()) continue;
+        const double depth_sigma = z * z / fb * options_.stereo_disparity_sigma_px;
+        term.p_cam.push_back(s.p_left);
+        term.sigma_m.push_back(std::hypot(options_.stereo_map_sigma_m, depth_sigma));
+    }
+    if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
+}
+
 Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
 {
     // Points only: the stereo and temporal matching use no line, so the front-end's line branch is skipped.
@@ -254,10 +272,13 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     {
         worker_->wait();
         wait_at_exit.w = nullptr;
-        temporalLandmarks(std::move(stereo_points), in.landmarks);
     }
     else if (options_.temporal_landmarks)
-        temporalLandmarks(extractStereo(frame), in.landmarks);
+        stereo_points = extractStereo(frame);
+    if (options_.temporal_landmarks && options_.map_updates && options_.stereo_map_factor && distance_field_)
+        addStereoMapTerm(stereo_points, in);
+    rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
+    if (options_.temporal_landmarks) temporalLandmarks(std::move(stereo_points), in.landmarks);
     rep.landmarks = int(in.landmarks.size());
     rep.ms_visual = tic.Tac() * 1e3;
 

@@ -36,6 +36,12 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     init_global_sigma_m = readIniDouble(c, s, "init_global_sigma_m", init_global_sigma_m);
     init_global_sigma_deg = readIniDouble(c, s, "init_global_sigma_deg", init_global_sigma_deg);
     init_global_sigma_v = readIniDouble(c, s, "init_global_sigma_v", init_global_sigma_v);
+    stereo_map_factor = core::readIniBool(c, s, "stereo_map_factor", stereo_map_factor);
+    stereo_map_sigma_m = readIniDouble(c, s, "stereo_map_sigma_m", stereo_map_sigma_m);
+    stereo_disparity_sigma_px = readIniDouble(c, s, "stereo_disparity_sigma_px", stereo_disparity_sigma_px);
+    stereo_map_effective_points = readIniDouble(c, s, "stereo_map_effective_points", stereo_map_effective_points);
+    stereo_map_truncation_m = readIniDouble(c, s, "stereo_map_truncation_m", stereo_map_truncation_m);
+    stereo_map_max_depth_m = readIniDouble(c, s, "stereo_map_max_depth_m", stereo_map_max_depth_m);
 }
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -69,6 +75,12 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "init_global_sigma_m", init_global_sigma_m, 24, 10, "global: uncertainty of the start");
     c.write(s, "init_global_sigma_deg", init_global_sigma_deg, 24, 10);
     c.write(s, "init_global_sigma_v", init_global_sigma_v, 24, 10);
+    c.write(s, "stereo_map_factor", stereo_map_factor ? "true" : "false", 24, 10, "stereo points vs map surfaces");
+    c.write(s, "stereo_map_sigma_m", stereo_map_sigma_m, 24, 10);
+    c.write(s, "stereo_disparity_sigma_px", stereo_disparity_sigma_px, 24, 10);
+    c.write(s, "stereo_map_effective_points", stereo_map_effective_points, 24, 10);
+    c.write(s, "stereo_map_truncation_m", stereo_map_truncation_m, 24, 10);
+    c.write(s, "stereo_map_max_depth_m", stereo_map_max_depth_m, 24, 10);
 }
 
 void TrackerOptions::check(const std::string& input) const
@@ -94,6 +106,9 @@ void TrackerOptions::check(const std::string& input) const
                   k + "init_velocity_interval_s/max_disagreement_deg/max_speed_m_s", "must be > 0");
     core::require(init_global_sigma_m > 0 && init_global_sigma_deg > 0 && init_global_sigma_v > 0,
                   k + "init_global_sigma_*", "must be > 0");
+    core::require(stereo_map_sigma_m > 0 && stereo_disparity_sigma_px >= 0 && stereo_map_effective_points > 0 &&
+                      stereo_map_truncation_m > 0 && stereo_map_max_depth_m > 0,
+                  k + "stereo_map_*", "sigmas, effective points, truncation and depth must be > 0");
 }
 
 }  // namespace quasiloc::tracking

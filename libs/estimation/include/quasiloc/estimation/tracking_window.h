@@ -11,7 +11,8 @@
 //
 // FACTORS. Prior (15 or 6), IMU preintegration (9) + bias random walk (6), stereo reprojection of temporal
 // landmarks in both frames (4 each; landmarks are variables), map-point reprojection (2), pose measurements
-// of the current frame (6, robust: e.g. the direct map alignment), and the
+// of the current frame (6, robust: e.g. the direct map alignment), the direct edge term and the stereo points'
+// distance to the map's surfaces (map_distance_factor.h) on the current frame, and the
 // structural factors: point-to-line and point-to-plane, one Ceres block per factor using its NOMINAL
 // candidate (argmax p_ic) with weight W*_i = w_i W_meas (w_i from the reweighting, applied as a ScaledLoss
 // around the robust loss).
@@ -28,6 +29,7 @@
 #include <quasiloc/estimation/imu_preintegration.h>
 #include <quasiloc/estimation/measurements.h>
 #include <quasiloc/estimation/direct_alignment.h>
+#include <quasiloc/map/distance_field.h>
 #include <quasiloc/estimation/prior_factor.h>
 #include <quasiloc/estimation/reweighting.h>
 #include <quasiloc/estimation/visual_factors.h>
@@ -56,6 +58,17 @@ struct DirectEdgeTerm
     double truncation_px = 12, huber_px = 2;
 };
 
+/** The current frame's stereo points against the map's surfaces (map_distance_factor.h): the field must outlive
+ *  the solve. Each point's sigma_m (stereo depth noise and the map's) is scaled by sqrt(n / effective_points). */
+struct MapDistanceTerm
+{
+    const map::DistanceField* field = nullptr;
+    std::vector<Eigen::Vector3d> p_cam;  ///< left camera frame
+    std::vector<double> sigma_m;
+    double effective_points = 50;
+    double truncation_m = 0.15, huber_sigmas = 2;
+};
+
 struct WindowInput
 {
     const StereoGeometry* stereo = nullptr;  ///< required; its left camera observes the map factors
@@ -70,6 +83,7 @@ struct WindowInput
     std::vector<TemporalLandmark> landmarks;  ///< used only with a previous frame
     std::vector<PoseMeasurement> pose_measurements;  ///< on the current frame (map measurements: part of H_0)
     std::vector<DirectEdgeTerm> direct_terms;        ///< on the current frame (the left camera's image)
+    std::vector<MapDistanceTerm> map_distance_terms; ///< on the current frame (its stereo points)
 };
 
 struct WindowStats

@@ -66,6 +66,13 @@
 //   init_global_sigma_m = 0.05    ; global: uncertainty of the start
 //   init_global_sigma_deg = 1
 //   init_global_sigma_v = 0.15
+//   stereo_map_factor = true      ; the stereo points' distance to the map's surfaces as a factor on the current
+//                                 ;   pose (map_distance_factor.h), when a distance field is given
+//   stereo_map_sigma_m = 0.02     ; per point: the map's and the field's noise, and the depth noise of the
+//   stereo_disparity_sigma_px = 0.5 ;   disparity (z^2 / (f b) times this)
+//   stereo_map_effective_points = 50 ; all points together count as this many independent observations
+//   stereo_map_truncation_m = 0.15 ; farther points from the map do not pull (occluders, clutter)
+//   stereo_map_max_depth_m = 6
 //   concurrent_stages = true      ; stereo point extraction on a worker thread beside the map alignment
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
@@ -79,6 +86,7 @@
 #include <quasiloc/estimation/map_refinement.h>
 #include <quasiloc/estimation/tracking_window.h>
 #include <quasiloc/frontend/stereo_matcher.h>
+#include <quasiloc/map/distance_field.h>
 #include <quasiloc/map/lidar_map.h>
 #include <string>
 
@@ -104,6 +112,11 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     std::string init = "groundtruth";
     double init_velocity_interval_s = 0.5, init_max_disagreement_deg = 2.0, init_max_speed_m_s = 4.0;
     double init_global_sigma_m = 0.05, init_global_sigma_deg = 1.0, init_global_sigma_v = 0.15;
+    /** The frame's stereo points against the map's surfaces (estimation/map_distance_factor.h), when the tracker
+     *  has a distance field (setMapDistanceField). */
+    bool stereo_map_factor = true;
+    double stereo_map_sigma_m = 0.02, stereo_disparity_sigma_px = 0.5, stereo_map_effective_points = 50;
+    double stereo_map_truncation_m = 0.15, stereo_map_max_depth_m = 6;
     /** Independent stages of a frame run concurrently (needs more than one OpenCV thread, cv::getNumThreads()): the
      *  stereo point extraction (images only, mostly single-threaded ORB) runs on the tracker's worker thread beside
      *  the map alignment (edge field, render, LM: the render and OpenCV's filters use OpenCV's pool). Same results
@@ -128,6 +141,7 @@ struct FrameReport
     double prior_sigma_m = 0, prior_sigma_deg = 0;
     bool lost = false;
     int landmarks = 0;
+    int stereo_map_points = 0;  ///< stereo points in the map-distance factor
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
     /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
      *  points and temporal matching (with concurrent_stages the extraction runs beside the alignment and only the
@@ -157,6 +171,9 @@ class Tracker
     const estimation::FrameState& state() const { return state_; }
     bool initialized() const { return initialized_; }
 
+    /** The map's distance field (must outlive the tracker; nullptr: none): enables stereo_map_factor. */
+    void setMapDistanceField(const map::DistanceField* field) { distance_field_ = field; }
+
     /** Tracks one stereo frame (its IMU samples since the previous frame included). */
     FrameReport track(const dataset::StereoFrame& frame);
 
@@ -172,6 +189,8 @@ class Tracker
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v, bool keep_biases);
+    /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
+    void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
     /** Landmarks between the previous frame's stereo points and `current`, which are then kept for the next frame. */
     void temporalLandmarks(StereoPoints current, std::vector<estimation::TemporalLandmark>& out);
 
@@ -191,6 +210,7 @@ class Tracker
 
     std::unique_ptr<core::WorkerThread> worker_;  ///< concurrent_stages: the stereo extraction's thread
 
+    const map::DistanceField* distance_field_ = nullptr;
     bool initialized_ = false;
     estimation::FrameState state_;
     estimation::StatePrior prior_;
