@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Tracks the six simulated EuRoC trajectories (share/quasiloc/sim/<SEQ>.ini) with the top-level config.ini's
 # tracker settings and prints one error/time row per sequence (quasiloc-track's own summary lines).
-#   bash scripts/track_sequences.sh [duration_s=30] [output_root=out/sequences] [sequences...]
+#   bash scripts/track_sequences.sh [duration_s=30, 0 = the whole sequence] [output_root=out/sequences] [sequences...]
 # Simulated folders are reused when present (delete them to simulate again). Needs a built tree (scripts/build.sh).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -27,7 +27,8 @@ for seq in "${SEQS[@]}"; do
   ate=$(sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$OUT/$seq.track.log")
   ms=$(sed -n 's/^time\/frame *median \([0-9.]*\) ms.*/\1/p' "$OUT/$seq.track.log")
   set -- $frames $ate
-  printf "| %s | %s s | %s | %s | %s cm | %s cm | %s |\n" "$seq" "$DURATION" "$1" "$2" "$3" "$4" "$ms" | tee -a "$OUT.md.tmp"
+  duration_text="$DURATION s"; [ "$DURATION" != 0 ] || duration_text="whole"
+  printf "| %s | %s | %s | %s | %s cm | %s cm | %s |\n" "$seq" "$duration_text" "$1" "$2" "$3" "$4" "$ms" | tee -a "$OUT.md.tmp"
 done
 mv "$OUT.md.tmp" "$OUT.md"
 echo "table written to $OUT.md"

@@ -72,4 +72,11 @@ std::vector<double> readIniVector(const mrpt::config::CConfigFileBase& cfg, cons
     return out;
 }
 
+std::string iniVectorText(const std::vector<double>& v)
+{
+    std::ostringstream s;
+    for (size_t i = 0; i < v.size(); ++i) s << (i ? " " : "") << v[i];
+    return s.str();
+}
+
 }  // namespace quasiloc::core

@@ -17,12 +17,6 @@ namespace
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-std::string vectorText(const std::vector<double>& v)
-{
-    std::ostringstream s;
-    for (size_t i = 0; i < v.size(); ++i) s << (i ? " " : "") << v[i];
-    return s.str();
-}
 
 Eigen::Matrix3d skew(const Eigen::Vector3d& v)
 {
@@ -36,6 +30,21 @@ struct Candidate
     Eigen::Isometry3d T_world_cam;
     double score = 0;  ///< coarse: mean truncated squared distance (lower is better); refined: inlier share
 };
+
+/** One damped Gauss-Newton step on T (right perturbation [dtheta; dp]) from the normal equations H, g (H is
+ *  modified); false when the step is not finite or small enough to stop. */
+bool gaussNewtonStep(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g, Eigen::Isometry3d& T)
+{
+    H.diagonal().array() += 1e-6 * (1.0 + H.diagonal().array());
+    const Eigen::Matrix<double, 6, 1> step = -H.ldlt().solve(g);
+    if (!step.allFinite()) return false;
+    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+    const double angle = step.head<3>().norm();
+    if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, step.head<3>() / angle).toRotationMatrix();
+    delta.translation() = step.tail<3>();
+    T = T * delta;
+    return step.tail<3>().norm() >= 1e-4 || angle >= 1e-5;
+}
 
 double rotationDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b)
 {
@@ -85,17 +94,17 @@ void GeometricLocalizationOptions::saveToConfigFile(mrpt::config::CConfigFileBas
     c.write(s, "max_points", stereo.max_points, 30, 40, "query points at most");
     c.write(s, "disparity_sigma_px", stereo.disparity_sigma_px, 30, 40, "disparity noise (depth-dependent weights)");
     c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "candidate position grid");
-    c.write(s, "heights_m", vectorText(heights_m), 30, 40, "candidate heights above the floor");
+    c.write(s, "heights_m", core::iniVectorText(heights_m), 30, 40, "candidate heights above the floor");
     c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a candidate position");
     c.write(s, "require_enclosed", require_enclosed, 30, 40, "indoors: positions enclosed by the map");
-    c.write(s, "region", vectorText(region), 30, 40, "optional xmin ymin xmax ymax");
+    c.write(s, "region", core::iniVectorText(region), 30, 40, "optional xmin ymin xmax ymax");
     c.write(s, "num_yaws", num_yaws, 30, 40, "headings per candidate position");
     c.write(s, "score_points", score_points, 30, 40, "query points scored per coarse candidate");
     c.write(s, "coarse_truncation_m", coarse_truncation_m, 30, 40, "coarse score truncation");
     c.write(s, "refine_candidates", refine_candidates, 30, 40, "distinct candidates refined");
-    c.write(s, "refine_truncations_m", vectorText(refine_truncations_m), 30, 40, "refinement truncations");
+    c.write(s, "refine_truncations_m", core::iniVectorText(refine_truncations_m), 30, 40, "refinement truncations");
     c.write(s, "refine_iterations", refine_iterations, 30, 40, "Gauss-Newton iterations per truncation");
-    c.write(s, "polish_truncations_m", vectorText(polish_truncations_m), 30, 40, "point-to-point ICP of the best");
+    c.write(s, "polish_truncations_m", core::iniVectorText(polish_truncations_m), 30, 40, "point-to-point ICP of the best");
     c.write(s, "inlier_m", inlier_m, 30, 40, "a query point this close to the map is an inlier");
     c.write(s, "min_inlier_ratio", min_inlier_ratio, 30, 40, "answer only with this share of inliers");
     c.write(s, "ambiguity_ratio", ambiguity_ratio, 30, 40, "reject when another place reaches this share");
@@ -221,16 +230,7 @@ double GeometricLocalizer::refine(const std::vector<Eigen::Vector3f>& points_cam
                 g += weight[i] * J * double(d);
                 ++used;
             }
-            if (used < 6) break;
-            H.diagonal().array() += 1e-6 * (1.0 + H.diagonal().array());
-            const Vector6d step = -H.ldlt().solve(g);
-            if (!step.allFinite()) break;
-            Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-            const double angle = step.head<3>().norm();
-            if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, step.head<3>() / angle).toRotationMatrix();
-            delta.translation() = step.tail<3>();
-            T_world_cam = T_world_cam * delta;
-            if (step.tail<3>().norm() < 1e-4 && angle < 1e-5) break;
+            if (used < 6 || !gaussNewtonStep(H, g, T_world_cam)) break;
         }
     return inlierRatio(points_cam, T_world_cam);
 }
@@ -275,16 +275,7 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
                 g += weight[i] * J.transpose() * e;
                 ++used;
             }
-            if (used < 6) break;
-            H.diagonal().array() += 1e-6 * (1.0 + H.diagonal().array());
-            const Vector6d step = -H.ldlt().solve(g);
-            if (!step.allFinite()) break;
-            Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-            const double angle = step.head<3>().norm();
-            if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, step.head<3>() / angle).toRotationMatrix();
-            delta.translation() = step.tail<3>();
-            T_world_cam = T_world_cam * delta;
-            if (step.tail<3>().norm() < 1e-4 && angle < 1e-5) break;
+            if (used < 6 || !gaussNewtonStep(H, g, T_world_cam)) break;
         }
 }
 

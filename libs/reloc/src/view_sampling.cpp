@@ -16,12 +16,6 @@ namespace quasiloc::reloc
 {
 namespace
 {
-std::string vectorText(const std::vector<double>& v)
-{
-    std::ostringstream s;
-    for (size_t i = 0; i < v.size(); ++i) s << (i ? " " : "") << v[i];
-    return s.str();
-}
 
 /** Occupied voxels of the map (hash set), plus the lowest occupied z of every column. */
 class OccupancyGrid
@@ -111,14 +105,14 @@ void ViewSamplingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
 void ViewSamplingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
 {
     c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "horizontal position grid spacing");
-    c.write(s, "heights_m", vectorText(heights_m), 30, 40, "camera heights above the floor");
+    c.write(s, "heights_m", core::iniVectorText(heights_m), 30, 40, "camera heights above the floor");
     c.write(s, "num_headings", num_headings, 30, 40, "headings per position (360 deg)");
-    c.write(s, "pitches_deg", vectorText(pitches_deg), 30, 40, "camera pitches (positive up)");
+    c.write(s, "pitches_deg", core::iniVectorText(pitches_deg), 30, 40, "camera pitches (positive up)");
     c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a viewpoint");
     c.write(s, "voxel_m", voxel_m, 30, 40, "occupancy grid voxel");
     c.write(s, "require_enclosed", require_enclosed, 30, 40, "indoors: horizontal and up rays must hit the map");
     c.write(s, "max_ray_m", max_ray_m, 30, 40, "enclosure ray length");
-    c.write(s, "region", vectorText(region), 30, 40, "optional xmin ymin xmax ymax");
+    c.write(s, "region", core::iniVectorText(region), 30, 40, "optional xmin ymin xmax ymax");
     c.write(s, "margin_m", margin_m, 30, 40, "distance from the map's horizontal bounds");
 }
 

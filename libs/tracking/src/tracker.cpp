@@ -217,7 +217,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     estimation::WindowInput in;
     std::shared_ptr<const estimation::DirectAlignmentModel> direct_model;  // map_term = factor: alive until the window
     std::optional<Eigen::Isometry3d> aligned_T_map_body;                     // ... and its linearisation point
-    rep.keyframe = options_.map_updates && frames_ % size_t(options_.keyframe_every) == 0;
+    rep.keyframe = options_.map_updates && options_.map_term != "none" && frames_ % size_t(options_.keyframe_every) == 0;
     if (rep.keyframe)
     {
         tic.Tic();

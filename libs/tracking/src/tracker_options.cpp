@@ -51,7 +51,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "direct_sigma_m", direct_sigma_m, 24, 10, "map-alignment measurement sigma");
     c.write(s, "direct_sigma_deg", direct_sigma_deg, 24, 10);
     c.write(s, "map_information", map_information, 24, 10, "fixed | observability (map_measurement.h)");
-    c.write(s, "map_term", map_term, 24, 10, "measurement | factor (direct_factor.h in the window)");
+    c.write(s, "map_term", map_term, 24, 10, "measurement | factor (direct_factor.h in the window) | none");
     c.write(s, "direct_factor_sigma_px", direct_factor_sigma_px, 24, 10);
     c.write(s, "direct_factor_effective_points", direct_factor_effective_points, 24, 10);
     c.write(s, "min_prior_sigma_m", min_prior_sigma_m, 24, 10, "alignment prior: predicted sigma, at least this");
@@ -90,8 +90,8 @@ void TrackerOptions::check(const std::string& input) const
     core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
     core::require(map_information == "fixed" || map_information == "observability", k + "map_information",
                   "'" + map_information + "' is not fixed or observability");
-    core::require(map_term == "measurement" || map_term == "factor", k + "map_term",
-                  "'" + map_term + "' is not measurement or factor");
+    core::require(map_term == "measurement" || map_term == "factor" || map_term == "none", k + "map_term",
+                  "'" + map_term + "' is not measurement, factor or none");
     core::require(direct_factor_sigma_px > 0 && direct_factor_effective_points > 0,
                   k + "direct_factor_sigma_px/effective_points", "must be > 0");
     core::require(min_prior_sigma_m > 0 && min_prior_sigma_deg > 0, k + "min_prior_sigma_m/deg", "must be > 0");

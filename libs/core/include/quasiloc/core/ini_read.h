@@ -22,5 +22,7 @@ bool readIniBool(const mrpt::config::CConfigFileBase& cfg, const std::string& se
 /** "[a b c]" or "a b c" (blanks or commas) of finite numbers. */
 std::vector<double> readIniVector(const mrpt::config::CConfigFileBase& cfg, const std::string& section,
                                   const std::string& key, const std::vector<double>& default_value);
+/** "a b c": how readIniVector's values are written back (saveToConfigFile). */
+std::string iniVectorText(const std::vector<double>& v);
 
 }  // namespace quasiloc::core

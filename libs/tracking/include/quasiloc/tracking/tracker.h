@@ -5,7 +5,8 @@
 // alignment (estimation/direct_alignment.h) from the prediction, with the prediction's uncertainty as its
 // prior -> a two-frame window (previous state with its marginal as prior, IMU factor, and the map: by default the
 // alignment's edge residuals as a factor on the current pose, linearised from the aligned pose; or the aligned
-// pose as a pose measurement) -> pose, velocity and biases -> the marginal for the next frame.
+// pose as a pose measurement; and, given the map's distance field, the frame's stereo points' distance to the
+// map's surfaces, estimation/map_distance_factor.h) -> pose, velocity and biases -> the marginal for the next frame.
 //
 // Why the direct term and not feature matches for the map: on the simulated world (and on KITTI) camera
 // descriptors do not match quasi-image descriptors (bench_crossmodal: 0 of 75 ORB matches correct at the true
@@ -13,8 +14,9 @@
 // The IMU keeps the prediction inside that basin between map updates. With temporal_landmarks, stereo
 // points matched between the previous and the current left image (front-end: ORB/..., epipolar stereo
 // matching, windowed temporal matching) add stereo reprojection factors in both frames (visual-inertial
-// odometry between map updates). Line and plane factors with reweighting, relocalization and loss recovery
-// are not in this version.
+// odometry between map updates). Feature-matched line and plane factors with reweighting are not used here
+// (nothing matches across the modality gap). The start and the recovery after a loss are global localization by
+// geometry (global_initialization.h), driven by quasiloc-track.
 //
 // Keyframe policy: map alignment every `keyframe_every` frames; between keyframes the IMU factor and the
 // temporal stereo landmarks carry the state. A map correction larger than max_correction_* is rejected (counted
@@ -41,7 +43,8 @@
 //                                 ;   alignment's pose as a Gaussian measurement (the sigmas above). 30 s of the six
 //                                 ;   simulated sequences (ATE cm, with init_sigma_bg = 0.0005): factor 0.93 / 0.96 /
 //                                 ;   9.22 / 0.78 / 2.26 / 0.92 (V1_01..V2_03), measurement 1.03 / 1.55 / 3.31 /
-//                                 ;   59.4 / 3.57 / 1.42: the factor is the default
+//                                 ;   59.4 / 3.57 / 1.42: the factor is the default; none: no edge alignment
+//                                 ;   (the stereo map factor alone, an ablation)
 //   direct_factor_sigma_px = 2    ; factor: pixel sigma of the edge residuals ...
 //   direct_factor_effective_points = 100 ; ... which count as this many independent observations together
 //   min_prior_sigma_m = 0.05      ; the alignment's prior: the predicted covariance, at least these
