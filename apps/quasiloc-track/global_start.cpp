@@ -12,9 +12,14 @@
 namespace quasiloc::app
 {
 GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& rig, const tracking::TrackerOptions& o,
-                             const reloc::GeometricLocalizationOptions& localization, const Eigen::Isometry3d& T_body_cam,
+                             const reloc::GeometricLocalizationOptions& localization,
+                             const estimation::MapRefinementOptions& refinement, quasi::QuasiRenderer& renderer,
+                             frontend::Frontend& frontend, const Eigen::Isometry3d& T_body_cam,
                              const estimation::ImuNoise& imu_noise, const std::string& map_name)
-    : T_body_cam_(T_body_cam), imu_noise_(imu_noise)
+    : refiner_(std::make_unique<estimation::MapRefiner>(refinement, renderer, frontend)),
+      camera_(rig.left),
+      T_body_cam_(T_body_cam),
+      imu_noise_(imu_noise)
 {
     const auto t0 = std::chrono::steady_clock::now();
     localizer_ = std::make_unique<reloc::GeometricLocalizer>(map, rig, localization, map_name);
@@ -25,8 +30,8 @@ GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& ri
     std::ostringstream r;
     r << std::fixed << std::setprecision(1) << "# global localization by geometry: distance field and "
       << localizer_->positions() << " candidate positions built in " << ms << " ms\n"
-      << "# occasion, t, localized, inlier_ratio, runner_up_inlier_ratio, query_points, candidates, ms_cloud, "
-         "ms_search, ms_refine, error_m, error_deg, note\n";
+      << "# occasion, t, localized, inlier_ratio, runner_up_inlier_ratio, runner_up_offset_m, runner_up_offset_deg, "
+         "query_points, candidates, ms_cloud, ms_search, ms_refine, error_m, error_deg, note\n";
     record_ = r.str();
     std::cout << "global localization by geometry ready (" << localizer_->positions() << " candidate positions, "
               << std::fixed << std::setprecision(0) << ms << " ms)" << std::endl;
@@ -38,6 +43,16 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
                                                                 const std::string& label)
 {
     tracking::GlobalInitializer init(*localizer_, T_body_cam_, imu_noise_, init_options_);
+    init.setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
+        refiner_->setImage(frame.left, camera_, false);
+        std::vector<double> score;
+        for (const Eigen::Isometry3d& T : poses)
+        {
+            const auto r = refiner_->refine(estimation::RefinementMethod::Direct, T, 0.05, M_PI / 180);
+            score.push_back(r.success ? r.direct.final_inlier_ratio : 0.0);
+        }
+        return score;
+    });
     std::ostringstream r;
     r << std::fixed << std::setprecision(3);
     dataset::StereoFrame f;
@@ -60,7 +75,8 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
             }
             const auto& g = a.result;
             r << label << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", "
-              << g.runner_up_inlier_ratio << ", " << g.query_points << ", " << g.candidates << ", " << g.ms_cloud << ", "
+              << g.runner_up_inlier_ratio << ", " << g.runner_up_offset_m << ", " << g.runner_up_offset_deg << ", "
+              << g.query_points << ", " << g.candidates << ", " << g.ms_cloud << ", "
               << g.ms_search << ", " << g.ms_refine << ", " << e_m << ", " << e_deg << ", " << a.note << "\n";
             std::cout << label << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
                       << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "

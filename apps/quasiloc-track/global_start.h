@@ -15,9 +15,14 @@ namespace quasiloc::app
 class GlobalStarter
 {
    public:
-    /** Builds the localizer (distance field, candidate positions). InputError naming `map_name` on failure. */
+    /** Builds the localizer (distance field, candidate positions) and a map refiner whose direct edge alignment
+     *  settles fixes that geometry finds ambiguous (tracking::AppearanceScore: the share of map edges on camera
+     *  edges after aligning from each candidate). renderer and frontend must outlive the starter. InputError
+     *  naming `map_name` on failure. */
     GlobalStarter(const map::LidarMap& map, const core::StereoRig& rig, const tracking::TrackerOptions& options,
-                  const reloc::GeometricLocalizationOptions& localization, const Eigen::Isometry3d& T_body_cam,
+                  const reloc::GeometricLocalizationOptions& localization,
+                  const estimation::MapRefinementOptions& refinement, quasi::QuasiRenderer& renderer,
+                  frontend::Frontend& frontend, const Eigen::Isometry3d& T_body_cam,
                   const estimation::ImuNoise& imu_noise, const std::string& map_name);
     ~GlobalStarter();
 
@@ -39,6 +44,8 @@ class GlobalStarter
 
    private:
     std::unique_ptr<reloc::GeometricLocalizer> localizer_;
+    std::unique_ptr<estimation::MapRefiner> refiner_;
+    core::CameraModel camera_;
     Eigen::Isometry3d T_body_cam_;
     estimation::ImuNoise imu_noise_;
     tracking::GlobalInitOptions init_options_;

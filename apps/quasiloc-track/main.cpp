@@ -167,7 +167,8 @@ int run(const core::CommandLine& cmd)
     std::unique_ptr<app::GlobalStarter> starter;  // global localization by geometry: start and relocalization
     if (o.init == "global" || o.relocalize || (o.stereo_map_factor && o.map_updates))
     {
-        starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, T_body_cam, imu_noise, o.map_file);
+        starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, ro, renderer, frontend, T_body_cam,
+                                                       imu_noise, o.map_file);
         if (o.stereo_map_factor) tracker.setMapDistanceField(&starter->field());
     }
     if (o.init == "groundtruth")

@@ -371,16 +371,26 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
             rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear()) > 5)
         {
             r.runner_up_inlier_ratio = c.score;
+            r.runner_up_offset_m = (c.T_world_cam.translation() - best.T_world_cam.translation()).norm();
+            r.runner_up_offset_deg = rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear());
             break;
         }
+    for (const Candidate& c : refined)
+        if (c.score >= options_.ambiguity_ratio * r.inlier_ratio &&
+            ((c.T_world_cam.translation() - best.T_world_cam.translation()).norm() > 0.3 ||
+             rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear()) > 5))
+            r.alternatives.push_back(c.T_world_cam);
     std::ostringstream why;
     why.precision(3);
     if (r.inlier_ratio < options_.min_inlier_ratio)
         why << "best pose explains " << 100 * r.inlier_ratio << " % of the stereo points (< min_inlier_ratio "
             << 100 * options_.min_inlier_ratio << " %)";
     else if (r.runner_up_inlier_ratio >= options_.ambiguity_ratio * r.inlier_ratio)
+    {
         why << "ambiguous: another place explains " << 100 * r.runner_up_inlier_ratio << " % against "
             << 100 * r.inlier_ratio << " %";
+        r.ambiguous = true;
+    }
     r.reason = why.str();
     r.localized = r.reason.empty();
     return r;

@@ -7,18 +7,48 @@
 
 namespace quasiloc::tracking
 {
+namespace
+{
+std::string bracketed(const std::string& note) { return note.empty() ? "" : " [" + note + "]"; }
+}  // namespace
+
 GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer, const Eigen::Isometry3d& T_body_cam,
                                      const estimation::ImuNoise& imu_noise, const GlobalInitOptions& options)
     : localizer_(localizer), T_body_cam_(T_body_cam), imu_noise_(imu_noise), options_(options)
 {
 }
 
-reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame)
+reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame, std::string& note)
 {
     std::vector<Eigen::Vector3d> acc;
     for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
-    return localizer_.localize(frame.left, frame.right, up_cam);
+    reloc::GeometricLocalization r = localizer_.localize(frame.left, frame.right, up_cam);
+    if (!r.ambiguous || !appearance_) return r;
+    std::vector<Eigen::Isometry3d> poses{r.T_world_cam};
+    poses.insert(poses.end(), r.alternatives.begin(), r.alternatives.end());
+    const std::vector<double> score = appearance_(frame, poses);
+    size_t best = 0;
+    for (size_t i = 1; i < score.size(); ++i)
+        if (score[i] > score[best]) best = i;
+    double next = 0;
+    for (size_t i = 0; i < score.size(); ++i)
+        if (i != best) next = std::max(next, score[i]);
+    std::ostringstream s;
+    s.precision(3);
+    s << "appearance scores";
+    for (double v : score) s << " " << v;
+    if (score[best] >= options_.min_appearance_score && score[best] >= options_.appearance_margin * next)
+    {
+        r.T_world_cam = poses[best];
+        r.localized = true;
+        r.reason.clear();
+        s << ": ambiguity settled (pose " << best << ")";
+    }
+    else
+        s << ": still ambiguous";
+    note = s.str();
+    return r;
 }
 
 std::optional<Eigen::Vector3d> GlobalInitializer::velocity(const Eigen::Isometry3d& T_world_cam_b, double t_b,
@@ -60,13 +90,14 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     }
     InitAttempt attempt;
     attempt.t = frame.timestamp;
-    attempt.result = localize(frame);
+    std::string appearance_note;
+    attempt.result = localize(frame, appearance_note);
     if (anchor_ && attempt.result.localized)
     {
         std::string why;
         if (const auto v = velocity(attempt.result.T_world_cam, frame.timestamp, why))
         {
-            attempt.note = "pair closed";
+            attempt.note = "pair closed" + bracketed(appearance_note);
             attempts_.push_back(attempt);
             GlobalInitialState s;
             s.anchor = *anchor_;
@@ -81,7 +112,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     }
     else if (anchor_ && frame.timestamp - anchor_->timestamp < 2 * options_.velocity_interval_s)
     {  // the closing fix may come a little later: keep the anchor for another interval
-        attempt.note = "not localized (anchor kept): " + attempt.result.reason;
+        attempt.note = "not localized (anchor kept): " + attempt.result.reason + bracketed(appearance_note);
         attempts_.push_back(attempt);
         return std::nullopt;
     }
@@ -96,6 +127,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     }
     else if (attempt.note.empty())
         attempt.note = "not localized: " + attempt.result.reason;
+    attempt.note += bracketed(appearance_note);
     attempts_.push_back(attempt);
     return std::nullopt;
 }

@@ -94,6 +94,11 @@ struct GeometricLocalization
     Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< the best refined pose (also when rejected)
     double inlier_ratio = 0;         ///< of the best refined pose
     double runner_up_inlier_ratio = 0;  ///< best refined pose that is a different place (0: none)
+    double runner_up_offset_m = 0, runner_up_offset_deg = 0;  ///< how far that place is from the answer
+    bool ambiguous = false;  ///< rejected (only) because other places explain the points nearly as well
+    /** Those places (refined poses, best first): a caller with another cue (e.g. the image) may pick among the
+     *  answer and these. */
+    std::vector<Eigen::Isometry3d> alternatives;
     size_t query_points = 0, candidates = 0;
     double ms_cloud = 0, ms_search = 0, ms_refine = 0;
 };
