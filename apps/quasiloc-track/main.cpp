@@ -47,7 +47,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
     std::string input_rawlog, calibration_ini, map_file, groundtruth, output_dir = "out/track";
     int max_frames = 0;
     bool write_scene = true;
-    bool relocalize = true;
+    bool relocalize = true;  ///< with map_updates only
     /** A test of loss recovery ("kidnapping"): at this time after the start (< 0: never) the tracker is restarted
      *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
     double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
@@ -165,7 +165,9 @@ int run(const core::CommandLine& cmd)
     go.check(name);
     Eigen::Isometry3d T_world_cam_start;
     std::unique_ptr<app::GlobalStarter> starter;  // global localization by geometry: start and relocalization
-    if (o.init == "global" || o.relocalize || (o.stereo_map_factor && o.map_updates))
+    // Relocalization is a use of the map: the no-map baselines (map_updates = false) stay pure.
+    const bool relocalize = o.relocalize && o.map_updates;
+    if (o.init == "global" || relocalize || (o.stereo_map_factor && o.map_updates))
     {
         starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, ro, renderer, frontend, T_body_cam,
                                                        imu_noise, o.map_file);
@@ -255,14 +257,14 @@ int run(const core::CommandLine& cmd)
             tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
         }
         double explained = NAN;
-        if (starter && o.relocalize && n % size_t(o.check_every) == 0)
+        if (starter && relocalize && n % size_t(o.check_every) == 0)
         {
             explained = starter->explainedRatio(f, r.T_world_cam0);
             low_checks = explained < o.lost_explained_ratio ? low_checks + 1 : 0;
             if (low_checks == 0) last_verified_t = r.t;
         }
         csv << explained << "\n";
-        if ((r.lost || low_checks >= 2) && starter && o.relocalize)
+        if ((r.lost || low_checks >= 2) && starter && relocalize)
         {
             // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry does not fit the
             // map where the tracker believes it is): find a new start by global localization in the next frames,
