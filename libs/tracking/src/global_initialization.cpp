@@ -51,20 +51,31 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
     return r;
 }
 
+Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, double t_a,
+                                     const Eigen::Isometry3d& T_world_cam_b, double t_b,
+                                     const std::vector<estimation::ImuMeasurement>& samples,
+                                     const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
+                                     double* rotation_disagreement_deg)
+{
+    estimation::ImuPreintegration imu(noise, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    imu.integrateInterval(samples, t_a, t_b);
+    const Eigen::Isometry3d T_a = T_world_cam_a * T_body_cam.inverse(), T_b = T_world_cam_b * T_body_cam.inverse();
+    const double dt = imu.dt();
+    if (rotation_disagreement_deg)
+        *rotation_disagreement_deg =
+            Eigen::AngleAxisd((T_a.linear() * imu.deltaR()).transpose() * T_b.linear()).angle() * 180.0 / M_PI;
+    return (T_b.translation() - T_a.translation() - 0.5 * noise.gravity() * dt * dt - T_a.linear() * imu.deltaP()) / dt;
+}
+
 std::optional<Eigen::Vector3d> GlobalInitializer::velocity(const Eigen::Isometry3d& T_world_cam_b, double t_b,
                                                            std::string& why) const
 {
     std::vector<estimation::ImuMeasurement> samples;
     for (const auto& f : pending_)
         for (const auto& s : f.imu) samples.push_back({s.t, s.acc, s.gyro});
-    estimation::ImuPreintegration imu(imu_noise_, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
-    imu.integrateInterval(samples, anchor_->timestamp, t_b);
-    const Eigen::Isometry3d T_a = T_world_anchor_ * T_body_cam_.inverse(), T_b = T_world_cam_b * T_body_cam_.inverse();
-    const double dt = imu.dt();
-    const double disagreement_deg =
-        Eigen::AngleAxisd((T_a.linear() * imu.deltaR()).transpose() * T_b.linear()).angle() * 180.0 / M_PI;
-    const Eigen::Vector3d v = (T_b.translation() - T_a.translation() - 0.5 * imu_noise_.gravity() * dt * dt -
-                               T_a.linear() * imu.deltaP()) / dt;
+    double disagreement_deg = 0;
+    const Eigen::Vector3d v = velocityBetweenFixes(T_world_anchor_, anchor_->timestamp, T_world_cam_b, t_b, samples,
+                                                   T_body_cam_, imu_noise_, &disagreement_deg);
     std::ostringstream s;
     s.precision(3);
     if (disagreement_deg > options_.max_disagreement_deg)

@@ -59,6 +59,15 @@ struct InitAttempt
     std::string note;  ///< anchor / pair closed / why the pair failed
 };
 
+/** The velocity at a (map frame) that carries the IMU samples from fix a to fix b (zero biases), and the angle
+ *  [deg] between the fixes' relative rotation and the gyroscope's. Fixes are T_world_cam0; samples as
+ *  estimation::ImuPreintegration::integrateInterval takes them. */
+Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, double t_a,
+                                     const Eigen::Isometry3d& T_world_cam_b, double t_b,
+                                     const std::vector<estimation::ImuMeasurement>& samples,
+                                     const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
+                                     double* rotation_disagreement_deg = nullptr);
+
 class GlobalInitializer
 {
    public:
