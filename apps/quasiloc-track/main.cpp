@@ -34,6 +34,7 @@
 #include <sstream>
 
 #include "global_start.h"
+#include "run_log.h"
 #include <memory>
 #include "scene_export.h"
 
@@ -104,12 +105,6 @@ estimation::ImuNoise readImuNoise(const std::string& path)
     return n;
 }
 
-double percentile(std::vector<double> v, double p)
-{
-    if (v.empty()) return NAN;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(p / 100.0 * double(v.size())))];
-}
 
 const char* kUsage =
     "usage: quasiloc-track <config.ini> [--set Section.key=value]... [--print-timing]\n"
@@ -207,17 +202,9 @@ int run(const core::CommandLine& cmd)
     };
     core::require(nextFrame(f), o.input_rawlog, "no frame after the initial one");
 
-    core::Trajectory traj;
-    traj.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)";
-    traj.poses.push_back({f0.timestamp, core::fromIsometry(T_world_cam_start)});
-    core::Trajectory gt_traj;  // the ground truth at the tracked frames (for the .3Dscene)
-    if (f0.T_world_cam0) gt_traj.poses.push_back({f0.timestamp, *f0.T_world_cam0});
-    std::ostringstream csv;
-    csv << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
-           "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
-           "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio\n";
-    std::vector<double> err_m, ms;
-    int updates = 0, keyframes = 0, lost_frames = 0, relocalizations = 0;
+    app::RunLog log;
+    log.addStart(f0, T_world_cam_start);
+    int relocalizations = 0;
     // Time the track went unverified: from the last frame whose pose the stereo geometry confirmed (a check that
     // passed, or a relocalization's start) to a check that failed and led to a relocalization.
     double last_verified_t = f0.timestamp, longest_unverified_s = 0;
@@ -227,25 +214,17 @@ int run(const core::CommandLine& cmd)
     do
     {
         const tracking::FrameReport r = tracker.track(f);
-        traj.poses.push_back({r.t, core::fromIsometry(r.T_world_cam0)});
-        double e_m = NAN, e_deg = NAN;
-        if (f.T_world_cam0)
+        double explained = NAN;
+        if (starter && relocalize && (n + 1) % size_t(o.check_every) == 0)
         {
-            const Eigen::Isometry3d G = core::toIsometry(*f.T_world_cam0);
-            e_m = (r.T_world_cam0.translation() - G.translation()).norm();
-            e_deg = Eigen::AngleAxisd(r.T_world_cam0.linear().transpose() * G.linear()).angle() * 180 / M_PI;
-            err_m.push_back(e_m);
-            gt_traj.poses.push_back({r.t, *f.T_world_cam0});
+            explained = starter->explainedRatio(f, r.T_world_cam0);
+            low_checks = explained < o.lost_explained_ratio ? low_checks + 1 : 0;
+            if (low_checks == 0) last_verified_t = r.t;
         }
-        ms.push_back(r.ms_total);
-        updates += r.map_update, keyframes += r.keyframe, lost_frames += r.lost;
-        csv << std::setprecision(17) << r.t << std::setprecision(6) << "," << r.keyframe << "," << r.map_update << ","
-            << r.correction_m << "," << r.correction_deg << "," << r.edge_inlier_ratio << "," << r.edge_points << ","
-            << r.prior_sigma_m << "," << r.prior_sigma_deg << "," << r.lost << "," << r.landmarks << "," << e_m << ","
-            << e_deg << "," << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_visual << ","
-            << r.ms_window << "," << r.ms_total << "," << r.gyro_bias.x() << "," << r.gyro_bias.y() << ","
-            << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << "," << r.stereo_map_points << ",";
-        if (++n % 50 == 0) std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << e_m << " m" << std::endl;
+        log.addFrame(f, r, explained);
+        if (++n % 50 == 0)
+            std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << log.lastErrorM() << " m"
+                      << std::endl;
         if (o.kidnap_at_s >= 0 && !kidnapped && r.t >= f0.timestamp + o.kidnap_at_s)
         {
             kidnapped = true;
@@ -256,14 +235,6 @@ int run(const core::CommandLine& cmd)
                       << " m to the side, " << o.kidnap_deg << " deg turned" << std::endl;
             tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
         }
-        double explained = NAN;
-        if (starter && relocalize && n % size_t(o.check_every) == 0)
-        {
-            explained = starter->explainedRatio(f, r.T_world_cam0);
-            low_checks = explained < o.lost_explained_ratio ? low_checks + 1 : 0;
-            if (low_checks == 0) last_verified_t = r.t;
-        }
-        csv << explained << "\n";
         if ((r.lost || low_checks >= 2) && starter && relocalize)
         {
             // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry does not fit the
@@ -275,8 +246,7 @@ int run(const core::CommandLine& cmd)
             auto found = starter->find(nextFrame, "reloc " + std::to_string(relocalizations));
             if (!found) break;
             tracker.initializeFromGlobal(found->anchor.timestamp, found->T_world_cam0, found->v_world, &found->anchor, true);
-            traj.poses.push_back({found->anchor.timestamp, core::fromIsometry(found->T_world_cam0)});
-            if (found->anchor.T_world_cam0) gt_traj.poses.push_back({found->anchor.timestamp, *found->anchor.T_world_cam0});
+            log.addStart(found->anchor, found->T_world_cam0);
             for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it) queued.push_front(std::move(*it));
             longest_unverified_s = std::max(longest_unverified_s, found->anchor.timestamp - last_verified_t);
             std::cout << "relocalized: unverified from t " << last_verified_t << " to the new start at t "
@@ -286,9 +256,10 @@ int run(const core::CommandLine& cmd)
     } while ((o.max_frames <= 0 || int(n) < o.max_frames) && nextFrame(f));
 
     core::StagedOutputs out;
-    core::writeTum(out.addFile(o.output_dir + "/trajectory.tum"), traj);
-    if (o.write_scene) app::writeTrackingScene(out.addFile(o.output_dir + "/scene.3Dscene"), map, gt_traj, traj);
-    core::writeTextFileAtomically(out.addFile(o.output_dir + "/diagnostics.csv"), csv.str());
+    core::writeTum(out.addFile(o.output_dir + "/trajectory.tum"), log.estimate());
+    if (o.write_scene)
+        app::writeTrackingScene(out.addFile(o.output_dir + "/scene.3Dscene"), map, log.groundTruth(), log.estimate());
+    core::writeTextFileAtomically(out.addFile(o.output_dir + "/diagnostics.csv"), log.csv());
     if (starter) core::writeTextFileAtomically(out.addFile(o.output_dir + "/initialization.txt"), starter->record());
     auto sections = fo.sections();
     sections.insert(sections.end(), {{"Tracking", &o}, {"MapRefinement", &ro}, {"Estimator", &eo}, {"Reweighting", &rw},
@@ -297,19 +268,8 @@ int run(const core::CommandLine& cmd)
     core::writeEffectiveConfig(out.addFile(o.output_dir + "/quasiloc-track.ini"), sections,
                                "quasiloc-track effective configuration");
     out.commit();
-
-    double sq = 0;
-    for (double e : err_m) sq += e * e;
-    std::cout << std::fixed << std::setprecision(3) << "frames      " << n << " (keyframes " << keyframes
-              << ", map updates accepted " << updates << ", frames marked lost " << lost_frames << ", relocalizations "
-              << relocalizations << ", longest unverified stretch before a relocalization " << longest_unverified_s
-              << " s)\n"
-              << "ATE         RMSE " << 100 * std::sqrt(sq / double(std::max<size_t>(1, err_m.size()))) << " cm, median "
-              << 100 * percentile(err_m, 50) << " cm, max " << 100 * percentile(err_m, 100)
-              << " cm (map frame, no alignment, vs ground truth at " << err_m.size() << " frames)\n"
-              << "time/frame  median " << percentile(ms, 50) << " ms, p90 " << percentile(ms, 90) << " ms, max "
-              << percentile(ms, 100) << " ms\n"
-              << "outputs     " << o.output_dir << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini"
+    std::cout << log.summary(n, relocalizations, longest_unverified_s) << "outputs     " << o.output_dir
+              << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini" << (starter ? ",initialization.txt" : "")
               << (o.write_scene ? ",scene.3Dscene" : "") << "}" << std::endl;
     return 0;
 }
