@@ -11,6 +11,8 @@
 #include <quasiloc/sim/world_builder.h>
 #include <random>
 
+#include "test_room.h"
+
 using namespace quasiloc;
 
 namespace
@@ -36,13 +38,8 @@ const Fixture& fixture()
 {
     static const Fixture f = [] {
         Fixture f;
-        sim::WorldOptions wo;
-        wo.texture_size_px = 256;
-        f.world = sim::buildWorld(wo, kShared, 3, sim::loadRoomTrajectoryPositions(kShared, "v1"));
-        sim::LidarOptions lo;
-        lo.density_per_m2 = 6000;  // the main job's density
-        lo.cubemap_size_px = 512;
-        f.map = sim::sampleSurveyMap(f.world, lo, 5);
+        f.world = reloc::test::testRoom(kShared);
+        f.map = reloc::test::testRoomMap(f.world);
         const std::string calib = kShared + "/data/euroc/calib/";
         f.rig = core::StereoRig::fromEuroc(calib + "cam0_sensor.yaml", calib + "cam1_sensor.yaml");
         f.localizer = std::make_unique<reloc::GeometricLocalizer>(f.map, f.rig, testOptions());

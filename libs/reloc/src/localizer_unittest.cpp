@@ -17,6 +17,8 @@
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/world_builder.h>
 
+#include "test_room.h"
+
 using namespace quasiloc;
 
 namespace
@@ -50,13 +52,8 @@ const Fixture& fixture()
 {
     static const Fixture f = [] {
         Fixture f;
-        sim::WorldOptions wo;
-        wo.texture_size_px = 256;
-        const sim::World world = sim::buildWorld(wo, kShared, 3, sim::loadRoomTrajectoryPositions(kShared, "v1"));
-        sim::LidarOptions lo;
-        lo.density_per_m2 = 6000;  // the main job's density: sparser maps give quasi-images with more holes
-        lo.cubemap_size_px = 512;
-        f.map = sim::sampleSurveyMap(world, lo, 5);
+        const sim::World world = reloc::test::testRoom(kShared);
+        f.map = reloc::test::testRoomMap(world);
         const std::string calib = kShared + "/data/euroc/calib/";
         f.camera = core::StereoRig::fromEuroc(calib + "cam0_sensor.yaml", calib + "cam1_sensor.yaml").left;
         f.db = reloc::buildDatabase(f.map, f.camera, testConfig(), &f.stats);
