@@ -18,6 +18,7 @@
 #include <mrpt/config/CConfigFile.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -214,14 +215,16 @@ int run(const core::CommandLine& cmd)
     do
     {
         const tracking::FrameReport r = tracker.track(f);
-        double explained = NAN;
+        double explained = NAN, ms_check = 0;
         if (starter && relocalize && (n + 1) % size_t(o.check_every) == 0)
         {
+            const auto t_check = std::chrono::steady_clock::now();
             explained = starter->explainedRatio(f, r.T_world_cam0);
+            ms_check = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_check).count();
             low_checks = explained < o.lost_explained_ratio ? low_checks + 1 : 0;
             if (low_checks == 0) last_verified_t = r.t;
         }
-        log.addFrame(f, r, explained);
+        log.addFrame(f, r, explained, ms_check);
         if (++n % 50 == 0)
             std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << log.lastErrorM() << " m"
                       << std::endl;

@@ -17,8 +17,10 @@ class RunLog
 
     /** A start (the first, or a relocalization's): a pose without a tracked frame. */
     void addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0);
-    /** A tracked frame; explained_ratio: the geometry check's share (NaN when not checked). */
-    void addFrame(const dataset::StereoFrame& frame, const tracking::FrameReport& r, double explained_ratio);
+    /** A tracked frame; explained_ratio: the geometry check's share (NaN when not checked), ms_check its wall time
+     *  (counted in the frame's time). */
+    void addFrame(const dataset::StereoFrame& frame, const tracking::FrameReport& r, double explained_ratio,
+                  double ms_check);
 
     const core::Trajectory& estimate() const { return traj_; }
     const core::Trajectory& groundTruth() const { return gt_traj_; }  ///< at the logged frames that have it
