@@ -54,9 +54,11 @@ struct TrackRunOptions : public tracking::TrackerOptions
      *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
     double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
     /** Loss detection by geometry (relocalize = true): every check_every frames, the share of the frame's stereo
-     *  points the map explains at the tracked pose; below lost_explained_ratio twice in a row, the track is lost. */
+     *  points the map explains at the tracked pose; below lost_explained_ratio twice in a row, the track is lost.
+     *  Measured on the simulated sequences (half-resolution stereo): 0.80-0.90 at the true pose (the first 6 s of
+     *  all six), 0.54-0.64 one metre and 10 deg away. */
     int check_every = 10;
-    double lost_explained_ratio = 0.5;
+    double lost_explained_ratio = 0.7;
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
     {
         TrackerOptions::loadFromConfigFile(c, s);

@@ -64,6 +64,7 @@ void GeometricLocalizationOptions::loadFromConfigFile(const mrpt::config::CConfi
     stereo.voxel_m = core::readIniDouble(c, s, "query_voxel_m", stereo.voxel_m);
     stereo.max_points = core::readIniInt(c, s, "max_points", stereo.max_points);
     stereo.disparity_sigma_px = core::readIniDouble(c, s, "disparity_sigma_px", stereo.disparity_sigma_px);
+    stereo.downscale = core::readIniInt(c, s, "stereo_downscale", stereo.downscale);
     grid_spacing_m = core::readIniDouble(c, s, "grid_spacing_m", grid_spacing_m);
     heights_m = core::readIniVector(c, s, "heights_m", heights_m);
     clearance_m = core::readIniDouble(c, s, "clearance_m", clearance_m);
@@ -93,6 +94,7 @@ void GeometricLocalizationOptions::saveToConfigFile(mrpt::config::CConfigFileBas
     c.write(s, "query_voxel_m", stereo.voxel_m, 30, 40, "one stereo point per voxel");
     c.write(s, "max_points", stereo.max_points, 30, 40, "query points at most");
     c.write(s, "disparity_sigma_px", stereo.disparity_sigma_px, 30, 40, "disparity noise (depth-dependent weights)");
+    c.write(s, "stereo_downscale", stereo.downscale, 30, 40, "1: full resolution, 2: half (4x faster SGBM)");
     c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "candidate position grid");
     c.write(s, "heights_m", core::iniVectorText(heights_m), 30, 40, "candidate heights above the floor");
     c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a candidate position");

@@ -1,5 +1,6 @@
 // StereoCloud: dense stereo points of one frame (stereo_cloud.h).
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/ini_read.h>
 #include <quasiloc/reloc/stereo_cloud.h>
@@ -19,6 +20,9 @@ void StereoCloudOptions::check(const std::string& input, const std::string& sect
     core::require(voxel_m >= 0, key("query_voxel_m"), "must be >= 0");
     core::require(max_points >= 10, key("max_points"), "must be >= 10");
     core::require(disparity_sigma_px >= 0, key("disparity_sigma_px"), "must be >= 0");
+    core::require(downscale == 1 || downscale == 2, key("stereo_downscale"), "must be 1 or 2");
+    core::require(num_disparities % (16 * downscale) == 0, key("num_disparities"),
+                  "must be a multiple of 16 x stereo_downscale");
 }
 
 StereoCloud::StereoCloud(const core::StereoRig& rig, const StereoCloudOptions& options)
@@ -40,10 +44,16 @@ std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const
     }
     cv::Mat left, right, disparity;
     rect_.rectify(left_raw, right_raw, left, right);
+    const int s = options_.downscale;
+    if (s > 1)
+    {
+        cv::resize(left, left, cv::Size(), 1.0 / s, 1.0 / s, cv::INTER_AREA);
+        cv::resize(right, right, cv::Size(), 1.0 / s, 1.0 / s, cv::INTER_AREA);
+    }
     const int b = options_.block_size;
-    auto sgbm = cv::StereoSGBM::create(0, options_.num_disparities, b, 8 * b * b, 32 * b * b, 1, 63,
-                                       options_.uniqueness_ratio, 100, 2, cv::StereoSGBM::MODE_SGBM_3WAY);
-    sgbm->compute(left, right, disparity);  // CV_16S, disparity x 16
+    auto sgbm = cv::StereoSGBM::create(0, options_.num_disparities / s, b, 8 * b * b, 32 * b * b, 1, 63,
+                                       options_.uniqueness_ratio, 100 / (s * s), 2, cv::StereoSGBM::MODE_SGBM_3WAY);
+    sgbm->compute(left, right, disparity);  // CV_16S, disparity x 16, in pixels of the (scaled) pair
 
     const double f = rect_.P_left(0, 0), cx = rect_.P_left(0, 2), cy = rect_.P_left(1, 2);
     const double fb = f * rect_.baseline_m;
@@ -60,9 +70,11 @@ std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const
         for (int x = 0; x < disparity.cols; ++x)
         {
             if (row[x] <= 0) continue;
-            const double z = fb / (row[x] / 16.0);
+            const double z = fb / (s * row[x] / 16.0);
             if (z < options_.min_depth_m || z > options_.max_depth_m) continue;
-            const Eigen::Vector3f p_rect(float((x - cx) * z / f), float((y - cy) * z / f), float(z));
+            // Centre of the scaled pixel in full-resolution coordinates.
+            const double px_u = s * (x + 0.5) - 0.5, px_v = s * (y + 0.5) - 0.5;
+            const Eigen::Vector3f p_rect(float((px_u - cx) * z / f), float((px_v - cy) * z / f), float(z));
             if (v > 0)
             {
                 const int64_t ix = int64_t(std::floor(p_rect.x() / v)) & 0x1fffff,

@@ -29,6 +29,8 @@
 //                               ;   localized 1.4 cm / 0.75 deg off with 5 m, 1.0 cm / 0.2 deg with 3.5 m
 //   query_voxel_m = 0.08
 //   max_points = 2000
+//   stereo_downscale = 2        ; SGBM on the rectified pair halved: 4x faster, and on the simulated room's test
+//                               ;   frame more exact (0.7 cm / 0.15 deg against 1.0 cm / 0.2 deg at full size)
 //   disparity_sigma_px = 0.25   ; depth noise z^2 / (f b) x this: each point's weight in the refinement, and
 //                               ;   an inlier may lie inlier_m + 2 depth sigmas from the map
 //   grid_spacing_m = 0.25       ; candidate positions (view_sampling.h keys)
