@@ -22,7 +22,7 @@ echo "== rawlog-edit --info (MRPT reads what we wrote)"
 echo "== rawlog-quasi: quasi-images with provenance at every ground-truth pose"
 "$BIN/rawlog-quasi" "$CONFIG"
 
-echo "== quasiloc-track: stereo-inertial tracking against the LiDAR map (IMU + direct map alignment)"
+echo "== quasiloc-track: global localization by geometry (no initial guess), then stereo-inertial tracking against the LiDAR map"
 "$BIN/quasiloc-track" "$CONFIG"
 TRACK_DIR="$(sed -n '/^\[Tracking\]/,/^\[/s/^output_dir *= *//p' "$CONFIG" | head -1)"
 echo "== plots: top view against the ground truth, error and time per stage over time"
