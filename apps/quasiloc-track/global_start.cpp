@@ -70,8 +70,8 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
             if (auto it = truth.find(a.t); it != truth.end())
             {
                 const Eigen::Isometry3d G = core::toIsometry(it->second);
-                e_m = (a.result.T_world_cam.translation() - G.translation()).norm();
-                e_deg = Eigen::AngleAxisd(a.result.T_world_cam.linear().transpose() * G.linear()).angle() * 180 / M_PI;
+                e_m = core::translationDistance(a.result.T_world_cam, G);
+                e_deg = core::rotationDistanceRad(a.result.T_world_cam, G) * 180 / M_PI;
             }
             const auto& g = a.result;
             r << label << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", "
@@ -95,8 +95,8 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
             const double dt = n.timestamp - start->anchor.timestamp;
             std::ostringstream s;
             s << std::fixed << std::setprecision(3) << label << " start error "
-              << 100 * (start->T_world_cam0.translation() - G.translation()).norm() << " cm, "
-              << Eigen::AngleAxisd(start->T_world_cam0.linear().transpose() * G.linear()).angle() * 180 / M_PI
+              << 100 * core::translationDistance(start->T_world_cam0, G) << " cm, "
+              << core::rotationDistanceRad(start->T_world_cam0, G) * 180 / M_PI
               << " deg; velocity " << start->v_world.norm() << " m/s, error " << (start->v_world - dp_gt / dt).norm()
               << " m/s (ground truth by differences over " << dt << " s)";
             r << "# " << s.str() << "\n";

@@ -40,8 +40,8 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport
     if (f.T_world_cam0)
     {
         const Eigen::Isometry3d G = core::toIsometry(*f.T_world_cam0);
-        e_m = (r.T_world_cam0.translation() - G.translation()).norm();
-        e_deg = Eigen::AngleAxisd(r.T_world_cam0.linear().transpose() * G.linear()).angle() * 180 / M_PI;
+        e_m = core::translationDistance(r.T_world_cam0, G);
+        e_deg = core::rotationDistanceRad(r.T_world_cam0, G) * 180 / M_PI;
         err_m_.push_back(e_m);
         gt_traj_.poses.push_back({r.t, *f.T_world_cam0});
     }

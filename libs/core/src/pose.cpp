@@ -67,6 +67,16 @@ double translationDistance(const mrpt::poses::CPose3D& a, const mrpt::poses::CPo
     return (a.translation() - b.translation()).norm();
 }
 
+double rotationDistanceRad(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
+{
+    return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
+
+double translationDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
+{
+    return (a.translation() - b.translation()).norm();
+}
+
 void checkFinite(const mrpt::poses::CPose3D& T, const std::string& input)
 {
     const auto M = T.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();

@@ -2,6 +2,8 @@
 #include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/ini_read.h>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/estimation/pose_parametrization.h>
 #include <quasiloc/reloc/geometric_localizer.h>
 
 #include <algorithm>
@@ -18,13 +20,6 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v)
-{
-    Eigen::Matrix3d S;
-    S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-    return S;
-}
-
 struct Candidate
 {
     Eigen::Isometry3d T_world_cam;
@@ -36,19 +31,15 @@ struct Candidate
 bool gaussNewtonStep(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double, 6, 1>& g, Eigen::Isometry3d& T)
 {
     H.diagonal().array() += 1e-6 * (1.0 + H.diagonal().array());
-    const Eigen::Matrix<double, 6, 1> step = -H.ldlt().solve(g);
+    const estimation::Vector6d step = -H.ldlt().solve(g);
     if (!step.allFinite()) return false;
-    Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
-    const double angle = step.head<3>().norm();
-    if (angle > 1e-12) delta.linear() = Eigen::AngleAxisd(angle, step.head<3>() / angle).toRotationMatrix();
-    delta.translation() = step.tail<3>();
-    T = T * delta;
-    return step.tail<3>().norm() >= 1e-4 || angle >= 1e-5;
+    T = estimation::boxPlus(T, step);
+    return step.tail<3>().norm() >= 1e-4 || step.head<3>().norm() >= 1e-5;
 }
 
-double rotationDeg(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b)
+double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
 {
-    return Eigen::AngleAxisd(a.transpose() * b).angle() * 180.0 / M_PI;
+    return core::rotationDistanceRad(a, b) * 180.0 / M_PI;
 }
 }  // namespace
 
@@ -226,7 +217,7 @@ double GeometricLocalizer::refine(const std::vector<Eigen::Vector3f>& points_cam
                 if (d >= truncation) continue;  // truncated least squares: unexplained points do not pull
                 const Eigen::Vector3d gw = grad.cast<double>();
                 Vector6d J;
-                J.head<3>() = -(gw.transpose() * R * skew(p.cast<double>())).transpose();
+                J.head<3>() = -(gw.transpose() * R * estimation::hat(p.cast<double>())).transpose();
                 J.tail<3>() = R.transpose() * gw;
                 H += weight[i] * J * J.transpose();
                 g += weight[i] * J * double(d);
@@ -271,7 +262,7 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
                 if (double(d2) >= truncation * truncation) continue;
                 const Eigen::Vector3d e = q - Eigen::Vector3d(mx, my, mz);
                 Eigen::Matrix<double, 3, 6> J;
-                J.leftCols<3>() = -R * skew(p);
+                J.leftCols<3>() = -R * estimation::hat(p);
                 J.rightCols<3>() = R;
                 H += weight[i] * J.transpose() * J;
                 g += weight[i] * J.transpose() * e;
@@ -341,8 +332,8 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         c.T_world_cam.linear() = rotations[idx % size_t(yaws)].cast<double>();
         c.T_world_cam.translation() = positions_[idx / size_t(yaws)];
         const bool near_taken = std::any_of(starts.begin(), starts.end(), [&](const Candidate& s) {
-            return (s.T_world_cam.translation() - c.T_world_cam.translation()).norm() < 0.5 &&
-                   rotationDeg(s.T_world_cam.linear(), c.T_world_cam.linear()) < 20;
+            return core::translationDistance(s.T_world_cam, c.T_world_cam) < 0.5 &&
+                   rotationDeg(s.T_world_cam, c.T_world_cam) < 20;
         });
         if (!near_taken) starts.push_back(c);
     }
@@ -368,20 +359,20 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         r.ms_refine += msSince(t1);
     }
     r.inlier_ratio = inlierRatio(points_cam, r.T_world_cam);
+    // Other places: refined poses farther than 0.3 m or 5 deg from the best (the first is the runner-up).
     for (const Candidate& c : refined)
-        if ((c.T_world_cam.translation() - best.T_world_cam.translation()).norm() > 0.3 ||
-            rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear()) > 5)
+    {
+        const double offset_m = core::translationDistance(c.T_world_cam, best.T_world_cam);
+        const double offset_deg = rotationDeg(c.T_world_cam, best.T_world_cam);
+        if (offset_m <= 0.3 && offset_deg <= 5) continue;
+        if (r.runner_up_inlier_ratio == 0)
         {
             r.runner_up_inlier_ratio = c.score;
-            r.runner_up_offset_m = (c.T_world_cam.translation() - best.T_world_cam.translation()).norm();
-            r.runner_up_offset_deg = rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear());
-            break;
+            r.runner_up_offset_m = offset_m;
+            r.runner_up_offset_deg = offset_deg;
         }
-    for (const Candidate& c : refined)
-        if (c.score >= options_.ambiguity_ratio * r.inlier_ratio &&
-            ((c.T_world_cam.translation() - best.T_world_cam.translation()).norm() > 0.3 ||
-             rotationDeg(c.T_world_cam.linear(), best.T_world_cam.linear()) > 5))
-            r.alternatives.push_back(c.T_world_cam);
+        if (c.score >= options_.ambiguity_ratio * r.inlier_ratio) r.alternatives.push_back(c.T_world_cam);
+    }
     std::ostringstream why;
     why.precision(3);
     if (r.inlier_ratio < options_.min_inlier_ratio)

@@ -18,11 +18,6 @@ namespace
 {
 constexpr double kDeg = M_PI / 180.0;
 
-double rotationAngle(const Eigen::Isometry3d& A, const Eigen::Isometry3d& B)
-{
-    return Eigen::AngleAxisd(A.linear().transpose() * B.linear()).angle();
-}
-
 /** RMS per-axis standard deviations (rotation [rad], translation [m]) of the predicted pose: the previous
  *  state's marginal covariance plus the IMU preintegration's, to first order. */
 void predictedSigmas(const estimation::StatePrior& prior, const estimation::ImuPreintegration& imu, double& sigma_rad,
@@ -228,8 +223,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         const auto r = refiner_.refine(estimation::RefinementMethod::Direct, T_world_cam_pred, rep.prior_sigma_m,
                                        rep.prior_sigma_deg * kDeg);
         rep.ms_align = tic.Tac() * 1e3;
-        rep.correction_m = (r.T_world_cam.translation() - T_world_cam_pred.translation()).norm();
-        rep.correction_deg = rotationAngle(r.T_world_cam, T_world_cam_pred) / kDeg;
+        rep.correction_m = core::translationDistance(r.T_world_cam, T_world_cam_pred);
+        rep.correction_deg = core::rotationDistanceRad(r.T_world_cam, T_world_cam_pred) / kDeg;
         rep.edge_inlier_ratio = r.direct.final_inlier_ratio;
         rep.edge_points = r.direct.edge_points;
         // The gate: max_correction_*, or three predicted sigmas when the prediction is less certain than that

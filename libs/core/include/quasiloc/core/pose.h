@@ -23,6 +23,8 @@ mrpt::poses::CPose3D fromMatrixRowMajor(const std::vector<double>& values, const
 /** Angle of the rotation between two poses, in radians, and translation distance in metres. */
 double rotationDistanceRad(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b);
 double translationDistance(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b);
+double rotationDistanceRad(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
+double translationDistance(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
 
 /** Throws InputError when any element of the pose is not finite. */
 void checkFinite(const mrpt::poses::CPose3D& T, const std::string& input);
