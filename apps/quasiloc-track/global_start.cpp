@@ -108,4 +108,21 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
     record_ += r.str();
     return start;
 }
+
+GlobalStarter::TrackCheck GlobalStarter::checkTrack(const dataset::StereoFrame& frame,
+                                                    const Eigen::Isometry3d& T_world_cam0, double refine_below) const
+{
+    TrackCheck c;
+    const std::vector<Eigen::Vector3f> points = localizer_->stereoPoints(frame.left, frame.right);
+    c.explained = localizer_->inlierRatio(points, T_world_cam0);
+    if (c.explained >= refine_below) return c;
+    Eigen::Isometry3d T = T_world_cam0;
+    localizer_->refine(points, T);
+    localizer_->polish(points, T);
+    c.refined = true;
+    c.refined_explained = localizer_->inlierRatio(points, T);
+    c.moved_m = core::translationDistance(T, T_world_cam0);
+    c.moved_deg = core::rotationDistanceRad(T, T_world_cam0) * 180 / M_PI;
+    return c;
+}
 }  // namespace quasiloc::app

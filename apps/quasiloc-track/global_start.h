@@ -33,11 +33,19 @@ class GlobalStarter
 
     const map::DistanceField& field() const { return localizer_->field(); }
 
-    /** Share of the frame's stereo points that the map explains at T_world_cam0 (GeometricLocalizer::inlierRatio). */
-    double explainedRatio(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0) const
+    /** What the frame's stereo geometry says of a tracked pose. */
+    struct TrackCheck
     {
-        return localizer_->inlierRatio(localizer_->stereoPoints(frame.left, frame.right), T_world_cam0);
-    }
+        double explained = 0;          ///< share of the stereo points the map explains at the tracked pose
+        bool refined = false;          ///< the points were aligned to the map from the tracked pose (below)
+        double refined_explained = 0;  ///< that share at the aligned pose
+        double moved_m = 0, moved_deg = 0;  ///< from the tracked pose to the aligned one
+    };
+    /** explained = GeometricLocalizer::inlierRatio at T_world_cam0; when it is below `refine_below`, the points are
+     *  also aligned to the map from T_world_cam0 (Gauss-Newton on the distance field, then ICP), which tells a
+     *  view the map merely explains poorly (the alignment stays) from a wrong pose (it moves away). */
+    TrackCheck checkTrack(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0,
+                          double refine_below) const;
 
     /** One line per attempt (t, result, error against ground truth when the frames have it), and every start. */
     const std::string& record() const { return record_; }

@@ -32,6 +32,8 @@
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/tracking/tracker.h>
 #include <deque>
+#include <fstream>
+#include <cstdlib>
 #include <sstream>
 
 #include "global_start.h"
@@ -54,11 +56,19 @@ struct TrackRunOptions : public tracking::TrackerOptions
      *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
     double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
     /** Loss detection by geometry (relocalize = true): every check_every frames, the share of the frame's stereo
-     *  points the map explains at the tracked pose; below lost_explained_ratio twice in a row, the track is lost.
-     *  Measured on the simulated sequences (half-resolution stereo): 0.80-0.90 at the true pose (the first 6 s of
-     *  all six), 0.54-0.64 one metre and 10 deg away. */
+     *  points the map explains at the tracked pose. At or above lost_explained_ratio the pose is confirmed. Below
+     *  it the points are aligned to the map from the tracked pose (GlobalStarter::checkTrack): the check fails
+     *  when that alignment explains lost_min_gain more of them (the geometry fits better elsewhere) or when the
+     *  share is below lost_explained_floor; a view the map merely explains poorly, at the right pose, gains
+     *  nothing from the alignment. A failed check is repeated on the next frame; two in a row: lost.
+     *  Measured on two whole simulated flights (V1_02, V2_01; 381 checks, half-resolution stereo): at the tracked
+     *  pose (error <= 2 cm) the share is 0.55-0.99 and the alignment gains at most 0.025 (no check fails); at
+     *  poses put 1 m / 10 deg off it is 0.02-0.67 and 377 of 381 checks fail (0.3 m / 3 deg off: 368 of 381).
+     *  A share below 0.7 alone made false losses on all six whole flights. */
     int check_every = 10;
     double lost_explained_ratio = 0.7;
+    double lost_min_gain = 0.05;
+    double lost_explained_floor = 0.45;
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
     {
         TrackerOptions::loadFromConfigFile(c, s);
@@ -75,6 +85,8 @@ struct TrackRunOptions : public tracking::TrackerOptions
         kidnap_deg = core::readIniDouble(c, s, "kidnap_deg", kidnap_deg);
         check_every = core::readIniInt(c, s, "check_every", check_every);
         lost_explained_ratio = core::readIniDouble(c, s, "lost_explained_ratio", lost_explained_ratio);
+        lost_min_gain = core::readIniDouble(c, s, "lost_min_gain", lost_min_gain);
+        lost_explained_floor = core::readIniDouble(c, s, "lost_explained_floor", lost_explained_floor);
     }
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
     {
@@ -92,6 +104,8 @@ struct TrackRunOptions : public tracking::TrackerOptions
         c.write(s, "kidnap_deg", kidnap_deg);
         c.write(s, "check_every", check_every);
         c.write(s, "lost_explained_ratio", lost_explained_ratio);
+        c.write(s, "lost_min_gain", lost_min_gain);
+        c.write(s, "lost_explained_floor", lost_explained_floor);
     }
 };
 
@@ -124,6 +138,9 @@ int run(const core::CommandLine& cmd)
     core::require(o.check_every >= 1, name + ": [Tracking] check_every", "must be >= 1");
     core::require(o.lost_explained_ratio >= 0 && o.lost_explained_ratio < 1, name + ": [Tracking] lost_explained_ratio",
                   "must be in [0, 1)");
+    core::require(o.lost_min_gain > 0, name + ": [Tracking] lost_min_gain", "must be > 0");
+    core::require(o.lost_explained_floor >= 0 && o.lost_explained_floor <= o.lost_explained_ratio,
+                  name + ": [Tracking] lost_explained_floor", "must be in [0, lost_explained_ratio]");
     core::requireInputFiles(name, "Tracking",
                             {{"input_rawlog", o.input_rawlog}, {"calibration_ini", o.calibration_ini},
                              {"map_file", o.map_file}, {"groundtruth", o.groundtruth}});
@@ -212,19 +229,27 @@ int run(const core::CommandLine& cmd)
     // passed, or a relocalization's start) to a check that failed and led to a relocalization.
     double last_verified_t = f0.timestamp, longest_unverified_s = 0;
     bool kidnapped = false;
-    int low_checks = 0;  // consecutive geometry checks below lost_explained_ratio
+    int failed_checks = 0;  // consecutive failed geometry checks (TrackRunOptions::check_every)
     size_t n = 1;
     do
     {
         const tracking::FrameReport r = tracker.track(f);
         double explained = NAN, ms_check = 0;
-        if (starter && relocalize && (n + 1) % size_t(o.check_every) == 0)
+        const bool check_due = (n + 1) % size_t(o.check_every) == 0 || failed_checks > 0;
+        if (starter && relocalize && check_due)
         {
             const auto t_check = std::chrono::steady_clock::now();
-            explained = starter->explainedRatio(f, r.T_world_cam0);
+            const auto c = starter->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio);
+            explained = c.explained;
             ms_check = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_check).count();
-            low_checks = explained < o.lost_explained_ratio ? low_checks + 1 : 0;
-            if (low_checks == 0) last_verified_t = r.t;
+            const bool failed = c.refined && (c.refined_explained - c.explained >= o.lost_min_gain ||
+                                              c.explained < o.lost_explained_floor);
+            failed_checks = failed ? failed_checks + 1 : 0;
+            if (!failed) last_verified_t = r.t;
+            if (c.refined)
+                std::cout << "check at t " << std::fixed << std::setprecision(3) << r.t << ": explained "
+                          << c.explained << ", " << c.refined_explained << " after aligning (moved " << c.moved_m
+                          << " m, " << c.moved_deg << " deg): " << (failed ? "failed" : "passed") << std::endl;
         }
         log.addFrame(f, r, explained, ms_check);
         if (++n % 50 == 0)
@@ -240,12 +265,12 @@ int run(const core::CommandLine& cmd)
                       << " m to the side, " << o.kidnap_deg << " deg turned" << std::endl;
             tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
         }
-        if ((r.lost || low_checks >= 2) && starter && relocalize)
+        if ((r.lost || failed_checks >= 2) && starter && relocalize)
         {
             // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry does not fit the
             // map where the tracker believes it is): find a new start by global localization in the next frames,
             // keep the biases, and go on from there.
-            low_checks = 0;
+            failed_checks = 0;
             ++relocalizations;
             std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
             auto found = starter->find(nextFrame, "reloc " + std::to_string(relocalizations));
