@@ -23,7 +23,8 @@ RunLog::RunLog()
     traj_.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)";
     csv_ << "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
             "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
-            "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio,ms_check\n";
+            "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio,ms_check,camera_lines,map_lines,line_factors,"
+            "line_candidates,line_window_px,ms_lines\n";
 }
 
 void RunLog::addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0)
@@ -54,7 +55,9 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport
          << e_deg << "," << r.ms_predict << "," << r.ms_image << "," << r.ms_align << "," << r.ms_visual << ","
          << r.ms_window << "," << r.ms_total << "," << r.gyro_bias.x() << "," << r.gyro_bias.y() << ","
          << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << ","
-         << r.stereo_map_points << "," << explained_ratio << "," << ms_check << "\n";
+         << r.stereo_map_points << "," << explained_ratio << "," << ms_check << "," << r.camera_lines << ","
+         << r.map_lines << "," << r.line_factors << "," << r.line_candidates << "," << r.line_window_px << ","
+         << r.ms_lines << "\n";
 }
 
 std::string RunLog::summary(size_t frames, int relocalizations, double longest_unverified_s) const

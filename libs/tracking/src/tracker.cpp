@@ -5,6 +5,8 @@
 #include <memory>
 #include <optional>
 #include <opencv2/core/utility.hpp>
+#include <opencv2/imgproc.hpp>
+#include <algorithm>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
@@ -103,6 +105,54 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
         temporalLandmarks(extractStereo(*frame), none);
     }
     initialized_ = true;
+}
+
+void Tracker::addMapLines(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam, double sigma_m,
+                          double sigma_rad, estimation::WindowInput& in, FrameReport& rep)
+{
+    mrpt::system::CTicTac tic;
+    const core::CameraModel& camera = stereo_.left.model;
+    MapLineOptions lo;
+    lo.max_angle_deg = options_.line_max_angle_deg;
+    lo.max_candidates = options_.line_max_candidates;
+    if (!line_extractor_)
+    {
+        line_extractor_ = std::make_unique<MapLineExtractor>(camera, lo);
+        line_detector_ = std::make_unique<frontend::LineDetector>(frontend_.options().lines);
+        frontend::LineOptions shading_lines = frontend_.options().lines;  // the same lengths in image pixels
+        shading_lines.min_length_px /= lo.shading_step;
+        shading_line_detector_ = std::make_unique<frontend::LineDetector>(shading_lines);
+    }
+    // Map side: lines of the quasi-image the alignment rendered at the prediction, lifted at its pose.
+    const quasi::QuasiImage& q = refiner_.quasiImage();
+    const Eigen::Isometry3d T_world_q = core::toIsometry(q.T_world_cam);
+    const cv::Mat shading = line_extractor_->normalShading(q.depth);
+    std::vector<MapLine> map_lines;
+    for (frontend::LineSegment s : shading_line_detector_->detect(shading))
+    {
+        if (!line_extractor_->isEdge(shading, s)) continue;
+        s.p0 *= float(lo.shading_step), s.p1 *= float(lo.shading_step);  // shading pixels -> image pixels
+        if (auto m = line_extractor_->lift(s, q.depth, T_world_q)) map_lines.push_back(std::move(*m));
+    }
+    cv::Mat gray = frame.left;
+    if (gray.channels() == 3) cv::cvtColor(frame.left, gray, cv::COLOR_BGR2GRAY);
+    const std::vector<frontend::LineSegment> camera_lines = line_detector_->detect(gray);
+    // The association window from the pose covariance: the predicted pixel sigma at the map lines' median depth.
+    std::vector<double> depths;
+    const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
+    for (const MapLine& m : map_lines) depths.push_back((T_cam_world * m.point).z());
+    const double depth = std::max(0.3, estimation::medianDepth(depths, 2.0));
+    rep.line_window_px = std::clamp(options_.line_window_sigmas * camera.fx * (sigma_rad + sigma_m / depth),
+                                    options_.line_window_min_px, options_.line_window_max_px);
+    in.lines = associateMapLines(camera_lines, map_lines, camera, T_world_cam, rep.line_window_px,
+                                 options_.line_sigma_px, lo);
+    rep.camera_lines = int(camera_lines.size());
+    rep.map_lines = int(map_lines.size());
+    rep.line_factors = int(in.lines.size());
+    size_t candidates = 0;
+    for (const auto& l : in.lines) candidates += l.candidates.size();
+    rep.line_candidates = in.lines.empty() ? 0 : double(candidates) / double(in.lines.size());
+    rep.ms_lines = tic.Tac() * 1e3;
 }
 
 void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
@@ -231,6 +281,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
         rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
                          rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
+        if (rep.map_update && options_.map_lines)
+            addMapLines(frame, r.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
         if (rep.map_update && options_.map_term == "factor")
         {
             // The edge residuals themselves in the window, linearised from the alignment's pose.

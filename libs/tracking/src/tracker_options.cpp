@@ -42,6 +42,13 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     stereo_map_effective_points = readIniDouble(c, s, "stereo_map_effective_points", stereo_map_effective_points);
     stereo_map_truncation_m = readIniDouble(c, s, "stereo_map_truncation_m", stereo_map_truncation_m);
     stereo_map_max_depth_m = readIniDouble(c, s, "stereo_map_max_depth_m", stereo_map_max_depth_m);
+    map_lines = core::readIniBool(c, s, "map_lines", map_lines);
+    line_sigma_px = readIniDouble(c, s, "line_sigma_px", line_sigma_px);
+    line_window_sigmas = readIniDouble(c, s, "line_window_sigmas", line_window_sigmas);
+    line_window_min_px = readIniDouble(c, s, "line_window_min_px", line_window_min_px);
+    line_window_max_px = readIniDouble(c, s, "line_window_max_px", line_window_max_px);
+    line_max_angle_deg = readIniDouble(c, s, "line_max_angle_deg", line_max_angle_deg);
+    line_max_candidates = core::readIniInt(c, s, "line_max_candidates", line_max_candidates);
 }
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -81,12 +88,24 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "stereo_map_effective_points", stereo_map_effective_points, 24, 10);
     c.write(s, "stereo_map_truncation_m", stereo_map_truncation_m, 24, 10);
     c.write(s, "stereo_map_max_depth_m", stereo_map_max_depth_m, 24, 10);
+    c.write(s, "map_lines", map_lines ? "true" : "false", 24, 10, "point-to-line map factors (map_lines.h)");
+    c.write(s, "line_sigma_px", line_sigma_px, 24, 10);
+    c.write(s, "line_window_sigmas", line_window_sigmas, 24, 10, "association window from the pose covariance");
+    c.write(s, "line_window_min_px", line_window_min_px, 24, 10);
+    c.write(s, "line_window_max_px", line_window_max_px, 24, 10);
+    c.write(s, "line_max_angle_deg", line_max_angle_deg, 24, 10);
+    c.write(s, "line_max_candidates", line_max_candidates, 24, 10);
 }
 
 void TrackerOptions::check(const std::string& input) const
 {
     const std::string k = input + ": [Tracking] ";
     core::require(keyframe_every >= 1, k + "keyframe_every", "must be >= 1");
+    core::require(line_sigma_px > 0 && line_window_sigmas > 0, k + "line_sigma_px/line_window_sigmas", "must be > 0");
+    core::require(line_window_min_px > 0 && line_window_max_px >= line_window_min_px, k + "line_window_min/max_px",
+                  "need 0 < min <= max");
+    core::require(line_max_angle_deg > 0 && line_max_angle_deg < 90, k + "line_max_angle_deg", "must be in (0, 90)");
+    core::require(line_max_candidates >= 1, k + "line_max_candidates", "must be >= 1");
     core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
     core::require(map_information == "fixed" || map_information == "observability", k + "map_information",
                   "'" + map_information + "' is not fixed or observability");

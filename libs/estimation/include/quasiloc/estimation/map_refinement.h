@@ -111,6 +111,8 @@ class MapRefiner
     /** The camera side of the direct term for the current image (valid until the next setImage). */
     const CameraEdgeField& edgeField() const { return edge_field_; }
     const frontend::FrameFeatures& cameraFeatures() const { return camera_features_; }
+    /** The quasi-image the last refine() rendered (at its T_world_cam_pred). */
+    const quasi::QuasiImage& quasiImage() const { return q_; }
 
    private:
     /** Render at the prediction, extract on Q, match (guided: within the window of sigma_m / sigma_rad), lift,

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# The point-to-line map factor (tracking/map_lines.h) and its reweighting, on the simulated sequences that
+# scripts/track_sequences.sh left in <root>: quasiloc-track with config.ini from the ground-truth initial state,
+# one run per cell (deterministic):
+#   full            edges factor + stereo-to-surface factor (the default)
+#   +L full         plus map lines, reweighted by observability and association distribution ([Reweighting] full)
+#   +L uniform      plus map lines, every line factor with weight 1 ([Reweighting] mode = uniform)
+#   +L observ.      plus map lines, observability alone ([Reweighting] mode = observability)
+#   bash scripts/track_lines_ablation.sh [root=out/sequences] [out=out/lines_ablation] [sequences...]
+# Writes <out>/<seq>/<variant>/ and the table <out>.md (ATE RMSE / max in cm, map frame, no alignment).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
+SEQ_ROOT="${1:-out/sequences}"
+OUT="${2:-out/lines_ablation}"
+shift 2 || shift $#
+SEQS=("$@")
+[ ${#SEQS[@]} -gt 0 ] || SEQS=(V1_01_easy V1_02_medium V1_03_difficult V2_01_easy V2_02_medium V2_03_difficult)
+cd "$ROOT"
+mkdir -p "$OUT"
+run() {  # run <seq> <variant> [--set ...]: prints "RMSE max" in cm
+  local seq="$1" variant="$2"; shift 2
+  local sim="$SEQ_ROOT/$seq/sim"
+  "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
+    --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
+    --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$OUT/$seq/$variant" \
+    --set Tracking.init=groundtruth --set Tracking.write_scene=false "$@" > "$OUT/$seq/$variant.log" 2>&1
+  sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$OUT/$seq/$variant.log"
+}
+{
+  echo "| sequence | full (edges + surfaces) | + lines, full reweighting | + lines, uniform | + lines, observability |"
+  echo "|---|---|---|---|---|"
+} > "$OUT.md.tmp"
+for seq in "${SEQS[@]}"; do
+  mkdir -p "$OUT/$seq"
+  set -- $(run "$seq" full) \
+    $(run "$seq" lines_full --set Tracking.map_lines=true --set Reweighting.mode=full) \
+    $(run "$seq" lines_uniform --set Tracking.map_lines=true --set Reweighting.mode=uniform) \
+    $(run "$seq" lines_observability --set Tracking.map_lines=true --set Reweighting.mode=observability)
+  printf "| %s | %s / %s | %s / %s | %s / %s | %s / %s |\n" "$seq" "$1" "$2" "$3" "$4" "$5" "$6" "$7" "$8" \
+    | tee -a "$OUT.md.tmp"
+done
+mv "$OUT.md.tmp" "$OUT.md"
+echo "table written to $OUT.md"
