@@ -42,8 +42,19 @@ GlobalStarter::~GlobalStarter() = default;
 std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::function<bool(dataset::StereoFrame&)>& next,
                                                                 const std::string& label)
 {
-    tracking::GlobalInitializer init(*localizer_, T_body_cam_, imu_noise_, init_options_);
-    init.setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
+    begin(label);
+    dataset::StereoFrame f;
+    while (next(f))
+        if (auto start = feed(f)) return start;
+    record_ += "# " + label + ": the frames ended before a start was found\n";
+    init_.reset();
+    return std::nullopt;
+}
+
+void GlobalStarter::begin(const std::string& label)
+{
+    init_ = std::make_unique<tracking::GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, init_options_);
+    init_->setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
         refiner_->setImage(frame.left, camera_, false);
         std::vector<double> score;
         for (const Eigen::Isometry3d& T : poses)
@@ -53,39 +64,40 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
         }
         return score;
     });
+    label_ = label;
+    reported_ = 0;
+    truth_.clear();
+}
+
+std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f)
+{
+    core::require(bool(init_), "GlobalStarter", "feed() without begin()");
     std::ostringstream r;
     r << std::fixed << std::setprecision(3);
-    dataset::StereoFrame f;
-    std::optional<tracking::GlobalInitialState> start;
-    size_t reported = 0;
-    std::map<double, mrpt::poses::CPose3D> truth;  // ground truth of the frames fed, for the record
-    while (!start && next(f))
+    if (f.T_world_cam0) truth_[f.timestamp] = *f.T_world_cam0;
+    std::optional<tracking::GlobalInitialState> start = init_->feed(f);
+    for (; reported_ < init_->attempts().size(); ++reported_)
     {
-        if (f.T_world_cam0) truth[f.timestamp] = *f.T_world_cam0;
-        start = init.feed(f);
-        for (; reported < init.attempts().size(); ++reported)
+        const tracking::InitAttempt& a = init_->attempts()[reported_];
+        double e_m = NAN, e_deg = NAN;
+        if (auto it = truth_.find(a.t); it != truth_.end())
         {
-            const tracking::InitAttempt& a = init.attempts()[reported];
-            double e_m = NAN, e_deg = NAN;
-            if (auto it = truth.find(a.t); it != truth.end())
-            {
-                const Eigen::Isometry3d G = core::toIsometry(it->second);
-                e_m = core::translationDistance(a.result.T_world_cam, G);
-                e_deg = core::rotationDistanceRad(a.result.T_world_cam, G) * 180 / M_PI;
-            }
-            const auto& g = a.result;
-            r << label << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", "
-              << g.runner_up_inlier_ratio << ", " << g.runner_up_offset_m << ", " << g.runner_up_offset_deg << ", "
-              << g.query_points << ", " << g.candidates << ", " << g.ms_cloud << ", "
-              << g.ms_search << ", " << g.ms_refine << ", " << e_m << ", " << e_deg << ", " << a.note << "\n";
-            std::cout << label << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
-                      << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
-                      << g.ms_cloud + g.ms_search + g.ms_refine << " ms)" << std::endl;
+            const Eigen::Isometry3d G = core::toIsometry(it->second);
+            e_m = core::translationDistance(a.result.T_world_cam, G);
+            e_deg = core::rotationDistanceRad(a.result.T_world_cam, G) * 180 / M_PI;
         }
+        const auto& g = a.result;
+        r << label_ << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", " << g.runner_up_inlier_ratio
+          << ", " << g.runner_up_offset_m << ", " << g.runner_up_offset_deg << ", " << g.query_points << ", "
+          << g.candidates << ", " << g.ms_cloud << ", " << g.ms_search << ", " << g.ms_refine << ", " << e_m << ", "
+          << e_deg << ", " << a.note << "\n";
+        std::cout << label_ << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
+                  << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
+                  << g.ms_cloud + g.ms_search + g.ms_refine << " ms)" << std::endl;
     }
     if (start)
     {
-        r << "# " << label << ": start at t " << start->anchor.timestamp << "\n";
+        r << "# " << label_ << ": start at t " << start->anchor.timestamp << "\n";
         if (start->anchor.T_world_cam0 && !start->pending.empty() && start->pending.front().T_world_cam0)
         {
             const Eigen::Isometry3d G = core::toIsometry(*start->anchor.T_world_cam0);
@@ -94,17 +106,16 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
                                           (G * T_body_cam_.inverse()).translation();
             const double dt = n.timestamp - start->anchor.timestamp;
             std::ostringstream s;
-            s << std::fixed << std::setprecision(3) << label << " start error "
+            s << std::fixed << std::setprecision(3) << label_ << " start error "
               << 100 * core::translationDistance(start->T_world_cam0, G) << " cm, "
-              << core::rotationDistanceRad(start->T_world_cam0, G) * 180 / M_PI
-              << " deg; velocity " << start->v_world.norm() << " m/s, error " << (start->v_world - dp_gt / dt).norm()
+              << core::rotationDistanceRad(start->T_world_cam0, G) * 180 / M_PI << " deg; velocity "
+              << start->v_world.norm() << " m/s, error " << (start->v_world - dp_gt / dt).norm()
               << " m/s (ground truth by differences over " << dt << " s)";
             r << "# " << s.str() << "\n";
             std::cout << s.str() << std::endl;
         }
+        init_.reset();
     }
-    else
-        r << "# " << label << ": the frames ended before a start was found\n";
     record_ += r.str();
     return start;
 }

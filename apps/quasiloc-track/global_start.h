@@ -3,6 +3,7 @@
 // ([Tracking] relocalize = true). Reads frames until two of them localize by geometry and agree with the IMU
 // (tracking/global_initialization.h), and keeps a readable record of every attempt (initialization.txt).
 #include <functional>
+#include <map>
 #include <memory>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/map/lidar_map.h>
@@ -30,6 +31,11 @@ class GlobalStarter
      *  the frames end first. `label` names the occasion in the record ("initialisation", "relocalization 2"). */
     std::optional<tracking::GlobalInitialState> find(const std::function<bool(dataset::StereoFrame&)>& next,
                                                      const std::string& label);
+    /** The same one frame at a time, for a caller that goes on tracking meanwhile: begin() starts a search,
+     *  feed() returns the start once found (and ends the search). */
+    void begin(const std::string& label);
+    std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame);
+    bool searching() const { return bool(init_); }
 
     const map::DistanceField& field() const { return localizer_->field(); }
 
@@ -58,5 +64,10 @@ class GlobalStarter
     estimation::ImuNoise imu_noise_;
     tracking::GlobalInitOptions init_options_;
     std::string record_;
+    // The search under way (begin() .. a start).
+    std::unique_ptr<tracking::GlobalInitializer> init_;
+    std::string label_;
+    size_t reported_ = 0;
+    std::map<double, mrpt::poses::CPose3D> truth_;  // ground truth of the frames fed, for the record
 };
 }  // namespace quasiloc::app

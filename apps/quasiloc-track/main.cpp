@@ -226,9 +226,10 @@ int run(const core::CommandLine& cmd)
 
     app::RunLog log;
     log.addStart(f0, T_world_cam_start);
-    int relocalizations = 0;
+    int relocalizations = 0, losses = 0, withdrawn = 0;
     // Time the track went unverified: from the last frame whose pose the stereo geometry confirmed (a check that
-    // passed, or a relocalization's start) to a check that failed and led to a relocalization.
+    // passed, or a start) to the start of the relocalization that followed a loss (or the fixes that confirmed the
+    // track after all).
     double last_verified_t = f0.timestamp, longest_unverified_s = 0;
     bool kidnapped = false;
     int failed_checks = 0;  // consecutive failed geometry checks (TrackRunOptions::check_every)
@@ -238,7 +239,7 @@ int run(const core::CommandLine& cmd)
         const tracking::FrameReport r = tracker.track(f);
         double explained = NAN, ms_check = 0;
         const bool check_due = (n + 1) % size_t(o.check_every) == 0 || failed_checks > 0;
-        if (starter && relocalize && check_due)
+        if (starter && relocalize && check_due && !starter->searching())
         {
             const auto t_check = std::chrono::steady_clock::now();
             const auto c = starter->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio);
@@ -267,26 +268,50 @@ int run(const core::CommandLine& cmd)
                       << " m to the side, " << o.kidnap_deg << " deg turned" << std::endl;
             tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
         }
-        if ((r.lost || failed_checks >= 2) && starter && relocalize)
+        if (!starter || !relocalize) continue;
+        if ((r.lost || failed_checks >= 2) && !starter->searching())
         {
-            // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry does not fit the
-            // map where the tracker believes it is): find a new start by global localization in the next frames,
-            // keep the biases, and go on from there.
+            // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry fits the map
+            // better elsewhere): look for a start by global localization in the next frames while tracking on. A
+            // loss that was a false alarm (the view merely poorly explained) then costs nothing.
             failed_checks = 0;
-            ++relocalizations;
+            ++losses;
             std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
-            auto found = starter->find(nextFrame, "reloc " + std::to_string(relocalizations));
-            if (!found) break;
-            tracker.initializeFromGlobal(found->anchor.timestamp, found->T_world_cam0, found->v_world, &found->anchor, true);
-            log.addStart(found->anchor, found->T_world_cam0);
-            for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it) queued.push_front(std::move(*it));
-            longest_unverified_s = std::max(longest_unverified_s, found->anchor.timestamp - last_verified_t);
-            std::cout << "relocalized: unverified from t " << last_verified_t << " to the new start at t "
-                      << found->anchor.timestamp << std::endl;
-            last_verified_t = found->anchor.timestamp;
+            starter->begin("reloc " + std::to_string(losses));
         }
+        if (!starter->searching()) continue;
+        auto found = starter->feed(f);
+        if (!found) continue;
+        // Two fixes agreed with the IMU. If they agree with the track too, the loss is withdrawn; otherwise the
+        // tracker restarts at the first fix (biases kept) and the frames since are tracked again from there.
+        const double t_fix = found->anchor.timestamp;
+        longest_unverified_s = std::max(longest_unverified_s, t_fix - last_verified_t);
+        const auto tracked = log.poseAt(t_fix);
+        const bool agrees = tracked && core::translationDistance(*tracked, found->T_world_cam0) <= o.max_correction_m &&
+                            core::rotationDistanceRad(*tracked, found->T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
+        std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
+                  << last_verified_t << "; " << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted")
+                  << std::endl;
+        last_verified_t = t_fix;
+        if (agrees)
+        {
+            ++withdrawn;
+            continue;
+        }
+        ++relocalizations;
+        tracker.initializeFromGlobal(t_fix, found->T_world_cam0, found->v_world, &found->anchor, true);
+        log.rewindTo(t_fix);
+        log.addStart(found->anchor, found->T_world_cam0);
+        n -= found->pending.size();  // tracked again (the anchor is now a start, counted once as before)
+        for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it) queued.push_front(std::move(*it));
     } while ((o.max_frames <= 0 || int(n) < o.max_frames) && nextFrame(f));
 
+    if (starter && starter->searching())
+    {
+        longest_unverified_s = std::max(longest_unverified_s, f.timestamp - last_verified_t);
+        std::cout << "the frames ended during a relocalization search (unverified since t " << std::fixed
+                  << std::setprecision(3) << last_verified_t << ")" << std::endl;
+    }
     core::StagedOutputs out;
     core::writeTum(out.addFile(o.output_dir + "/trajectory.tum"), log.estimate());
     if (o.write_scene)
@@ -300,7 +325,7 @@ int run(const core::CommandLine& cmd)
     core::writeEffectiveConfig(out.addFile(o.output_dir + "/quasiloc-track.ini"), sections,
                                "quasiloc-track effective configuration");
     out.commit();
-    std::cout << log.summary(n, relocalizations, longest_unverified_s) << "outputs     " << o.output_dir
+    std::cout << log.summary(n, losses, withdrawn, relocalizations, longest_unverified_s) << "outputs     " << o.output_dir
               << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini" << (starter ? ",initialization.txt" : "")
               << (o.write_scene ? ",scene.3Dscene" : "") << "}" << std::endl;
     return 0;

@@ -4,6 +4,7 @@
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/frame.h>
 #include <quasiloc/tracking/tracker.h>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,18 +23,31 @@ class RunLog
     void addFrame(const dataset::StereoFrame& frame, const tracking::FrameReport& r, double explained_ratio,
                   double ms_check);
 
+    /** Forgets everything logged at or after time t (starts and frames): a relocalization that finds the track
+     *  was wrong re-tracks the frames from its start. */
+    void rewindTo(double t);
+    /** The logged pose at exactly time t, if any. */
+    std::optional<Eigen::Isometry3d> poseAt(double t) const;
+
     const core::Trajectory& estimate() const { return traj_; }
     const core::Trajectory& groundTruth() const { return gt_traj_; }  ///< at the logged frames that have it
-    std::string csv() const { return csv_.str(); }
+    std::string csv() const;
     double lastErrorM() const { return last_error_m_; }
-    /** The printed summary: frames, ATE against ground truth, time per frame. */
-    std::string summary(size_t frames, int relocalizations, double longest_unverified_s) const;
+    /** The printed summary: frames, losses (withdrawn: the relocalization's fixes confirmed the track;
+     *  relocalizations: restarts), ATE against ground truth, time per frame. */
+    std::string summary(size_t frames, int losses, int withdrawn, int relocalizations, double longest_unverified_s) const;
 
    private:
+    struct Row
+    {
+        double t = 0;
+        double error_m = NAN;  ///< NaN without ground truth
+        double ms = 0;
+        bool map_update = false, keyframe = false, lost = false;
+        std::string csv;
+    };
     core::Trajectory traj_, gt_traj_;
-    std::ostringstream csv_;
-    std::vector<double> err_m_, ms_;
-    int updates_ = 0, keyframes_ = 0, lost_frames_ = 0;
+    std::vector<Row> rows_;
     double last_error_m_ = NAN;
 };
 }  // namespace quasiloc::app
