@@ -86,7 +86,12 @@
 //   map_lines = false             ; point-to-line map factors (map_lines.h) on keyframes: map lines of the
 //                                 ;   quasi-image's normal shading associated by geometry with the camera's
 //                                 ;   segments ([Lines] detector), reweighted by [Reweighting] ([Estimator]
-//                                 ;   primitives must include L)
+//                                 ;   primitives must include L). Off: on 30 s of the six simulated sequences
+//                                 ;   (scripts/track_lines_ablation.sh, ground-truth start) they help only V2_02
+//                                 ;   (1.60 -> 1.49 cm) and cost 0.1-0.5 cm elsewhere; at the ground truth the
+//                                 ;   associated map lines lie ~2 px from their camera segments (the rendered
+//                                 ;   contours and the smoothed creases are not where the camera's edges are),
+//                                 ;   and with line_sigma_px = 3 V2_01 drifted 28 cm (caught by the loss check)
 //   line_sigma_px = 1.5           ; a camera segment's offset sigma (each support point: x sqrt(n / 2))
 //   line_window_sigmas = 3        ; association window: this many predicted pixel sigmas (pose covariance at
 //   line_window_min_px = 2        ;   the median map depth), clamped to [min, max]; the association is made at
