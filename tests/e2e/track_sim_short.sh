@@ -52,7 +52,19 @@ awk -v u="$unverified" 'BEGIN { exit !(u != "" && u < 1.0) }' || fail "the kidna
 for run in track global; do
   grep -q "^losses *0 " "$WORK/$run.log" || fail "the $run run declared a loss although it was not kidnapped"
 done
+# The restart re-tracks the frames since the relocalization's first fix: each frame once in the trajectory, in order.
+awk '!/^#/ { if (n++ && $1 <= last) bad = 1; last = $1 } END { exit bad || n < 100 }' "$WORK/kidnap/trajectory.tum" \
+  || fail "the kidnapped run's trajectory.tum repeats or reorders frames (or has < 100)"
 echo "kidnapped at 2 s: relocalized, last frame's error $last_err m, unverified for $unverified s"
+# A false alarm: checks made to fail at the right pose (any share below 0.99 is examined, any gain fails). The
+# tracker must go on tracking, the relocalization's fixes must confirm the track and withdraw the loss.
+track "$WORK/alarm" --set Tracking.init=groundtruth --set Tracking.lost_explained_ratio=0.99 \
+  --set Tracking.lost_min_gain=0.0001 --set Tracking.lost_explained_floor=0 > /dev/null
+grep -q "^losses *[1-9][0-9]* (withdrawn [1-9]" "$WORK/alarm.log" || fail "no loss was withdrawn on a false alarm"
+grep -q "relocalizations 0)" "$WORK/alarm.log" || fail "a false alarm restarted the tracker"
+ate_alarm=$(sed -n 's/^ATE *RMSE \([0-9.]*\) cm.*/\1/p' "$WORK/alarm.log")
+awk -v a="$ate_alarm" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a < b) }' || fail "ATE $ate_alarm cm after false alarms"
+echo "false alarms: $(grep '^losses' "$WORK/alarm.log"), ATE $ate_alarm cm"
 # Bad input: a missing map is named, nothing is written.
 expect_failure "$WORK/bad.txt" "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \
   --set Tracking.calibration_ini="$SIM/calib.ini" --set Tracking.groundtruth="$SIM/gt.tum" \
