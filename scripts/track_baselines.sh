@@ -20,15 +20,8 @@ SEQ_ROOT="${1:-out/sequences}"
 OUT="${2:-out/baselines}"
 cd "$ROOT"
 mkdir -p "$OUT"
-run() {  # run <seq> <variant> [--set ...]: prints "RMSE max" in cm
-  local seq="$1" variant="$2"; shift 2
-  local sim="$SEQ_ROOT/$seq/sim"
-  "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
-    --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
-    --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$OUT/$seq/$variant" \
-    --set Tracking.init=groundtruth --set Tracking.write_scene=false "$@" > "$OUT/$seq/$variant.log" 2>&1
-  sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$OUT/$seq/$variant.log"
-}
+source "$ROOT/scripts/track_variant.sh"
+run() { track_variant "$SEQ_ROOT" "$OUT" "$@"; }  # run <seq> <variant> [--set ...]
 {
   echo "| sequence | full (edges + surfaces) | edges | surfaces | edges as measurement, uniform | edges as measurement, observability | VIO, no map | IMU only |"
   echo "|---|---|---|---|---|---|---|---|"

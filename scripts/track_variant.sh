@@ -1,0 +1,13 @@
+# Sourced by the ablation scripts: one quasiloc-track run of config.ini on a simulated sequence from its ground-truth
+# initial state.
+#   track_variant <seq_root> <out> <seq> <variant> [--set ...]: writes <out>/<seq>/<variant>/ and .log, prints
+#   "RMSE max" (ATE, cm). Needs BIN (the programs' folder) and the repository root as the working directory.
+track_variant() {
+  local seq_root="$1" out="$2" seq="$3" variant="$4"; shift 4
+  local sim="$seq_root/$seq/sim"
+  "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
+    --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
+    --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$out/$seq/$variant" \
+    --set Tracking.init=groundtruth --set Tracking.write_scene=false "$@" > "$out/$seq/$variant.log" 2>&1
+  sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$out/$seq/$variant.log"
+}
