@@ -237,8 +237,9 @@ int run(const core::CommandLine& cmd)
     do
     {
         const tracking::FrameReport r = tracker.track(f);
-        double explained = NAN, ms_check = 0;
-        const bool check_due = (n + 1) % size_t(o.check_every) == 0 || failed_checks > 0;
+        ++n;
+        double explained = NAN, ms_check = 0, ms_search = 0;
+        const bool check_due = n % size_t(o.check_every) == 0 || failed_checks > 0;
         if (starter && relocalize && check_due && !starter->searching())
         {
             const auto t_check = std::chrono::steady_clock::now();
@@ -254,10 +255,6 @@ int run(const core::CommandLine& cmd)
                           << c.explained << ", " << c.refined_explained << " after aligning (moved " << c.moved_m
                           << " m, " << c.moved_deg << " deg): " << (failed ? "failed" : "passed") << std::endl;
         }
-        log.addFrame(f, r, explained, ms_check);
-        if (++n % 50 == 0)
-            std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << log.lastErrorM() << " m"
-                      << std::endl;
         if (o.kidnap_at_s >= 0 && !kidnapped && r.t >= f0.timestamp + o.kidnap_at_s)
         {
             kidnapped = true;
@@ -268,42 +265,61 @@ int run(const core::CommandLine& cmd)
                       << " m to the side, " << o.kidnap_deg << " deg turned" << std::endl;
             tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
         }
-        if (!starter || !relocalize) continue;
-        if ((r.lost || failed_checks >= 2) && !starter->searching())
+        bool restarted = false;
+        if (starter && relocalize)
         {
-            // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry fits the map
-            // better elsewhere): look for a start by global localization in the next frames while tracking on. A
-            // loss that was a false alarm (the view merely poorly explained) then costs nothing.
-            failed_checks = 0;
-            ++losses;
-            std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
-            starter->begin("reloc " + std::to_string(losses));
+            if ((r.lost || failed_checks >= 2) && !starter->searching())
+            {
+                // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry fits the map
+                // better elsewhere): look for a start by global localization in the next frames while tracking
+                // on. A loss that was a false alarm (the view merely poorly explained) then costs nothing.
+                failed_checks = 0;
+                ++losses;
+                std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
+                starter->begin("reloc " + std::to_string(losses));
+            }
+            if (starter->searching())
+            {
+                // The search's time counts in the frame's (it runs in the tracking loop).
+                const auto t_search = std::chrono::steady_clock::now();
+                auto found = starter->feed(f);
+                ms_search = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_search).count();
+                if (found)
+                {
+                    // Two fixes agreed with the IMU. If they agree with the track too, the loss is withdrawn;
+                    // otherwise the tracker restarts at the first fix (biases kept) and the frames since (this one
+                    // included) are tracked again from there.
+                    const double t_fix = found->anchor.timestamp;
+                    longest_unverified_s = std::max(longest_unverified_s, t_fix - last_verified_t);
+                    const auto tracked = log.poseAt(t_fix);
+                    const bool agrees =
+                        tracked && core::translationDistance(*tracked, found->T_world_cam0) <= o.max_correction_m &&
+                        core::rotationDistanceRad(*tracked, found->T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
+                    std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix
+                              << ": unverified since t " << last_verified_t << "; "
+                              << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted") << std::endl;
+                    last_verified_t = t_fix;
+                    if (agrees)
+                        ++withdrawn;
+                    else
+                    {
+                        ++relocalizations;
+                        restarted = true;
+                        tracker.initializeFromGlobal(t_fix, found->T_world_cam0, found->v_world, &found->anchor, true);
+                        log.rewindTo(t_fix);
+                        log.addStart(found->anchor, found->T_world_cam0);
+                        n -= found->pending.size();  // tracked again (the anchor is now a start, counted once)
+                        for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it)
+                            queued.push_front(std::move(*it));
+                    }
+                }
+            }
         }
-        if (!starter->searching()) continue;
-        auto found = starter->feed(f);
-        if (!found) continue;
-        // Two fixes agreed with the IMU. If they agree with the track too, the loss is withdrawn; otherwise the
-        // tracker restarts at the first fix (biases kept) and the frames since are tracked again from there.
-        const double t_fix = found->anchor.timestamp;
-        longest_unverified_s = std::max(longest_unverified_s, t_fix - last_verified_t);
-        const auto tracked = log.poseAt(t_fix);
-        const bool agrees = tracked && core::translationDistance(*tracked, found->T_world_cam0) <= o.max_correction_m &&
-                            core::rotationDistanceRad(*tracked, found->T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
-        std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
-                  << last_verified_t << "; " << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted")
-                  << std::endl;
-        last_verified_t = t_fix;
-        if (agrees)
-        {
-            ++withdrawn;
-            continue;
-        }
-        ++relocalizations;
-        tracker.initializeFromGlobal(t_fix, found->T_world_cam0, found->v_world, &found->anchor, true);
-        log.rewindTo(t_fix);
-        log.addStart(found->anchor, found->T_world_cam0);
-        n -= found->pending.size();  // tracked again (the anchor is now a start, counted once as before)
-        for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it) queued.push_front(std::move(*it));
+        if (restarted) continue;  // this frame is among the pending ones: tracked again
+        log.addFrame(f, r, explained, ms_check, ms_search);
+        if (n % 50 == 0)
+            std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << log.lastErrorM() << " m"
+                      << std::endl;
     } while ((o.max_frames <= 0 || int(n) < o.max_frames) && nextFrame(f));
 
     if (starter && starter->searching())

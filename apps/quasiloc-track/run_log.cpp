@@ -22,7 +22,7 @@ const char* const kCsvHeader =
     "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
     "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
     "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio,ms_check,camera_lines,map_lines,line_factors,"
-    "line_candidates,line_window_px,ms_lines\n";
+    "line_candidates,line_window_px,ms_lines,ms_search\n";
 
 RunLog::RunLog() { traj_.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)"; }
 
@@ -33,7 +33,7 @@ void RunLog::addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d
 }
 
 void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport& r, double explained_ratio,
-                      double ms_check)
+                      double ms_check, double ms_search)
 {
     traj_.poses.push_back({r.t, core::fromIsometry(r.T_world_cam0)});
     double e_deg = NAN;
@@ -47,7 +47,7 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport
         gt_traj_.poses.push_back({r.t, *f.T_world_cam0});
     }
     last_error_m_ = row.error_m;
-    row.ms = r.ms_total + ms_check;
+    row.ms = r.ms_total + ms_check + ms_search;
     row.map_update = r.map_update, row.keyframe = r.keyframe, row.lost = r.lost;
     std::ostringstream csv;
     csv << std::setprecision(17) << r.t << std::setprecision(6) << "," << r.keyframe << "," << r.map_update << ","
@@ -58,7 +58,7 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport
         << r.gyro_bias.z() << "," << r.acc_bias.x() << "," << r.acc_bias.y() << "," << r.acc_bias.z() << ","
         << r.stereo_map_points << "," << explained_ratio << "," << ms_check << "," << r.camera_lines << ","
         << r.map_lines << "," << r.line_factors << "," << r.line_candidates << "," << r.line_window_px << ","
-        << r.ms_lines << "\n";
+        << r.ms_lines << "," << ms_search << "\n";
     row.csv = csv.str();
     rows_.push_back(std::move(row));
 }

@@ -18,10 +18,10 @@ class RunLog
 
     /** A start (the first, or a relocalization's): a pose without a tracked frame. */
     void addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0);
-    /** A tracked frame; explained_ratio: the geometry check's share (NaN when not checked), ms_check its wall time
-     *  (counted in the frame's time). */
+    /** A tracked frame; explained_ratio: the geometry check's share (NaN when not checked), ms_check its wall time,
+     *  ms_search the relocalization search's on this frame (both counted in the frame's time). */
     void addFrame(const dataset::StereoFrame& frame, const tracking::FrameReport& r, double explained_ratio,
-                  double ms_check);
+                  double ms_check, double ms_search);
 
     /** Forgets everything logged at or after time t (starts and frames): a relocalization that finds the track
      *  was wrong re-tracks the frames from its start. */
