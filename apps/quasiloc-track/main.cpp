@@ -61,7 +61,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
      *  when that alignment explains lost_min_gain more of them (the geometry fits better elsewhere) or when the
      *  share is below lost_explained_floor; a view the map merely explains poorly, at the right pose, gains
      *  nothing from the alignment. A failed check is repeated on the next frame; two in a row: lost.
-     *  Measured on whole simulated flights (V1_02, V2_01, V2_02; 774 checks, half-resolution stereo): at the
+     *  Measured on four whole-flight runs (V1_02 twice, V2_01, V2_02; 774 checks, half-resolution stereo): at the
      *  tracked pose (error <= 6 cm) the share is 0.38-0.99; the alignment gains at most 0.035 except on the
      *  landing of V2_02 (the last 2.8 s: 0.38-0.40 explained 3.5 mm from the truth, the alignment slides 0.3 m
      *  and gains 0.07): the only 2 failed checks there. At poses put 1 m / 10 deg off the share is 0.02-0.67 and
