@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "cost_profile.h"
+#include "line_profile.h"
 #include "kitti_sequence.h"
 #include "sim_sequence.h"
 
@@ -40,6 +41,7 @@ struct BenchOptions : public mrpt::config::CLoadableOptions
     bool profile = true;            ///< print the cost profile of the direct terms (cost_profile.h)
     double profile_step_m = 0.1, profile_step_deg = 1.0;
     bool refine = true;             ///< run the refinements (false: the profile alone, for quick comparisons)
+    double line_window_px = 3;  ///< map-line profile: association window
     std::string overlay_dir;  ///< if set: per sequence, a PNG of the first frame's camera edges and map edges at the true pose
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
@@ -60,6 +62,7 @@ struct BenchOptions : public mrpt::config::CLoadableOptions
         profile_step_deg = c.read_double(s, "profile_step_deg", profile_step_deg);
         refine = c.read_bool(s, "refine", refine);
         overlay_dir = c.read_string(s, "overlay_dir", overlay_dir);
+        line_window_px = c.read_double(s, "line_window_px", line_window_px);
     }
     void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
     {
@@ -79,6 +82,7 @@ struct BenchOptions : public mrpt::config::CLoadableOptions
         c.write(s, "profile_step_deg", profile_step_deg);
         c.write(s, "refine", refine);
         c.write(s, "overlay_dir", overlay_dir);
+        c.write(s, "line_window_px", line_window_px);
     }
 };
 
@@ -188,6 +192,16 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
         else
             std::cout << std::setprecision(1) << 100.0 * p.fm_truth_best / std::max(1, p.steps) << " % | " << std::setprecision(4)
                       << p.mean_fm_drop << " |\n\n";
+        const bench::LineProfile lp =
+            bench::profileMapLines(seq, renderer, fo.lines, b.line_window_px, b.profile_step_m, b.profile_step_deg);
+        std::cout << "Map lines (normal shading of the quasi-image at the true pose, tracking/map_lines.h) against the "
+                     "camera's segments, associated by geometry within "
+                  << b.line_window_px << " px:\n\n"
+                  << "| camera segments | map lines | segments associated at the truth | one step away | truth associates more |\n"
+                  << "|---|---|---|---|---|\n"
+                  << std::setprecision(1) << "| " << lp.camera_segments << " | " << lp.map_lines << " | "
+                  << lp.associated_at_truth << " | " << lp.associated_one_step << " | "
+                  << 100.0 * lp.truth_more / std::max(1, lp.steps) << " % |\n\n";
         std::cout << std::flush;
     }
     if (!b.refine) return;

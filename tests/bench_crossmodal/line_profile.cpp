@@ -1,0 +1,60 @@
+#include "line_profile.h"
+
+#include <opencv2/imgproc.hpp>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/tracking/map_lines.h>
+
+namespace quasiloc::bench
+{
+LineProfile profileMapLines(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
+                            const frontend::LineOptions& lines, double window_px, double step_m, double step_deg)
+{
+    LineProfile p;
+    tracking::MapLineOptions mo;
+    tracking::MapLineExtractor extractor(seq.camera, mo);
+    frontend::LineDetector camera_detector(lines);
+    frontend::LineOptions shading_lines = lines;
+    shading_lines.min_length_px /= mo.shading_step;
+    frontend::LineDetector shading_detector(shading_lines);
+    quasi::QuasiImage q;
+    for (const QueryFrame& fr : seq.frames)
+    {
+        renderer.render(core::fromIsometry(fr.T_world_cam), seq.camera, q);
+        const cv::Mat shading = extractor.normalShading(q.depth);
+        std::vector<tracking::MapLine> map;
+        for (frontend::LineSegment s : shading_detector.detect(shading))
+        {
+            if (!extractor.isEdge(shading, s)) continue;
+            s.p0 *= float(mo.shading_step), s.p1 *= float(mo.shading_step);
+            if (auto m = extractor.lift(s, q.depth, fr.T_world_cam)) map.push_back(std::move(*m));
+        }
+        cv::Mat gray = fr.image;
+        if (gray.channels() == 3) cv::cvtColor(fr.image, gray, cv::COLOR_BGR2GRAY);
+        const std::vector<frontend::LineSegment> camera = camera_detector.detect(gray);
+        p.camera_segments += double(camera.size());
+        p.map_lines += double(map.size());
+        const size_t at_truth =
+            tracking::associateMapLines(camera, map, seq.camera, fr.T_world_cam, window_px, 1.0, mo).size();
+        p.associated_at_truth += double(at_truth);
+        for (int axis = 0; axis < 6; ++axis)
+            for (const double sign : {-1.0, 1.0})
+            {
+                Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
+                if (axis < 3)
+                    d.translation()[axis] = sign * step_m;
+                else
+                    d.linear() = Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3))
+                                     .toRotationMatrix();
+                const size_t away =
+                    tracking::associateMapLines(camera, map, seq.camera, fr.T_world_cam * d, window_px, 1.0, mo).size();
+                p.associated_one_step += double(away);
+                ++p.steps;
+                p.truth_more += at_truth > away;
+            }
+    }
+    const double n = std::max<double>(1, double(seq.frames.size()));
+    p.camera_segments /= n, p.map_lines /= n, p.associated_at_truth /= n;
+    p.associated_one_step /= std::max(1, p.steps);
+    return p;
+}
+}  // namespace quasiloc::bench
