@@ -57,6 +57,30 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     stereo_.left = estimation::CameraGeometry{rig.left, T_body_cam_};
     stereo_.right = rig.right;
     stereo_.T_left_right = core::toIsometry(rig.T_left_right);
+    if (options_.map_lines)
+    {
+        MapLineOptions lo = mapLineOptions();
+        line_extractor_ = std::make_unique<MapLineExtractor>(stereo_.left.model, lo);
+        line_detector_ = std::make_unique<frontend::LineDetector>(frontend.options().lines);
+        frontend::LineOptions shading_lines = frontend.options().lines;  // the same lengths in image pixels
+        shading_lines.min_length_px /= lo.shading_step;
+        shading_line_detector_ = std::make_unique<frontend::LineDetector>(shading_lines);
+    }
+}
+
+MapLineOptions Tracker::mapLineOptions() const
+{
+    MapLineOptions lo;
+    lo.max_angle_deg = options_.line_max_angle_deg;
+    lo.max_candidates = options_.line_max_candidates;
+    return lo;
+}
+
+std::vector<frontend::LineSegment> Tracker::cameraLines(const cv::Mat& image) const
+{
+    cv::Mat gray = image;
+    if (gray.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+    return line_detector_->detect(gray);
 }
 
 Tracker::~Tracker() = default;
@@ -107,22 +131,12 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     initialized_ = true;
 }
 
-void Tracker::addMapLines(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam, double sigma_m,
-                          double sigma_rad, estimation::WindowInput& in, FrameReport& rep)
+void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines, const Eigen::Isometry3d& T_world_cam,
+                          double sigma_m, double sigma_rad, estimation::WindowInput& in, FrameReport& rep)
 {
     mrpt::system::CTicTac tic;
     const core::CameraModel& camera = stereo_.left.model;
-    MapLineOptions lo;
-    lo.max_angle_deg = options_.line_max_angle_deg;
-    lo.max_candidates = options_.line_max_candidates;
-    if (!line_extractor_)
-    {
-        line_extractor_ = std::make_unique<MapLineExtractor>(camera, lo);
-        line_detector_ = std::make_unique<frontend::LineDetector>(frontend_.options().lines);
-        frontend::LineOptions shading_lines = frontend_.options().lines;  // the same lengths in image pixels
-        shading_lines.min_length_px /= lo.shading_step;
-        shading_line_detector_ = std::make_unique<frontend::LineDetector>(shading_lines);
-    }
+    const MapLineOptions lo = mapLineOptions();
     // Map side: lines of the quasi-image the alignment rendered at the prediction, lifted at its pose.
     const quasi::QuasiImage& q = refiner_.quasiImage();
     const Eigen::Isometry3d T_world_q = core::toIsometry(q.T_world_cam);
@@ -134,9 +148,6 @@ void Tracker::addMapLines(const dataset::StereoFrame& frame, const Eigen::Isomet
         s.p0 *= float(lo.shading_step), s.p1 *= float(lo.shading_step);  // shading pixels -> image pixels
         if (auto m = line_extractor_->lift(s, q.depth, T_world_q)) map_lines.push_back(std::move(*m));
     }
-    cv::Mat gray = frame.left;
-    if (gray.channels() == 3) cv::cvtColor(frame.left, gray, cv::COLOR_BGR2GRAY);
-    const std::vector<frontend::LineSegment> camera_lines = line_detector_->detect(gray);
     // The association window from the pose covariance: the predicted pixel sigma at the map lines' median depth.
     std::vector<double> depths;
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -243,10 +254,14 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     // worker thread while the map alignment runs on this one.
     const bool concurrent = options_.temporal_landmarks && options_.concurrent_stages && cv::getNumThreads() > 1;
     StereoPoints stereo_points;
+    std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
     if (concurrent)
     {
         if (!worker_) worker_ = std::make_unique<core::WorkerThread>();
-        worker_->start([this, &frame, &stereo_points] { stereo_points = extractStereo(frame); });
+        worker_->start([this, &frame, &stereo_points, &camera_lines] {
+            stereo_points = extractStereo(frame);
+            if (options_.map_lines) camera_lines = cameraLines(frame.left);
+        });
     }
     // Whatever happens below, the worker's task (which uses this frame's locals) ends before they do.
     struct WaitAtExit
@@ -262,6 +277,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     estimation::WindowInput in;
     std::shared_ptr<const estimation::DirectAlignmentModel> direct_model;  // map_term = factor: alive until the window
     std::optional<Eigen::Isometry3d> aligned_T_map_body;                     // ... and its linearisation point
+    std::optional<Eigen::Isometry3d> lines_T_world_cam;  // map_lines: the aligned pose the lines are associated at
     rep.keyframe = options_.map_updates && options_.map_term != "none" && frames_ % size_t(options_.keyframe_every) == 0;
     if (rep.keyframe)
     {
@@ -281,8 +297,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
         rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
                          rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
-        if (rep.map_update && options_.map_lines)
-            addMapLines(frame, r.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
+        if (rep.map_update && options_.map_lines) lines_T_world_cam = r.T_world_cam;
         if (rep.map_update && options_.map_term == "factor")
         {
             // The edge residuals themselves in the window, linearised from the alignment's pose.
@@ -322,6 +337,11 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     }
     else if (options_.temporal_landmarks)
         stereo_points = extractStereo(frame);
+    if (lines_T_world_cam)
+    {
+        if (!concurrent) camera_lines = cameraLines(frame.left);
+        addMapLines(camera_lines, *lines_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
+    }
     if (options_.temporal_landmarks && options_.map_updates && options_.stereo_map_factor && distance_field_)
         addStereoMapTerm(stereo_points, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());

@@ -86,12 +86,14 @@
 //   map_lines = false             ; point-to-line map factors (map_lines.h) on keyframes: map lines of the
 //                                 ;   quasi-image's normal shading associated by geometry with the camera's
 //                                 ;   segments ([Lines] detector), reweighted by [Reweighting] ([Estimator]
-//                                 ;   primitives must include L). Off: on 30 s of the six simulated sequences
-//                                 ;   (scripts/track_lines_ablation.sh, ground-truth start) they help only V2_02
-//                                 ;   (1.60 -> 1.49 cm) and cost 0.1-0.5 cm elsewhere; at the ground truth the
-//                                 ;   associated map lines lie ~2 px from their camera segments (the rendered
-//                                 ;   contours and the smoothed creases are not where the camera's edges are),
-//                                 ;   and with line_sigma_px = 3 V2_01 drifted 28 cm (caught by the loss check)
+//                                 ;   primitives must include L). 30 s of the six simulated sequences from the
+//                                 ;   ground truth (scripts/track_lines_ablation.sh), ATE cm V1_01..V2_03: without
+//                                 ;   1.03 / 0.83 / 2.57 / 1.37 / 1.60 / 1.21; with lines, [Reweighting] uniform
+//                                 ;   0.94 / 0.74 / 2.42 / 1.16 / 1.09 / 0.95 (better on all six), full 1.05 /
+//                                 ;   0.69 / 3.29 / 1.15 / 1.11 / 0.93. Off by default for now: the main job's
+//                                 ;   median rises from 42 to 50-51 ms per frame (the camera's segments are
+//                                 ;   detected on the worker thread; the map side costs ~8 ms), and full
+//                                 ;   reweighting, the [Reweighting] default, takes V1_03 past 3 cm
 //   line_sigma_px = 1.5           ; a camera segment's offset sigma (each support point: x sqrt(n / 2))
 //   line_window_sigmas = 3        ; association window: this many predicted pixel sigmas (pose covariance at
 //   line_window_min_px = 2        ;   the median map depth), clamped to [min, max]; the association is made at
@@ -244,9 +246,13 @@ class Tracker
     std::vector<int> prev_stereo_of_left_;  ///< previous left keypoint -> index in prev_stereo_ (-1: none)
     Eigen::Isometry3d T_body_cam_ = Eigen::Isometry3d::Identity();
 
-    /** Point-to-line map factors of a keyframe (map_lines) from the refiner's quasi-image, at T_world_cam. */
-    void addMapLines(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam, double sigma_m,
-                     double sigma_rad, estimation::WindowInput& in, FrameReport& rep);
+    /** Point-to-line map factors of a keyframe (map_lines): the map lines of the refiner's quasi-image against
+     *  the camera's segments, associated at T_world_cam. */
+    void addMapLines(const std::vector<frontend::LineSegment>& camera_lines, const Eigen::Isometry3d& T_world_cam,
+                     double sigma_m, double sigma_rad, estimation::WindowInput& in, FrameReport& rep);
+    MapLineOptions mapLineOptions() const;
+    /** The left image's segments (map_lines); with concurrent_stages on the worker thread beside the alignment. */
+    std::vector<frontend::LineSegment> cameraLines(const cv::Mat& image) const;
 
     std::unique_ptr<MapLineExtractor> line_extractor_;  ///< map_lines
     std::unique_ptr<frontend::LineDetector> line_detector_, shading_line_detector_;
