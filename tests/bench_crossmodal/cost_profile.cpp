@@ -7,6 +7,18 @@
 
 namespace quasiloc::bench
 {
+Eigen::Isometry3d axisStep(int k, double step_m, double step_deg)
+{
+    const int axis = k / 2;
+    const double sign = k % 2 == 0 ? -1.0 : 1.0;
+    Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
+    if (axis < 3)
+        d.translation()[axis] = sign * step_m;
+    else
+        d.linear() = Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3)).toRotationMatrix();
+    return d;
+}
+
 CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
                                const estimation::DirectAlignmentOptions& options, double step_m, double step_deg,
                                frontend::Frontend& frontend)
@@ -38,32 +50,25 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
             fm ? buildFeatureMetricModel(fq.points.dense, q.depth, q.valid, seq.camera, fr.T_world_cam)
                : FeatureMetricModel{};
         const double f0 = fm ? featureMetricScore(cam_dense, fm_model, seq.camera, fr.T_world_cam) : 0.0;
-        for (int axis = 0; axis < 6; ++axis)
-            for (const double sign : {-1.0, 1.0})
+        for (int k = 0; k < 12; ++k)
+        {
+            const Eigen::Isometry3d T = fr.T_world_cam * axisStep(k, step_m, step_deg);
+            const double e = estimation::edgeCost(options, field, 0, seq.camera, model, T);
+            const double n = estimation::normalizedMutualInformation(options, field, seq.camera, model, T);
+            ++p.steps;
+            p.edge_truth_best += e0 < e;
+            p.nmi_truth_best += n0 > n;
+            p.mean_edge_rise += (e - e0) / std::max(1e-9, e0);
+            p.mean_nmi_drop += n0 - n;
+            if (fm)
             {
-                Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
-                if (axis < 3)
-                    d.translation()[axis] = sign * step_m;
-                else
-                    d.linear() = Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3))
-                                     .toRotationMatrix();
-                const Eigen::Isometry3d T = fr.T_world_cam * d;
-                const double e = estimation::edgeCost(options, field, 0, seq.camera, model, T);
-                const double n = estimation::normalizedMutualInformation(options, field, seq.camera, model, T);
-                ++p.steps;
-                p.edge_truth_best += e0 < e;
-                p.nmi_truth_best += n0 > n;
-                p.mean_edge_rise += (e - e0) / std::max(1e-9, e0);
-                p.mean_nmi_drop += n0 - n;
-                if (fm)
-                {
-                    const double f = featureMetricScore(cam_dense, fm_model, seq.camera, T);
-                    p.fm_truth_best += f0 > f;
-                    p.mean_fm_drop += f0 - f;
-                }
-                else
-                    p.fm_truth_best = -1;
+                const double f = featureMetricScore(cam_dense, fm_model, seq.camera, T);
+                p.fm_truth_best += f0 > f;
+                p.mean_fm_drop += f0 - f;
             }
+            else
+                p.fm_truth_best = -1;
+        }
     }
     const double nf = double(std::max<size_t>(1, seq.frames.size()));
     p.mean_valid_fraction /= nf;

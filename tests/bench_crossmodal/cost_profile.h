@@ -25,6 +25,10 @@ struct CostProfile
     double mean_valid_fraction = 0, mean_edge_points = 0;
 };
 
+/** The 12 neighbours of the profiles: step k in [0, 12) is axis k / 2 (x, y, z by step_m; roll, pitch, yaw by
+ *  step_deg, camera frame), sign - for even k, + for odd k; T_world_cam * axisStep(...) is the neighbour. */
+Eigen::Isometry3d axisStep(int k, double step_m, double step_deg);
+
 CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
                                const estimation::DirectAlignmentOptions& options, double step_m, double step_deg,
                                frontend::Frontend& frontend);

@@ -1,5 +1,7 @@
 #include "line_profile.h"
 
+#include "cost_profile.h"
+
 #include <opencv2/imgproc.hpp>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/tracking/map_lines.h>
@@ -36,21 +38,14 @@ LineProfile profileMapLines(const CrossModalSequence& seq, quasi::QuasiRenderer&
         const size_t at_truth =
             tracking::associateMapLines(camera, map, seq.camera, fr.T_world_cam, window_px, 1.0, mo).size();
         p.associated_at_truth += double(at_truth);
-        for (int axis = 0; axis < 6; ++axis)
-            for (const double sign : {-1.0, 1.0})
-            {
-                Eigen::Isometry3d d = Eigen::Isometry3d::Identity();
-                if (axis < 3)
-                    d.translation()[axis] = sign * step_m;
-                else
-                    d.linear() = Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3))
-                                     .toRotationMatrix();
-                const size_t away =
-                    tracking::associateMapLines(camera, map, seq.camera, fr.T_world_cam * d, window_px, 1.0, mo).size();
-                p.associated_one_step += double(away);
-                ++p.steps;
-                p.truth_more += at_truth > away;
-            }
+        for (int k = 0; k < 12; ++k)
+        {
+            const Eigen::Isometry3d T = fr.T_world_cam * axisStep(k, step_m, step_deg);
+            const size_t away = tracking::associateMapLines(camera, map, seq.camera, T, window_px, 1.0, mo).size();
+            p.associated_one_step += double(away);
+            ++p.steps;
+            p.truth_more += at_truth > away;
+        }
     }
     const double n = std::max<double>(1, double(seq.frames.size()));
     p.camera_segments /= n, p.map_lines /= n, p.associated_at_truth /= n;
