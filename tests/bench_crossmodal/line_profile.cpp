@@ -13,23 +13,13 @@ LineProfile profileMapLines(const CrossModalSequence& seq, quasi::QuasiRenderer&
 {
     LineProfile p;
     tracking::MapLineOptions mo;
-    tracking::MapLineExtractor extractor(seq.camera, mo);
+    tracking::MapLineExtractor extractor(seq.camera, mo, lines);
     frontend::LineDetector camera_detector(lines);
-    frontend::LineOptions shading_lines = lines;
-    shading_lines.min_length_px /= mo.shading_step;
-    frontend::LineDetector shading_detector(shading_lines);
     quasi::QuasiImage q;
     for (const QueryFrame& fr : seq.frames)
     {
         renderer.render(core::fromIsometry(fr.T_world_cam), seq.camera, q);
-        const cv::Mat shading = extractor.normalShading(q.depth);
-        std::vector<tracking::MapLine> map;
-        for (frontend::LineSegment s : shading_detector.detect(shading))
-        {
-            if (!extractor.isEdge(shading, s)) continue;
-            s.p0 *= float(mo.shading_step), s.p1 *= float(mo.shading_step);
-            if (auto m = extractor.lift(s, q.depth, fr.T_world_cam)) map.push_back(std::move(*m));
-        }
+        const std::vector<tracking::MapLine> map = extractor.mapLines(q.depth, fr.T_world_cam);
         cv::Mat gray = fr.image;
         if (gray.channels() == 3) cv::cvtColor(fr.image, gray, cv::COLOR_BGR2GRAY);
         const std::vector<frontend::LineSegment> camera = camera_detector.detect(gray);

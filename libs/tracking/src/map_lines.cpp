@@ -17,29 +17,45 @@ const Eigen::Vector3d kLight = Eigen::Vector3d(1, 2, 4).normalized();
 constexpr double kDiscontinuityRel = 0.05;
 }  // namespace
 
-MapLineExtractor::MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options)
-    : camera_(camera), options_(options), rays_(camera.height, camera.width, CV_32FC2)
+MapLineExtractor::MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options,
+                                   const frontend::LineOptions& lines)
+    : options_(options), ray_x_(camera.height, camera.width, CV_32FC1), ray_y_(camera.height, camera.width, CV_32FC1)
 {
     for (int v = 0; v < camera.height; ++v)
         for (int u = 0; u < camera.width; ++u)
         {
             const Eigen::Vector3d r = camera.unproject(Eigen::Vector2d(u, v));
-            rays_.at<cv::Vec2f>(v, u) = cv::Vec2f(float(r.x()), float(r.y()));
+            ray_x_.at<float>(v, u) = float(r.x());
+            ray_y_.at<float>(v, u) = float(r.y());
         }
-    cv::Mat xy[2];
-    cv::split(rays_, xy);
-    ray_x_ = xy[0], ray_y_ = xy[1];
+    frontend::LineOptions shading_lines = lines;  // the same lengths in image pixels
+    shading_lines.min_length_px /= options.shading_step;
+    shading_detector_ = std::make_unique<frontend::LineDetector>(shading_lines);
+}
+
+MapLineExtractor::~MapLineExtractor() = default;
+
+std::vector<MapLine> MapLineExtractor::mapLines(const cv::Mat& depth, const Eigen::Isometry3d& T_world_cam) const
+{
+    const cv::Mat shading = normalShading(depth);
+    std::vector<MapLine> out;
+    for (frontend::LineSegment s : shading_detector_->detect(shading))
+    {
+        if (!isEdge(shading, s)) continue;
+        s.p0 *= float(options_.shading_step), s.p1 *= float(options_.shading_step);  // shading -> image pixels
+        if (auto m = lift(s, depth, T_world_cam)) out.push_back(std::move(*m));
+    }
+    return out;
 }
 
 Eigen::Vector3d MapLineExtractor::ray(int u, int v) const
 {
-    const cv::Vec2f& r = rays_.at<cv::Vec2f>(v, u);
-    return {double(r[0]), double(r[1]), 1.0};
+    return {double(ray_x_.at<float>(v, u)), double(ray_y_.at<float>(v, u)), 1.0};
 }
 
 cv::Mat MapLineExtractor::normalShading(const cv::Mat& depth) const
 {
-    CV_Assert(depth.type() == CV_32FC1 && depth.rows == rays_.rows && depth.cols == rays_.cols);
+    CV_Assert(depth.type() == CV_32FC1 && depth.size() == ray_x_.size());
     // The map's points are noisy at the pixel scale (a centimetre of range noise across 4 mm pixels): normals come
     // from the points averaged over a window and differenced over kBaselinePx, about 5 cm at 2 m.
     constexpr int kWindowPx = 9, kBaselinePx = 4;

@@ -61,7 +61,7 @@ tracking::MapLine rowLine(double v, double u0, double u1, double z, int n = 16)
 TEST(MapLines, ACreaseLiftsToTheWallFloorLine)
 {
     tracking::MapLineOptions o;
-    tracking::MapLineExtractor x(kCamera, o);
+    tracking::MapLineExtractor x(kCamera, o, frontend::LineOptions{});
     const cv::Mat depth = renderRoom();
     const cv::Mat shading = x.normalShading(depth);
     ASSERT_EQ(shading.rows, kCamera.height / o.shading_step);
@@ -82,7 +82,7 @@ TEST(MapLines, ACreaseLiftsToTheWallFloorLine)
 TEST(MapLines, AContourLiftsToTheForegroundEdgeEvenWhenTheSegmentIsOff)
 {
     tracking::MapLineOptions o;
-    tracking::MapLineExtractor x(kCamera, o);
+    tracking::MapLineExtractor x(kCamera, o, frontend::LineOptions{});
     const cv::Mat depth = renderRoom(160);  // box face z = 2 left of u = 160, wall z = 3 right of it
     // The segment 2 px inside the background: the lift must still take the box's edge (x = -1/300 * 2 at z = 2).
     const auto line = x.lift(segment(162, 30, 162, 150), depth, Eigen::Isometry3d::Identity());

@@ -59,12 +59,8 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     stereo_.T_left_right = core::toIsometry(rig.T_left_right);
     if (options_.map_lines)
     {
-        MapLineOptions lo = mapLineOptions();
-        line_extractor_ = std::make_unique<MapLineExtractor>(stereo_.left.model, lo);
+        line_extractor_ = std::make_unique<MapLineExtractor>(stereo_.left.model, mapLineOptions(), frontend.options().lines);
         line_detector_ = std::make_unique<frontend::LineDetector>(frontend.options().lines);
-        frontend::LineOptions shading_lines = frontend.options().lines;  // the same lengths in image pixels
-        shading_lines.min_length_px /= lo.shading_step;
-        shading_line_detector_ = std::make_unique<frontend::LineDetector>(shading_lines);
     }
 }
 
@@ -139,15 +135,7 @@ void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines
     const MapLineOptions lo = mapLineOptions();
     // Map side: lines of the quasi-image the alignment rendered at the prediction, lifted at its pose.
     const quasi::QuasiImage& q = refiner_.quasiImage();
-    const Eigen::Isometry3d T_world_q = core::toIsometry(q.T_world_cam);
-    const cv::Mat shading = line_extractor_->normalShading(q.depth);
-    std::vector<MapLine> map_lines;
-    for (frontend::LineSegment s : shading_line_detector_->detect(shading))
-    {
-        if (!line_extractor_->isEdge(shading, s)) continue;
-        s.p0 *= float(lo.shading_step), s.p1 *= float(lo.shading_step);  // shading pixels -> image pixels
-        if (auto m = line_extractor_->lift(s, q.depth, T_world_q)) map_lines.push_back(std::move(*m));
-    }
+    const std::vector<MapLine> map_lines = line_extractor_->mapLines(q.depth, core::toIsometry(q.T_world_cam));
     // The association window from the pose covariance: the predicted pixel sigma at the map lines' median depth.
     std::vector<double> depths;
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();

@@ -16,6 +16,7 @@
 //     association distribution the estimator's reweighting reads. The window comes from the pose covariance.
 #include <Eigen/Geometry>
 #include <opencv2/core.hpp>
+#include <memory>
 #include <optional>
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/estimation/measurements.h>
@@ -54,7 +55,12 @@ struct MapLine
 class MapLineExtractor
 {
    public:
-    MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options);
+    /** lines: the detector's options, lengths in image pixels (the shading's detector scales them). */
+    MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options, const frontend::LineOptions& lines);
+    ~MapLineExtractor();
+    /** The map lines of a completed depth image rendered at T_world_cam: segments detected on its normalShading,
+     *  those that are edges (isEdge) lifted (lift). */
+    std::vector<MapLine> mapLines(const cv::Mat& depth, const Eigen::Isometry3d& T_world_cam) const;
     /** CV_8U shading of a completed depth image (camera-z metres, 0 invalid; rendered with the camera) by its
      *  surface normals, at every shading_step-th pixel (rows / step x cols / step); 0 where invalid and on the far
      *  side of a depth discontinuity (relative jump > 5 %), so that both creases and contours are intensity steps
@@ -70,10 +76,9 @@ class MapLineExtractor
 
    private:
     Eigen::Vector3d ray(int u, int v) const;
-    core::CameraModel camera_;
     MapLineOptions options_;
-    cv::Mat rays_;  ///< CV_32FC2: (x, y) on the normalised plane z = 1 of every pixel
-    cv::Mat ray_x_, ray_y_;  ///< its two planes
+    cv::Mat ray_x_, ray_y_;  ///< CV_32F: x and y on the normalised plane z = 1 of every pixel
+    std::unique_ptr<frontend::LineDetector> shading_detector_;
 };
 
 /** One factor input per camera segment with at least one candidate (see the file comment); each candidate keeps

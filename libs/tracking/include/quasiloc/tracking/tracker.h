@@ -255,7 +255,7 @@ class Tracker
     std::vector<frontend::LineSegment> cameraLines(const cv::Mat& image) const;
 
     std::unique_ptr<MapLineExtractor> line_extractor_;  ///< map_lines
-    std::unique_ptr<frontend::LineDetector> line_detector_, shading_line_detector_;
+    std::unique_ptr<frontend::LineDetector> line_detector_;  ///< map_lines: the camera side
     std::unique_ptr<core::WorkerThread> worker_;  ///< concurrent_stages: the stereo extraction's thread
 
     const map::DistanceField* distance_field_ = nullptr;
