@@ -32,8 +32,6 @@
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/tracking/tracker.h>
 #include <deque>
-#include <fstream>
-#include <cstdlib>
 #include <sstream>
 
 #include "global_start.h"

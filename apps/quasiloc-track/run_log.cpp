@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <sstream>
 
 namespace quasiloc::app
 {
@@ -46,7 +47,6 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport
         e_deg = core::rotationDistanceRad(r.T_world_cam0, G) * 180 / M_PI;
         gt_traj_.poses.push_back({r.t, *f.T_world_cam0});
     }
-    last_error_m_ = row.error_m;
     row.ms = r.ms_total + ms_check + ms_search;
     row.map_update = r.map_update, row.keyframe = r.keyframe, row.lost = r.lost;
     std::ostringstream csv;
@@ -73,7 +73,6 @@ void RunLog::rewindTo(double t)
     drop(traj_);
     drop(gt_traj_);
     rows_.erase(std::remove_if(rows_.begin(), rows_.end(), [t](const Row& r) { return r.t >= t; }), rows_.end());
-    last_error_m_ = rows_.empty() ? NAN : rows_.back().error_m;
 }
 
 std::optional<Eigen::Isometry3d> RunLog::poseAt(double t) const

@@ -4,8 +4,8 @@
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/frame.h>
 #include <quasiloc/tracking/tracker.h>
+#include <cmath>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -32,7 +32,7 @@ class RunLog
     const core::Trajectory& estimate() const { return traj_; }
     const core::Trajectory& groundTruth() const { return gt_traj_; }  ///< at the logged frames that have it
     std::string csv() const;
-    double lastErrorM() const { return last_error_m_; }
+    double lastErrorM() const { return rows_.empty() ? NAN : rows_.back().error_m; }
     /** The printed summary: frames, losses (withdrawn: the relocalization's fixes confirmed the track;
      *  relocalizations: restarts), ATE against ground truth, time per frame. */
     std::string summary(size_t frames, int losses, int withdrawn, int relocalizations, double longest_unverified_s) const;
@@ -48,6 +48,5 @@ class RunLog
     };
     core::Trajectory traj_, gt_traj_;
     std::vector<Row> rows_;
-    double last_error_m_ = NAN;
 };
 }  // namespace quasiloc::app
