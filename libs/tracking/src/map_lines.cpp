@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 namespace quasiloc::tracking
 {
@@ -53,38 +54,100 @@ Eigen::Vector3d MapLineExtractor::ray(int u, int v) const
     return {double(ray_x_.at<float>(v, u)), double(ray_y_.at<float>(v, u)), 1.0};
 }
 
+namespace
+{
+/** Sums over a window x window box (odd) of the camera points (x z, y z, z) and of the valid pixels, centred at every
+ *  step-th pixel: element (y, x) for pixel (x step, y step); outside the image counts as empty. Only the centres
+ *  that are used are summed (separably: row sums at those columns, then a running sum down them). */
+cv::Mat boxSumsAtStep(const cv::Mat& depth, const cv::Mat& ray_x, const cv::Mat& ray_y, int step, int window)
+{
+    const int r = window / 2, out_rows = depth.rows / step, out_cols = depth.cols / step;
+    cv::Mat sums(out_rows, out_cols, CV_32FC4, cv::Scalar::all(0));
+    std::vector<cv::Vec4d> ring(size_t(window) * size_t(out_cols), cv::Vec4d::all(0));  // the last `window` rows' sums
+    std::vector<cv::Vec4d> column(size_t(out_cols), cv::Vec4d::all(0));                // their sum
+    for (int v_in = 0; v_in < depth.rows + r; ++v_in)
+    {
+        cv::Vec4d* row = &ring[size_t(v_in % window) * size_t(out_cols)];
+        for (int x = 0; x < out_cols; ++x) column[size_t(x)] -= row[x];  // the row leaving the window
+        std::fill(row, row + out_cols, cv::Vec4d::all(0));
+        if (v_in < depth.rows)
+        {
+            // A running sum along the row (an invalid pixel has z = 0, so only its count needs the test), stored at
+            // the centres.
+            const float* d = depth.ptr<float>(v_in);
+            const float* rx = ray_x.ptr<float>(v_in);
+            const float* ry = ray_y.ptr<float>(v_in);
+            double sx = 0, sy = 0, sz = 0, sn = 0;
+            int x_next = 0, next_centre = 0;
+            for (int u_in = 0; u_in < depth.cols + r; ++u_in)
+            {
+                if (u_in < depth.cols)
+                {
+                    const double z = d[u_in];
+                    sx += rx[u_in] * z, sy += ry[u_in] * z, sz += z, sn += z > 0;
+                }
+                const int u_out = u_in - window;  // leaves the window
+                if (u_out >= 0)
+                {
+                    const double z = d[u_out];
+                    sx -= rx[u_out] * z, sy -= ry[u_out] * z, sz -= z, sn -= z > 0;
+                }
+                if (u_in == next_centre + r)  // the window of the next centre is complete
+                {
+                    if (x_next < out_cols) row[x_next] = cv::Vec4d(sx, sy, sz, sn);
+                    ++x_next, next_centre += step;
+                }
+            }
+            for (int x = 0; x < out_cols; ++x) column[size_t(x)] += row[x];
+        }
+        const int v = v_in - r;  // the centre row whose window is now complete
+        if (v < 0 || v % step != 0 || v / step >= out_rows) continue;
+        cv::Vec4f* o = sums.ptr<cv::Vec4f>(v / step);
+        for (int x = 0; x < out_cols; ++x) o[x] = cv::Vec4f(column[size_t(x)]);
+    }
+    return sums;
+}
+}  // namespace
+
 cv::Mat MapLineExtractor::normalShading(const cv::Mat& depth) const
 {
     CV_Assert(depth.type() == CV_32FC1 && depth.size() == ray_x_.size());
     // The map's points are noisy at the pixel scale (a centimetre of range noise across 4 mm pixels): normals come
-    // from the points averaged over a window and differenced over kBaselinePx, about 5 cm at 2 m.
+    // from the points averaged over a window and differenced over kBaselinePx, about 5 cm at 2 m. The shading is
+    // made at every step-th pixel, so only those windows are summed.
     constexpr int kWindowPx = 9, kBaselinePx = 4;
-    cv::Mat mask, sx, sy, sz, sm;
-    cv::threshold(depth, mask, 0, 1, cv::THRESH_BINARY);
-    const cv::Size window(kWindowPx, kWindowPx);
-    cv::boxFilter(ray_x_.mul(depth), sx, -1, window, cv::Point(-1, -1), false);
-    cv::boxFilter(ray_y_.mul(depth), sy, -1, window, cv::Point(-1, -1), false);
-    cv::boxFilter(depth, sz, -1, window, cv::Point(-1, -1), false);
-    cv::boxFilter(mask, sm, -1, window, cv::Point(-1, -1), false);
-    auto smoothed = [&](int u, int v) {
-        const float n = std::max(sm.at<float>(v, u), 1.f);
-        return Eigen::Vector3f(sx.at<float>(v, u) / n, sy.at<float>(v, u) / n, sz.at<float>(v, u) / n);
-    };
-    const Eigen::Vector3f light = kLight.cast<float>();
-    const int step = options_.shading_step, b = kBaselinePx;
+    const int step = options_.shading_step;
     cv::Mat out(depth.rows / step, depth.cols / step, CV_8UC1, cv::Scalar(0));
+    const cv::Mat sums = boxSumsAtStep(depth, ray_x_, ray_y_, step, kWindowPx);
+    // The windows' mean points, at the centres: a baseline of kBaselinePx is kBaselinePx / step shading pixels.
+    cv::Mat points(out.size(), CV_32FC3);
     for (int y = 0; y < out.rows; ++y)
     {
+        const cv::Vec4f* in = sums.ptr<cv::Vec4f>(y);
+        cv::Vec3f* p = points.ptr<cv::Vec3f>(y);
+        for (int x = 0; x < out.cols; ++x)
+        {
+            const float n = std::max(in[x][3], 1.f);
+            p[x] = cv::Vec3f(in[x][0] / n, in[x][1] / n, in[x][2] / n);
+        }
+    }
+    auto point = [&](int x, int y) {
+        const cv::Vec3f& p = points.at<cv::Vec3f>(y, x);
+        return Eigen::Vector3f(p[0], p[1], p[2]);
+    };
+    const Eigen::Vector3f light = kLight.cast<float>();
+    const int b = std::max(1, kBaselinePx / step);
+    const float min_valid = 0.5f * kWindowPx * kWindowPx;
+    for (int y = b; y + b < out.rows; ++y)
+    {
         const int v = y * step;
-        if (v < b || v + b >= depth.rows) continue;
         const float* d0 = depth.ptr<float>(v);
         const float* dm = depth.ptr<float>(v - 1);
         const float* dp = depth.ptr<float>(v + 1);
         uint8_t* o = out.ptr<uint8_t>(y);
-        for (int x = 0; x < out.cols; ++x)
+        for (int x = b; x + b < out.cols; ++x)
         {
             const int u = x * step;
-            if (u < b || u + b >= depth.cols) continue;
             const float d = d0[u];
             if (d > 0)
             {
@@ -98,13 +161,13 @@ cv::Mat MapLineExtractor::normalShading(const cv::Mat& depth) const
             }
             // Holes between the map's points (most of the window valid) are shaded from their neighbours: left
             // dark, they would be speckles the line detector strings together.
-            else if (sm.at<float>(v, u) < 0.5f * kWindowPx * kWindowPx)
+            else if (sums.at<cv::Vec4f>(y, x)[3] < min_valid)
                 continue;
-            Eigen::Vector3f n = (smoothed(u + b, v) - smoothed(u - b, v)).cross(smoothed(u, v + b) - smoothed(u, v - b));
+            Eigen::Vector3f n = (point(x + b, y) - point(x - b, y)).cross(point(x, y + b) - point(x, y - b));
             const float norm = n.norm();
             if (!(norm > 0)) continue;
             n /= norm;
-            if (n.dot(smoothed(u, v)) > 0) n = -n;  // facing the camera
+            if (n.dot(point(x, y)) > 0) n = -n;  // facing the camera
             o[x] = uint8_t(std::lround(128 + 127 * std::clamp(n.dot(light), -1.f, 1.f)));
         }
     }

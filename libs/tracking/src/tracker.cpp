@@ -127,15 +127,24 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     initialized_ = true;
 }
 
-void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines, const Eigen::Isometry3d& T_world_cam,
-                          double sigma_m, double sigma_rad, estimation::WindowInput& in, FrameReport& rep)
+std::vector<MapLine> Tracker::quasiImageLines(FrameReport& rep) const
+{
+    mrpt::system::CTicTac tic;
+    // Lines of the quasi-image the alignment rendered at the prediction, lifted at its pose.
+    const quasi::QuasiImage& q = refiner_.quasiImage();
+    std::vector<MapLine> lines = line_extractor_->mapLines(q.depth, core::toIsometry(q.T_world_cam));
+    rep.map_lines = int(lines.size());
+    rep.ms_lines = tic.Tac() * 1e3;
+    return lines;
+}
+
+void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines, const std::vector<MapLine>& map_lines,
+                          const Eigen::Isometry3d& T_world_cam, double sigma_m, double sigma_rad,
+                          estimation::WindowInput& in, FrameReport& rep)
 {
     mrpt::system::CTicTac tic;
     const core::CameraModel& camera = stereo_.left.model;
     const MapLineOptions lo = mapLineOptions();
-    // Map side: lines of the quasi-image the alignment rendered at the prediction, lifted at its pose.
-    const quasi::QuasiImage& q = refiner_.quasiImage();
-    const std::vector<MapLine> map_lines = line_extractor_->mapLines(q.depth, core::toIsometry(q.T_world_cam));
     // The association window from the pose covariance: the predicted pixel sigma at the map lines' median depth.
     std::vector<double> depths;
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -146,12 +155,11 @@ void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines
     in.lines = associateMapLines(camera_lines, map_lines, camera, T_world_cam, rep.line_window_px,
                                  options_.line_sigma_px, lo);
     rep.camera_lines = int(camera_lines.size());
-    rep.map_lines = int(map_lines.size());
     rep.line_factors = int(in.lines.size());
     size_t candidates = 0;
     for (const auto& l : in.lines) candidates += l.candidates.size();
     rep.line_candidates = in.lines.empty() ? 0 : double(candidates) / double(in.lines.size());
-    rep.ms_lines = tic.Tac() * 1e3;
+    rep.ms_lines += tic.Tac() * 1e3;
 }
 
 void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
@@ -314,6 +322,10 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         }
         misses_ = rep.map_update ? 0 : misses_ + 1;
     }
+    // The map side of the line factors needs only the quasi-image: done here, while the worker may still be
+    // detecting the camera's segments.
+    std::vector<MapLine> map_lines;
+    if (lines_T_world_cam) map_lines = quasiImageLines(rep);
     rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
 
     // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
@@ -328,7 +340,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     if (lines_T_world_cam)
     {
         if (!concurrent) camera_lines = cameraLines(frame.left);
-        addMapLines(camera_lines, *lines_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
+        addMapLines(camera_lines, map_lines, *lines_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
     }
     if (options_.temporal_landmarks && options_.map_updates && options_.stereo_map_factor && distance_field_)
         addStereoMapTerm(stereo_points, in);

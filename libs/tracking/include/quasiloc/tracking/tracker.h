@@ -246,10 +246,13 @@ class Tracker
     std::vector<int> prev_stereo_of_left_;  ///< previous left keypoint -> index in prev_stereo_ (-1: none)
     Eigen::Isometry3d T_body_cam_ = Eigen::Isometry3d::Identity();
 
-    /** Point-to-line map factors of a keyframe (map_lines): the map lines of the refiner's quasi-image against
-     *  the camera's segments, associated at T_world_cam. */
-    void addMapLines(const std::vector<frontend::LineSegment>& camera_lines, const Eigen::Isometry3d& T_world_cam,
-                     double sigma_m, double sigma_rad, estimation::WindowInput& in, FrameReport& rep);
+    /** The map lines of the refiner's last quasi-image (map_lines), lifted at its pose. */
+    std::vector<MapLine> quasiImageLines(FrameReport& rep) const;
+    /** Point-to-line map factors of a keyframe (map_lines): `map_lines` against the camera's segments, associated
+     *  at T_world_cam. */
+    void addMapLines(const std::vector<frontend::LineSegment>& camera_lines, const std::vector<MapLine>& map_lines,
+                     const Eigen::Isometry3d& T_world_cam, double sigma_m, double sigma_rad,
+                     estimation::WindowInput& in, FrameReport& rep);
     MapLineOptions mapLineOptions() const;
     /** The left image's segments (map_lines); with concurrent_stages on the worker thread beside the alignment. */
     std::vector<frontend::LineSegment> cameraLines(const cv::Mat& image) const;
