@@ -49,6 +49,7 @@ void QuasiOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, 
     completion_radius_px = readInt(cfg, s, "completion_radius_px", completion_radius_px);
     completion_depth_rel = readDouble(cfg, s, "completion_depth_rel", completion_depth_rel);
     completion_reflectivity_abs = readDouble(cfg, s, "completion_reflectivity_abs", completion_reflectivity_abs);
+    scanline_gap_px = readInt(cfg, s, "scanline_gap_px", scanline_gap_px);
     reflectivity_scope = cfg.read_string(s, "reflectivity_scope", reflectivity_scope);
     reflectivity_percentile_low = readDouble(cfg, s, "reflectivity_percentile_low", reflectivity_percentile_low);
     reflectivity_percentile_high = readDouble(cfg, s, "reflectivity_percentile_high", reflectivity_percentile_high);
@@ -76,6 +77,7 @@ void QuasiOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std:
     c.write(s, "completion_radius_px", completion_radius_px, 30, 40, "completion window (2r+1)^2; 0: off");
     c.write(s, "completion_depth_rel", completion_depth_rel, 30, 40, "|d - d_ref| <= rel*d_ref");
     c.write(s, "completion_reflectivity_abs", completion_reflectivity_abs, 30, 40, "|i - i_p| <= abs");
+    c.write(s, "scanline_gap_px", scanline_gap_px, 30, 40, "longest vertical gap filled between scan lines; 0: off");
     c.write(s, "reflectivity_scope", reflectivity_scope, 30, 40, "image | map (percentiles of h(I))");
     c.write(s, "reflectivity_percentile_low", reflectivity_percentile_low, 30, 40, "percent");
     c.write(s, "reflectivity_percentile_high", reflectivity_percentile_high, 30, 40, "percent");
@@ -108,6 +110,7 @@ void QuasiOptions::check(const std::string& input) const
                   "must be 0..15");
     core::require(completion_depth_rel > 0, key("completion_depth_rel"), "must be > 0");
     core::require(completion_reflectivity_abs >= 0, key("completion_reflectivity_abs"), "must be >= 0");
+    core::require(scanline_gap_px >= 0 && scanline_gap_px <= 64, key("scanline_gap_px"), "must be 0..64");
     reflectivityScope();
     edgeOperator();
     grayMode();

@@ -218,6 +218,14 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
         b.counts[s] = detail::completeRows(b.sparse, y0, y1, o, out);
     });
     st.completed_pixels = sum(b.counts);
+    if (o.scanline_gap_px > 0)
+    {
+        // By column stripes: each column is filled independently.
+        parallelRows(W, row_stripes, [&](int x0, int x1, int s) {
+            b.counts[s] = detail::fillScanlineGapColumns(out, x0, x1, o.scanline_gap_px, o.completion_depth_rel);
+        });
+        st.scanline_filled_pixels = sum(b.counts);
+    }
     clock.lap(st.ms_completion, st.cpu_ms_completion);
 
     // Encoding (histogram of the completed reflectivity for reflectivity_scope = image).

@@ -249,3 +249,54 @@ TEST(Splatting, RendererFillsACloseSparseWall)
         for (int x = 0; x < splatted.width(); x += 7)
             if (splatted.valid.at<uint8_t>(y, x)) EXPECT_GE(splatted.provenance.at<int32_t>(y, x), 0);
 }
+
+TEST(ScanlineFill, FillsShortGapsWithinASurfaceOnly)
+{
+    // One column per case: valid rows 10 and 14 (a 3-row gap) at depths (2, 2.1): filled; at (2, 3): a depth step,
+    // kept; valid rows 10 and 30 (19 rows): longer than the limit, kept.
+    const int W = 3, H = 40;
+    quasi::QuasiImage q;
+    q.depth = cv::Mat::zeros(H, W, CV_32FC1);
+    q.reflectivity = cv::Mat::zeros(H, W, CV_32FC1);
+    q.valid = cv::Mat::zeros(H, W, CV_8UC1);
+    q.provenance = cv::Mat(H, W, CV_32SC1, cv::Scalar(-1));
+    auto set = [&](int y, int x, float d, float i, int32_t p) {
+        q.depth.at<float>(y, x) = d, q.reflectivity.at<float>(y, x) = i, q.valid.at<uint8_t>(y, x) = 255;
+        q.provenance.at<int32_t>(y, x) = p;
+    };
+    set(10, 0, 2.0f, 0.2f, 7), set(14, 0, 2.1f, 0.6f, 8);
+    set(10, 1, 2.0f, 0.2f, 7), set(14, 1, 3.0f, 0.6f, 8);
+    set(10, 2, 2.0f, 0.2f, 7), set(30, 2, 2.0f, 0.6f, 8);
+    EXPECT_EQ(quasi::detail::fillScanlineGapColumns(q, 0, W, 8, 0.05), 3u);
+    for (int y = 11; y <= 13; ++y)
+    {
+        ASSERT_TRUE(q.valid.at<uint8_t>(y, 0));
+        const float t = float(y - 10) / 4.f;
+        EXPECT_NEAR(1.f / q.depth.at<float>(y, 0), (1 - t) / 2.0f + t / 2.1f, 1e-6);  // inverse depth is linear
+        EXPECT_NEAR(q.reflectivity.at<float>(y, 0), (1 - t) * 0.2f + t * 0.6f, 1e-6);
+        EXPECT_EQ(q.provenance.at<int32_t>(y, 0), y <= 12 ? 7 : 8);  // the nearer end
+        EXPECT_FALSE(q.valid.at<uint8_t>(y, 1));
+    }
+    for (int y = 11; y < 30; ++y) EXPECT_FALSE(q.valid.at<uint8_t>(y, 2));
+}
+
+TEST(ScanlineFill, RendererFillsTheGapsOfAThinnedSurface)
+{
+    // A wall whose map keeps every 6th row of points: without the fill its render is striped, with it the rows
+    // between the stripes are valid (and no gap is filled across the wall's edge into the empty background).
+    quasi::QuasiOptions o;
+    o.completion_radius_px = 1;
+    map::LidarMap wall;
+    for (int r = 0; r < 120; r += 6)
+        for (int c = 0; c < 200; ++c) wall.addPoint(float(-1.0 + c * 0.01), float(-0.6 + r * 0.01), 3.0f, 0.5f);
+    core::CameraModel cam = core::CameraModel::pinhole(320, 240, 300, 300, 160, 120);
+    quasi::QuasiImage without, with;
+    quasi::QuasiRenderer(wall, o).render(mrpt::poses::CPose3D(), cam, without);
+    o.scanline_gap_px = 8;
+    quasi::QuasiRenderer(wall, o).render(mrpt::poses::CPose3D(), cam, with);
+    const cv::Rect inner(100, 80, 120, 80);  // inside the wall's image
+    EXPECT_LT(cv::countNonZero(without.valid(inner)), int(0.6 * inner.area()));
+    EXPECT_EQ(cv::countNonZero(with.valid(inner)), inner.area());
+    EXPECT_GT(with.stats.scanline_filled_pixels, 0u);
+    EXPECT_EQ(cv::countNonZero(with.valid(cv::Rect(0, 0, 320, 20))), 0);  // above the wall: nothing to fill
+}

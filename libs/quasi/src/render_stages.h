@@ -110,6 +110,12 @@ void findSeeThrough(const SparsePlanes& sparse, const cv::Mat& window_min, int y
 size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptions& o, QuasiImage& out,
                     bool allow_simd = true);
 
+/** Columns [x0, x1) of scan-line gap filling (QuasiOptions::scanline_gap_px) in the completed out.depth,
+ *  reflectivity, valid and provenance: a vertical run of 1..max_gap_px invalid pixels between two valid ones whose
+ *  depths agree within depth_rel (of the nearer) gets inverse depth and reflectivity interpolated linearly along
+ *  the column (a plane's inverse depth is linear in the image) and the provenance of the nearer end; `sparse` is
+ *  left 0. Returns the number of filled pixels. */
+size_t fillScanlineGapColumns(QuasiImage& out, int x0, int x1, int max_gap_px, double depth_rel);
 /** Look-up table of the HSV colour at V = 1 for 256 levels of h(I) (BGR, 0..1) and its luminance. */
 struct HueTable
 {

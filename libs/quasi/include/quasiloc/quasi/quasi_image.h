@@ -20,6 +20,7 @@ struct RenderStats
     size_t sparse_pixels = 0;      ///< pixels won by a point (after the see-through filter)
     size_t occluded_pixels = 0;    ///< pixels dropped by the see-through filter
     size_t completed_pixels = 0;   ///< pixels filled by completion
+    size_t scanline_filled_pixels = 0;  ///< pixels filled between scan lines (QuasiOptions::scanline_gap_px)
     double ms_culling = 0, ms_projection = 0, ms_completion = 0, ms_encoding = 0;
     /** CPU time of the whole process during each stage (all threads): the work done, which unlike the wall
      *  time does not grow when other processes compete for the cores. Meaningful when one render runs at a time. */

@@ -25,6 +25,12 @@
 //   completion_radius_px = 2           ; square window (2r+1)^2
 //   completion_depth_rel = 0.05        ; depth-consistent: |d - d_ref| <= rel * d_ref
 //   completion_reflectivity_abs = 0.1  ; reflectivity-consistent: |i - i_p| <= abs (map reflectivity, [0,1])
+//   ; scan-line gap filling (after completion): a spinning LiDAR's map is denser along its scan lines than
+//   ; across them, so a ground or wall seen from afar renders as stripes of points with empty rows between them,
+//   ; and every stripe edge is a false depth and reflectivity edge. A vertical run of at most scanline_gap_px
+//   ; empty pixels between two pixels whose depths agree within completion_depth_rel is filled (inverse depth
+//   ; and reflectivity interpolated along the column, provenance of the nearer end). 0 disables it.
+//   scanline_gap_px = 0
 //   ; encoding H = h(I), S = s0, V = b1 + b2 * h(F(D))
 //   reflectivity_scope = image         ; image | map: where the normalising percentiles of h(I) come from
 //   reflectivity_percentile_low = 2
@@ -77,6 +83,7 @@ struct QuasiOptions : public mrpt::config::CLoadableOptions
     int completion_radius_px = 2;
     double completion_depth_rel = 0.05;
     double completion_reflectivity_abs = 0.1;
+    int scanline_gap_px = 0;
 
     std::string reflectivity_scope = "image";
     double reflectivity_percentile_low = 2.0;
