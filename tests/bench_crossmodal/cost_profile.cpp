@@ -1,5 +1,7 @@
 #include "cost_profile.h"
 
+#include <quasiloc/quasi/histogram_matching.h>
+
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -21,7 +23,7 @@ Eigen::Isometry3d axisStep(int k, double step_m, double step_deg)
 
 CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
                                const estimation::DirectAlignmentOptions& options, double step_m, double step_deg,
-                               frontend::Frontend& frontend)
+                               frontend::Frontend& frontend, bool matched_reflectivity)
 {
     CostProfile p;
     quasi::QuasiImage q;
@@ -43,6 +45,7 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
         else
             gray = fr.image;
         frontend.extract(gray, cv::Mat(), fc);
+        if (matched_reflectivity) q.gray = quasi::reflectivityMatchedToImage(q, gray);  // [MapRefinement] quasi_gray
         frontend.extract(q.gray, q.valid, fq);
         const bool fm = !fc.points.dense.empty() && !fq.points.dense.empty();
         const frontend::DenseMap cam_dense = fm ? centredDenseMap(fc.points.dense) : frontend::DenseMap{};

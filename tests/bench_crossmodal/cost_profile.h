@@ -31,6 +31,6 @@ Eigen::Isometry3d axisStep(int k, double step_m, double step_deg);
 
 CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRenderer& renderer,
                                const estimation::DirectAlignmentOptions& options, double step_m, double step_deg,
-                               frontend::Frontend& frontend);
+                               frontend::Frontend& frontend, bool matched_reflectivity = false);
 
 }  // namespace quasiloc::bench

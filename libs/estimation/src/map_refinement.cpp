@@ -8,6 +8,7 @@
 #include <quasiloc/estimation/absolute_pose.h>
 #include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/map_refinement.h>
+#include <quasiloc/quasi/histogram_matching.h>
 #include <quasiloc/frontend/lifting.h>
 #include <unordered_map>
 
@@ -51,6 +52,7 @@ void MapRefinementOptions::loadFromConfigFile(const mrpt::config::CConfigFileBas
     lift_radius_px = core::readIniDouble(cfg, s, "lift_radius_px", lift_radius_px);
     pnp_max_error_px = core::readIniDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
     direct_solver = cfg.read_string(s, "direct_solver", direct_solver);
+    quasi_gray = cfg.read_string(s, "quasi_gray", quasi_gray);
     direct.loadFromConfigFile(cfg, "DirectAlignment");
 }
 
@@ -70,6 +72,7 @@ void MapRefinementOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     c.write(s, "lift_radius_px", lift_radius_px, 24, 10);
     c.write(s, "pnp_max_error_px", pnp_max_error_px, 24, 10);
     c.write(s, "direct_solver", direct_solver, 24, 10, "lm | ceres (direct_factor.h)");
+    c.write(s, "quasi_gray", quasi_gray, 24, 10, "encoding | matched_reflectivity (features of Q)");
     direct.saveToConfigFile(c, "DirectAlignment");
 }
 
@@ -87,6 +90,8 @@ void MapRefinementOptions::check(const std::string& input) const
     core::require(direct_prior_weight >= 0, k + "direct_prior_weight", "must be >= 0");
     core::require(direct_solver == "lm" || direct_solver == "ceres", k + "direct_solver",
                   "'" + direct_solver + "' is not lm or ceres");
+    core::require(quasi_gray == "encoding" || quasi_gray == "matched_reflectivity", k + "quasi_gray",
+                  "'" + quasi_gray + "' is not encoding or matched_reflectivity");
     core::require(lift_radius_px >= 0 && lift_radius_px <= 20, k + "lift_radius_px", "must be in [0, 20]");
     core::require(pnp_max_error_px > 0, k + "pnp_max_error_px", "must be > 0");
     direct.check(input);
@@ -155,6 +160,7 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
     res.window_px = window_px;
     tic.Tic();
     frontend::FrameFeatures fq;
+    if (options_.quasi_gray == "matched_reflectivity") q_.gray = quasi::reflectivityMatchedToImage(q_, gray_);
     frontend_.extract(q_.gray, q_.valid, fq);
     res.ms_extract = tic.Tac() * 1e3;
 

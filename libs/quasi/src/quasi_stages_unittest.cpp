@@ -7,6 +7,7 @@
 #include <cstring>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/program_options.h>
+#include <quasiloc/quasi/histogram_matching.h>
 #include <quasiloc/quasi/quasi_renderer.h>
 #include <quasiloc/quasi/synthetic_scene.h>
 
@@ -299,4 +300,40 @@ TEST(ScanlineFill, RendererFillsTheGapsOfAThinnedSurface)
     EXPECT_EQ(cv::countNonZero(with.valid(inner)), inner.area());
     EXPECT_GT(with.stats.scanline_filled_pixels, 0u);
     EXPECT_EQ(cv::countNonZero(with.valid(cv::Rect(0, 0, 320, 20))), 0);  // above the wall: nothing to fill
+}
+
+TEST(HistogramMatching, RecoversAMonotoneRemappingAndIgnoresInvalidPixels)
+{
+    // The camera sees f(reflectivity) for a monotone f: the matched quasi-image must reproduce it. The invalid pixels
+    // (where the camera shows something else, here saturated) neither take part nor get a value.
+    const int W = 64, H = 48;
+    quasi::QuasiImage q;
+    q.reflectivity = cv::Mat::zeros(H, W, CV_32FC1);
+    q.valid = cv::Mat::zeros(H, W, CV_8UC1);
+    cv::Mat camera(H, W, CV_8UC1, cv::Scalar(255));
+    cv::RNG rng(3);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+        {
+            if (x < 8) continue;  // invalid: camera 255
+            const float r = float(rng.uniform(0.0, 1.0));
+            q.reflectivity.at<float>(y, x) = r;
+            q.valid.at<uint8_t>(y, x) = 255;
+            camera.at<uint8_t>(y, x) = uint8_t(std::lround(20 + 200 * std::sqrt(r)));
+        }
+    const cv::Mat matched = quasi::reflectivityMatchedToImage(q, camera);
+    double worst = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+        {
+            if (!q.valid.at<uint8_t>(y, x))
+            {
+                EXPECT_EQ(matched.at<uint8_t>(y, x), 0);
+                continue;
+            }
+            worst = std::max(worst, std::abs(double(matched.at<uint8_t>(y, x)) - camera.at<uint8_t>(y, x)));
+        }
+    EXPECT_LE(worst, 8.0);  // 256 reflectivity bins: sqrt is steep near 0, one bin spans up to ~13 levels there
+    // Mismatched sizes are an input error naming the step.
+    EXPECT_THROW(quasi::reflectivityMatchedToImage(q, cv::Mat(H + 1, W, CV_8UC1)), core::InputError);
 }
