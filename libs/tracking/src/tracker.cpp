@@ -13,6 +13,9 @@
 #include <quasiloc/estimation/map_measurement.h>
 #include <quasiloc/tracking/tracker.h>
 
+#include <quasiloc/quasi/histogram_matching.h>
+#include <quasiloc/tracking/map_points.h>
+
 
 namespace quasiloc::tracking
 {
@@ -47,6 +50,7 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       reweighting_(reweighting),
       imu_noise_(imu_noise),
       refiner_(refinement, renderer, frontend),
+      map_(renderer.map()),
       frontend_(frontend),
       stereo_matcher_(rig, frontend.options().stereo)
 {
@@ -160,6 +164,31 @@ void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines
     for (const auto& l : in.lines) candidates += l.candidates.size();
     rep.line_candidates = in.lines.empty() ? 0 : double(candidates) / double(in.lines.size());
     rep.ms_lines += tic.Tac() * 1e3;
+}
+
+void Tracker::addMapPoints(const frontend::FrameFeatures& camera, const cv::Mat& left_image,
+                           const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in, FrameReport& rep)
+{
+    mrpt::system::CTicTac tic;
+    const quasi::QuasiImage& q = refiner_.quasiImage();
+    cv::Mat gray = q.gray;
+    if (refiner_.options().quasi_gray == "matched_reflectivity")
+    {
+        cv::Mat left = left_image;
+        if (left.channels() == 3) cv::cvtColor(left_image, left, cv::COLOR_BGR2GRAY);
+        gray = quasi::reflectivityMatchedToImage(q, left);
+    }
+    frontend::FrameFeatures fq;
+    frontend_.extractPoints(gray, q.valid, fq);
+    MapPointOptions po;
+    po.window_px = options_.point_window_px;
+    po.sigma_px = options_.point_sigma_px;
+    po.lift_radius_px = refiner_.options().lift_radius_px;
+    in.points = associateMapPoints(camera.points, fq.points, q, map_, stereo_.left.model, T_world_cam,
+                                   frontend_.options().point_matching, po);
+    rep.quasi_keypoints = int(fq.points.keypoints.size());
+    rep.point_factors = int(in.points.size());
+    rep.ms_points = tic.Tac() * 1e3;
 }
 
 void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
@@ -293,7 +322,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
         rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
                          rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
-        if (rep.map_update && options_.map_lines) lines_T_world_cam = r.T_world_cam;
+        if (rep.map_update && (options_.map_lines || options_.map_points)) lines_T_world_cam = r.T_world_cam;
         if (rep.map_update && options_.map_term == "factor")
         {
             // The edge residuals themselves in the window, linearised from the alignment's pose.
@@ -325,7 +354,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     // The map side of the line factors needs only the quasi-image: done here, while the worker may still be
     // detecting the camera's segments.
     std::vector<MapLine> map_lines;
-    if (lines_T_world_cam) map_lines = quasiImageLines(rep);
+    if (lines_T_world_cam && options_.map_lines) map_lines = quasiImageLines(rep);
     rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
 
     // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
@@ -337,7 +366,9 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     }
     else if (options_.temporal_landmarks)
         stereo_points = extractStereo(frame);
-    if (lines_T_world_cam)
+    if (lines_T_world_cam && options_.map_points && options_.temporal_landmarks)
+        addMapPoints(stereo_points.left, frame.left, *lines_T_world_cam, in, rep);
+    if (lines_T_world_cam && options_.map_lines)
     {
         if (!concurrent) camera_lines = cameraLines(frame.left);
         addMapLines(camera_lines, map_lines, *lines_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);

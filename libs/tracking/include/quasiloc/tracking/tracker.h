@@ -103,6 +103,12 @@
 //                                 ;   half-resolution shading); wider windows admit texture segments
 //   line_max_angle_deg = 5
 //   line_max_candidates = 3
+//   map_points = false            ; point factors (map_points.h) on keyframes: the quasi-image's keypoints (on the
+//                                 ;   [MapRefinement] quasi_gray image), lifted through provenance, matched by
+//                                 ;   descriptor to the left image's keypoints within point_window_px of their
+//                                 ;   projection at the edge alignment's pose ([Estimator] primitives must include P)
+//   point_window_px = 3
+//   point_sigma_px = 1.5
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
 #include <quasiloc/core/worker_thread.h>
@@ -156,6 +162,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;
     double line_max_angle_deg = 5;
     int line_max_candidates = 3;
+    bool map_points = false;
+    double point_window_px = 3, point_sigma_px = 1.5;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
@@ -180,6 +188,8 @@ struct FrameReport
     double line_candidates = 0;  ///< mean candidates per line factor
     double line_window_px = 0;
     double ms_lines = 0;
+    int quasi_keypoints = 0, point_factors = 0;  ///< map_points: the quasi-image's keypoints, point factors
+    double ms_points = 0;
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
     /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
      *  points and temporal matching (with concurrent_stages the extraction runs beside the alignment and only the
@@ -238,6 +248,7 @@ class Tracker
     estimation::StereoGeometry stereo_;
     estimation::ImuNoise imu_noise_;
     estimation::MapRefiner refiner_;
+    const map::LidarMap& map_;  ///< the renderer's (map_points: lifting through provenance)
     frontend::Frontend& frontend_;
     frontend::StereoMatcher stereo_matcher_;
     frontend::FrameFeatures prev_left_;
@@ -254,6 +265,10 @@ class Tracker
                      const Eigen::Isometry3d& T_world_cam, double sigma_m, double sigma_rad,
                      estimation::WindowInput& in, FrameReport& rep);
     MapLineOptions mapLineOptions() const;
+    /** Point factors of a keyframe (map_points): the refiner's quasi-image's keypoints against the left image's
+     *  (`camera`), associated at T_world_cam. Uses the front-end: not while the worker extracts. */
+    void addMapPoints(const frontend::FrameFeatures& camera, const cv::Mat& left_image,
+                      const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in, FrameReport& rep);
     /** The left image's segments (map_lines); with concurrent_stages on the worker thread beside the alignment. */
     std::vector<frontend::LineSegment> cameraLines(const cv::Mat& image) const;
 

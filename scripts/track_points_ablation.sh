@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The point factor (tracking/map_points.h) alone and with the point-to-line factor, on the simulated sequences that
+# scripts/track_sequences.sh left in <root>: quasiloc-track with config.ini from the ground-truth initial state,
+# one run per cell (deterministic):
+#   full            edges factor + stereo-to-surface factor (the default)
+#   +P              plus point factors, the quasi-image's keypoints on its encoded gray image
+#   +P matched      plus point factors, keypoints on the reflectivity matched to the camera's histogram
+#   +P+L uniform    plus point factors (encoded gray) and map lines, line factors with weight 1
+#   bash scripts/track_points_ablation.sh [root=out/sequences] [out=out/points_ablation] [sequences...]
+# Writes <out>/<seq>/<variant>/ and the table <out>.md (ATE RMSE / max in cm, map frame, no alignment).
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
+SEQ_ROOT="${1:-out/sequences}"
+OUT="${2:-out/points_ablation}"
+shift 2 || shift $#
+SEQS=("$@")
+[ ${#SEQS[@]} -gt 0 ] || SEQS=(V1_01_easy V1_02_medium V1_03_difficult V2_01_easy V2_02_medium V2_03_difficult)
+cd "$ROOT"
+mkdir -p "$OUT"
+source "$ROOT/scripts/track_variant.sh"
+run() { track_variant "$SEQ_ROOT" "$OUT" "$@"; }  # run <seq> <variant> [--set ...]
+{
+  echo "| sequence | full (edges + surfaces) | + P | + P, matched reflectivity | + P + L, uniform |"
+  echo "|---|---|---|---|---|"
+} > "$OUT.md.tmp"
+for seq in "${SEQS[@]}"; do
+  mkdir -p "$OUT/$seq"
+  set -- $(run "$seq" full) \
+    $(run "$seq" points --set Tracking.map_points=true) \
+    $(run "$seq" points_matched --set Tracking.map_points=true --set MapRefinement.quasi_gray=matched_reflectivity) \
+    $(run "$seq" points_lines_uniform --set Tracking.map_points=true --set Tracking.map_lines=true \
+        --set Reweighting.mode=uniform)
+  printf "| %s | %s / %s | %s / %s | %s / %s | %s / %s |\n" "$seq" "$1" "$2" "$3" "$4" "$5" "$6" "$7" "$8" \
+    | tee -a "$OUT.md.tmp"
+done
+mv "$OUT.md.tmp" "$OUT.md"
+echo "table written to $OUT.md"
