@@ -14,8 +14,11 @@
 // The IMU keeps the prediction inside that basin between map updates. With temporal_landmarks, stereo
 // points matched between the previous and the current left image (front-end: ORB/..., epipolar stereo
 // matching, windowed temporal matching) add stereo reprojection factors in both frames (visual-inertial
-// odometry between map updates). Feature-matched line and plane factors with reweighting are not used here
-// (nothing matches across the modality gap). The start and the recovery after a loss are global localization by
+// odometry between map updates). Optional structural map factors (off by default, see map_lines / map_points below):
+// point-to-line factors from the quasi-image's geometric lines associated by geometry (map_lines.h), reweighted
+// by [Reweighting], and point factors from quasi-image keypoints matched by descriptor within a few pixels of
+// their projection at the aligned pose (map_points.h). Plane factors with an association distribution are not
+// fed (the stereo-to-surface factor is the point-to-plane term, without association). The start and the recovery after a loss are global localization by
 // geometry (global_initialization.h), driven by quasiloc-track.
 //
 // Keyframe policy: map alignment every `keyframe_every` frames; between keyframes the IMU factor and the
