@@ -91,9 +91,11 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::S
           << ", " << g.runner_up_offset_m << ", " << g.runner_up_offset_deg << ", " << g.query_points << ", "
           << g.candidates << ", " << g.ms_cloud << ", " << g.ms_search << ", " << g.ms_refine << ", " << e_m << ", "
           << e_deg << ", " << a.note << "\n";
-        std::cout << label_ << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
-                  << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
-                  << g.ms_cloud + g.ms_search + g.ms_refine << " ms)" << std::endl;
+        std::ostringstream line;
+        line << label_ << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
+             << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
+             << g.ms_cloud + g.ms_search + g.ms_refine << " ms)\n";
+        say(line.str());
     }
     if (start)
     {
@@ -112,12 +114,27 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::S
               << start->v_world.norm() << " m/s, error " << (start->v_world - dp_gt / dt).norm()
               << " m/s (ground truth by differences over " << dt << " s)";
             r << "# " << s.str() << "\n";
-            std::cout << s.str() << std::endl;
+            say(s.str() + "\n");
         }
         init_.reset();
     }
     record_ += r.str();
     return start;
+}
+
+void GlobalStarter::say(const std::string& text)
+{
+    if (defer_console_)
+        console_ += text;
+    else
+        std::cout << text << std::flush;
+}
+
+std::string GlobalStarter::takeConsole()
+{
+    std::string out;
+    out.swap(console_);
+    return out;
 }
 
 GlobalStarter::TrackCheck GlobalStarter::checkTrack(const dataset::StereoFrame& frame,

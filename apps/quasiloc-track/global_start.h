@@ -53,10 +53,17 @@ class GlobalStarter
     TrackCheck checkTrack(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0,
                           double refine_below) const;
 
+    /** The console lines of the attempts are kept (takeConsole) instead of printed: for a search on another thread,
+     *  whose lines the tracking thread prints between its own. */
+    void deferConsole(bool defer) { defer_console_ = defer; }
+    std::string takeConsole();
+
     /** One line per attempt (t, result, error against ground truth when the frames have it), and every start. */
     const std::string& record() const { return record_; }
 
    private:
+    void say(const std::string& text);
+
     std::unique_ptr<reloc::GeometricLocalizer> localizer_;
     std::unique_ptr<estimation::MapRefiner> refiner_;
     core::CameraModel camera_;
@@ -64,6 +71,8 @@ class GlobalStarter
     estimation::ImuNoise imu_noise_;
     tracking::GlobalInitOptions init_options_;
     std::string record_;
+    bool defer_console_ = false;
+    std::string console_;
     // The search under way (begin() .. a start).
     std::unique_ptr<tracking::GlobalInitializer> init_;
     std::string label_;

@@ -34,6 +34,7 @@
 #include <deque>
 #include <sstream>
 
+#include "background_search.h"
 #include "global_start.h"
 #include "run_log.h"
 #include <memory>
@@ -182,10 +183,15 @@ int run(const core::CommandLine& cmd)
     std::unique_ptr<app::GlobalStarter> starter;  // global localization by geometry: start and relocalization
     // Relocalization is a use of the map: the no-map baselines (map_updates = false) stay pure.
     const bool relocalize = o.relocalize && o.map_updates;
+    // The relocalization search runs beside the tracker (background_search.h): its refiner renders with a
+    // renderer of its own (the same visibility index).
+    std::unique_ptr<quasi::QuasiRenderer> search_renderer;
+    if (relocalize) search_renderer = std::make_unique<quasi::QuasiRenderer>(map, renderer.visibilityIndex(), qo);
     if (o.init == "global" || relocalize || (o.stereo_map_factor && o.map_updates))
     {
-        starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, ro, renderer, frontend, T_body_cam,
-                                                       imu_noise, o.map_file);
+        starter = std::make_unique<app::GlobalStarter>(map, source->rig(), o, go, ro,
+                                                       search_renderer ? *search_renderer : renderer, frontend,
+                                                       T_body_cam, imu_noise, o.map_file);
         if (o.stereo_map_factor) tracker.setMapDistanceField(&starter->field());
     }
     if (o.init == "groundtruth")
@@ -232,13 +238,54 @@ int run(const core::CommandLine& cmd)
     bool kidnapped = false;
     int failed_checks = 0;  // consecutive failed geometry checks (TrackRunOptions::check_every)
     size_t n = 1;
-    do
+    std::optional<app::BackgroundSearch> search;
+    if (starter && relocalize) search.emplace(*starter);
+    // Frames tracked since the search began, with the track's biases at each: after a restart at a fix the ones
+    // after it are tracked again, from the biases the track had at the fix.
+    std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss;
+    // Two fixes agreed with the IMU. If they agree with the track too, the loss is withdrawn; otherwise the tracker
+    // restarts at the first fix and the frames since are tracked again from there. Returns true on a restart.
+    auto settle = [&](const tracking::GlobalInitialState& found) {
+        const double t_fix = found.anchor.timestamp;
+        longest_unverified_s = std::max(longest_unverified_s, t_fix - last_verified_t);
+        const auto tracked = log.poseAt(t_fix);
+        const bool agrees = tracked && core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
+                            core::rotationDistanceRad(*tracked, found.T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
+        std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
+                  << last_verified_t << "; " << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted")
+                  << std::endl;
+        last_verified_t = t_fix;
+        if (agrees)
+        {
+            ++withdrawn;
+            since_loss.clear();
+            return false;
+        }
+        ++relocalizations;
+        estimation::FrameState biases = tracker.state();
+        for (const auto& [frame, state] : since_loss)
+            if (frame.timestamp <= t_fix) biases = state;
+        tracker.initializeFromGlobal(t_fix, found.T_world_cam0, found.v_world, &found.anchor, &biases);
+        log.rewindTo(t_fix);
+        log.addStart(found.anchor, found.T_world_cam0);
+        for (auto it = since_loss.rbegin(); it != since_loss.rend(); ++it)
+            if (it->first.timestamp > t_fix)
+            {
+                queued.push_front(std::move(it->first));
+                --n;  // tracked again
+            }
+        since_loss.clear();
+        return true;
+    };
+    bool have_frame = true;
+    while (have_frame)
     {
         const tracking::FrameReport r = tracker.track(f);
         ++n;
         double explained = NAN, ms_check = 0, ms_search = 0;
+        const bool searching = search && search->searching();
         const bool check_due = n % size_t(o.check_every) == 0 || failed_checks > 0;
-        if (starter && relocalize && check_due && !starter->searching())
+        if (search && check_due && !searching)
         {
             const auto t_check = std::chrono::steady_clock::now();
             const auto c = starter->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio);
@@ -264,63 +311,47 @@ int run(const core::CommandLine& cmd)
             tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
         }
         bool restarted = false;
-        if (starter && relocalize)
+        if (search)
         {
-            if ((r.lost || failed_checks >= 2) && !starter->searching())
+            if ((r.lost || failed_checks >= 2) && !search->searching())
             {
                 // Lost (lost_after_misses consecutive map alignments rejected, or the stereo geometry fits the map
-                // better elsewhere): look for a start by global localization in the next frames while tracking
-                // on. A loss that was a false alarm (the view merely poorly explained) then costs nothing.
+                // better elsewhere): global localization looks for a start in the next frames, on its own thread,
+                // while the tracker tracks on. A loss that was a false alarm (the view merely poorly explained)
+                // then costs nothing.
                 failed_checks = 0;
                 ++losses;
                 std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
-                starter->begin("reloc " + std::to_string(losses));
+                search->begin("reloc " + std::to_string(losses));
             }
-            if (starter->searching())
+            if (search->searching())
             {
-                // The search's time counts in the frame's (it runs in the tracking loop).
+                // Only the hand-over counts in the frame's time: the search itself runs beside the tracker.
                 const auto t_search = std::chrono::steady_clock::now();
-                auto found = starter->feed(f);
+                since_loss.emplace_back(f, tracker.state());
+                search->push(f);
+                const auto found = search->poll();
                 ms_search = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_search).count();
-                if (found)
-                {
-                    // Two fixes agreed with the IMU. If they agree with the track too, the loss is withdrawn;
-                    // otherwise the tracker restarts at the first fix (biases kept) and the frames since (this one
-                    // included) are tracked again from there.
-                    const double t_fix = found->anchor.timestamp;
-                    longest_unverified_s = std::max(longest_unverified_s, t_fix - last_verified_t);
-                    const auto tracked = log.poseAt(t_fix);
-                    const bool agrees =
-                        tracked && core::translationDistance(*tracked, found->T_world_cam0) <= o.max_correction_m &&
-                        core::rotationDistanceRad(*tracked, found->T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
-                    std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix
-                              << ": unverified since t " << last_verified_t << "; "
-                              << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted") << std::endl;
-                    last_verified_t = t_fix;
-                    if (agrees)
-                        ++withdrawn;
-                    else
-                    {
-                        ++relocalizations;
-                        restarted = true;
-                        tracker.initializeFromGlobal(t_fix, found->T_world_cam0, found->v_world, &found->anchor, true);
-                        log.rewindTo(t_fix);
-                        log.addStart(found->anchor, found->T_world_cam0);
-                        n -= found->pending.size();  // tracked again (the anchor is now a start, counted once)
-                        for (auto it = found->pending.rbegin(); it != found->pending.rend(); ++it)
-                            queued.push_front(std::move(*it));
-                    }
-                }
+                if (found) restarted = settle(*found);
             }
         }
-        if (restarted) continue;  // this frame is among the pending ones: tracked again
-        log.addFrame(f, r, explained, ms_check, ms_search);
-        if (n % 50 == 0)
-            std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << log.lastErrorM() << " m"
-                      << std::endl;
-    } while ((o.max_frames <= 0 || int(n) < o.max_frames) && nextFrame(f));
+        if (!restarted)  // else this frame is among those tracked again
+        {
+            log.addFrame(f, r, explained, ms_check, ms_search);
+            if (n % 50 == 0)
+                std::cout << "frame " << n << ": error " << std::fixed << std::setprecision(3) << log.lastErrorM()
+                          << " m" << std::endl;
+        }
+        have_frame = (o.max_frames <= 0 || int(n) < o.max_frames) && nextFrame(f);
+        if (!have_frame && search && search->searching())
+        {
+            // The frames ended with the search behind: let it finish them (a restart then tracks them again).
+            if (const auto found = search->finish()) settle(*found);
+            have_frame = nextFrame(f);
+        }
+    }
 
-    if (starter && starter->searching())
+    if (search && search->searching())
     {
         longest_unverified_s = std::max(longest_unverified_s, f.timestamp - last_verified_t);
         std::cout << "the frames ended during a relocalization search (unverified since t " << std::fixed

@@ -88,28 +88,27 @@ Tracker::~Tracker() = default;
 void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                          const dataset::StereoFrame* frame)
 {
-    start(t, T_world_cam0, v_world, frame, options_.init_sigma_m, options_.init_sigma_deg, options_.init_sigma_v, false);
+    start(t, T_world_cam0, v_world, frame, options_.init_sigma_m, options_.init_sigma_deg, options_.init_sigma_v, nullptr);
 }
 
 void Tracker::initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                                   const dataset::StereoFrame* frame, bool keep_biases)
+                                   const dataset::StereoFrame* frame, const estimation::FrameState* biases_from)
 {
     start(t, T_world_cam0, v_world, frame, options_.init_global_sigma_m, options_.init_global_sigma_deg,
-          options_.init_global_sigma_v, keep_biases);
+          options_.init_global_sigma_v, biases_from);
 }
 
 void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                    const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v, bool keep_biases)
+                    const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
+                    const estimation::FrameState* biases_from)
 {
     core::require(T_world_cam0.matrix().allFinite() && v_world.allFinite(), "Tracker::initialize",
                   "initial pose or velocity is not finite");
-    const estimation::FrameState previous = state_;
+    const estimation::FrameState biases = biases_from ? *biases_from : estimation::FrameState{};
     state_ = estimation::FrameState{};
-    if (keep_biases)
-    {  // a relocalization: the IMU biases estimated so far are still the best guess
-        state_.gyro_bias = previous.gyro_bias;
-        state_.acc_bias = previous.acc_bias;
-    }
+    // A relocalization: the IMU biases estimated so far are still the best guess.
+    state_.gyro_bias = biases.gyro_bias;
+    state_.acc_bias = biases.acc_bias;
     state_.t = t;
     state_.T_map_body = T_world_cam0 * T_body_cam_.inverse();
     state_.v_map = v_world;

@@ -38,6 +38,12 @@ class WorkerThread
         }
         wake_.notify_all();
     }
+    /** True when no task is running (the last one, if any, has finished: wait() then returns at once). */
+    bool idle()
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        return done_;
+    }
     /** Waits for the task started last (returns at once if none is running) and rethrows what it threw. */
     void wait()
     {

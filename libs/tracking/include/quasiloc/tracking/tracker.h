@@ -215,9 +215,10 @@ class Tracker
      *  the frame at t) gives the first stereo points for temporal landmarks. */
     void initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                     const dataset::StereoFrame* frame = nullptr);
-    /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*. */
+    /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*.
+     *  biases_from (a relocalization): the IMU biases to start from, e.g. the track's estimate at time t. */
     void initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                              const dataset::StereoFrame* frame, bool keep_biases = false);
+                              const dataset::StereoFrame* frame, const estimation::FrameState* biases_from = nullptr);
     /** The current estimate (body frame = IMU). */
     const estimation::FrameState& state() const { return state_; }
     bool initialized() const { return initialized_; }
@@ -239,7 +240,8 @@ class Tracker
     /** Depends on the images alone (and the front-end, used by no other stage): may run on a second thread. */
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-               const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v, bool keep_biases);
+               const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
+               const estimation::FrameState* biases_from);
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
     /** Landmarks between the previous frame's stereo points and `current`, which are then kept for the next frame. */

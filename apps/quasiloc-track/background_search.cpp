@@ -1,0 +1,79 @@
+#include "background_search.h"
+
+#include <quasiloc/core/error.h>
+
+#include <iostream>
+
+namespace quasiloc::app
+{
+BackgroundSearch::~BackgroundSearch()
+{
+    worker_.waitForError();
+    starter_.deferConsole(false);
+}
+
+void BackgroundSearch::begin(const std::string& label)
+{
+    core::require(!searching_, "BackgroundSearch", "begin() while a search is under way");
+    worker_.wait();
+    starter_.begin(label);
+    queue_.clear();
+    found_.reset();
+    result_.reset();
+    searching_ = true;
+}
+
+void BackgroundSearch::push(const dataset::StereoFrame& frame)
+{
+    if (searching_) queue_.push_back(frame);
+}
+
+void BackgroundSearch::collectAndStart()
+{
+    if (!searching_ || !worker_.idle()) return;
+    worker_.wait();  // idle: returns at once, rethrows the search's error
+    std::cout << starter_.takeConsole() << std::flush;
+    if (found_)
+    {
+        result_ = std::move(found_);
+        found_.reset();
+        searching_ = false;
+        queue_.clear();
+        return;
+    }
+    if (queue_.empty()) return;
+    batch_.assign(std::make_move_iterator(queue_.begin()), std::make_move_iterator(queue_.end()));
+    queue_.clear();
+    worker_.start([this] {
+        for (const dataset::StereoFrame& f : batch_)
+            if (auto start = starter_.feed(f))
+            {
+                found_ = std::move(start);
+                break;
+            }
+        batch_.clear();
+    });
+}
+
+std::optional<tracking::GlobalInitialState> BackgroundSearch::poll()
+{
+    collectAndStart();
+    auto r = std::move(result_);
+    result_.reset();
+    return r;
+}
+
+std::optional<tracking::GlobalInitialState> BackgroundSearch::finish()
+{
+    while (searching_)
+    {
+        worker_.wait();
+        collectAndStart();
+        if (result_ || (worker_.idle() && queue_.empty())) break;
+    }
+    auto r = std::move(result_);
+    result_.reset();
+    return r;
+}
+
+}  // namespace quasiloc::app

@@ -1,0 +1,52 @@
+#pragma once
+// quasiloc-track's relocalization search on its own thread. After a loss the tracker goes on tracking at its own
+// pace while global localization (GlobalStarter::feed: SGBM stereo, the search over candidate positions, the
+// appearance check; 0.4-0.5 s per attempt) works through the frames since the loss, in order, on a worker thread.
+// No frame waits for an attempt; the start is picked up by poll() on a later frame, and because every frame since
+// the fix is tracked again from it after a restart (the caller keeps them), the trajectory does not depend on when
+// the thread finished.
+//
+// Threads: the starter must not be used by anyone else while searching() (its refiner must have a renderer of its
+// own); its distance field is only read.
+#include <deque>
+#include <optional>
+#include <quasiloc/core/worker_thread.h>
+#include <string>
+#include <vector>
+
+#include "global_start.h"
+
+namespace quasiloc::app
+{
+class BackgroundSearch
+{
+   public:
+    /** The starter's console lines are printed by this thread (in poll/finish). */
+    explicit BackgroundSearch(GlobalStarter& starter) : starter_(starter) { starter_.deferConsole(true); }
+    ~BackgroundSearch();
+
+    /** Starts a search (GlobalStarter::begin); none may be under way. */
+    void begin(const std::string& label);
+    bool searching() const { return searching_; }
+    /** Queues a frame for the search; the thread takes the queue whenever it is idle. */
+    void push(const dataset::StereoFrame& frame);
+    /** Without waiting: the start, if the thread has found one (the search has then ended). Rethrows what the
+     *  search threw. */
+    std::optional<tracking::GlobalInitialState> poll();
+    /** Waits until every queued frame has been searched (or a start found): the start, or nullopt (the search then
+     *  stays under way). */
+    std::optional<tracking::GlobalInitialState> finish();
+
+   private:
+    /** Hands the queue to the thread when it is idle; collects a start it found. */
+    void collectAndStart();
+
+    GlobalStarter& starter_;
+    std::deque<dataset::StereoFrame> queue_;    // this thread's: frames not yet handed over
+    std::vector<dataset::StereoFrame> batch_;   // the worker's while it runs
+    std::optional<tracking::GlobalInitialState> found_;  // written by the worker, read once it is idle
+    std::optional<tracking::GlobalInitialState> result_;  // collected, not yet returned
+    bool searching_ = false;
+    core::WorkerThread worker_;  // last: destroyed (joined) first
+};
+}  // namespace quasiloc::app
