@@ -61,6 +61,7 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     stereo_.left = estimation::CameraGeometry{rig.left, T_body_cam_};
     stereo_.right = rig.right;
     stereo_.T_left_right = core::toIsometry(rig.T_left_right);
+    if (options_.map_planes) plane_associator_ = std::make_unique<MapPlaneAssociator>(rig.left, MapPlaneOptions{});
     if (options_.map_lines)
     {
         line_extractor_ = std::make_unique<MapLineExtractor>(stereo_.left.model, mapLineOptions(), frontend.options().lines);
@@ -188,6 +189,32 @@ void Tracker::addMapPoints(const frontend::FrameFeatures& camera, const cv::Mat&
     rep.quasi_keypoints = int(fq.points.keypoints.size());
     rep.point_factors = int(in.points.size());
     rep.ms_points = tic.Tac() * 1e3;
+}
+
+void Tracker::addMapPlanes(const StereoPoints& points, const Eigen::Isometry3d& T_world_cam,
+                           estimation::WindowInput& in, FrameReport& rep) const
+{
+    mrpt::system::CTicTac tic;
+    const double fb = stereo_.left.model.fx * stereo_.T_left_right.translation().norm();
+    std::vector<Eigen::Vector3d> p_cam;
+    std::vector<double> sigma;
+    for (const frontend::StereoPoint& s : points.stereo)
+    {
+        const double z = s.p_left.z();
+        if (z < 0.2 || z > options_.stereo_map_max_depth_m || !s.p_left.allFinite()) continue;
+        p_cam.push_back(s.p_left);
+        sigma.push_back(std::hypot(options_.stereo_map_sigma_m, z * z / fb * options_.stereo_disparity_sigma_px));
+    }
+    // All points together count as plane_effective_points independent observations (neighbouring points share the
+    // map's and the stereo's errors), as in the stereo map factor.
+    const double scale = std::sqrt(std::max(1.0, double(p_cam.size()) / options_.plane_effective_points));
+    for (double& s : sigma) s *= scale;
+    in.planes = plane_associator_->associate(p_cam, sigma, refiner_.quasiImage(), T_world_cam);
+    rep.plane_factors = int(in.planes.size());
+    size_t candidates = 0;
+    for (const auto& f : in.planes) candidates += f.candidates.size();
+    rep.plane_candidates = in.planes.empty() ? 0 : double(candidates) / double(in.planes.size());
+    rep.ms_planes = tic.Tac() * 1e3;
 }
 
 void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
@@ -321,7 +348,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
         rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
                          rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
-        if (rep.map_update && (options_.map_lines || options_.map_points)) lines_T_world_cam = r.T_world_cam;
+        if (rep.map_update && (options_.map_lines || options_.map_points || options_.map_planes))
+            lines_T_world_cam = r.T_world_cam;
         if (rep.map_update && options_.map_term == "factor")
         {
             // The edge residuals themselves in the window, linearised from the alignment's pose.
@@ -365,6 +393,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     }
     else if (options_.temporal_landmarks)
         stereo_points = extractStereo(frame);
+    if (lines_T_world_cam && options_.map_planes && options_.temporal_landmarks)
+        addMapPlanes(stereo_points, *lines_T_world_cam, in, rep);
     if (lines_T_world_cam && options_.map_points && options_.temporal_landmarks)
         addMapPoints(stereo_points.left, frame.left, *lines_T_world_cam, in, rep);
     if (lines_T_world_cam && options_.map_lines)

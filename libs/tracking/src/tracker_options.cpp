@@ -52,6 +52,8 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     map_points = core::readIniBool(c, s, "map_points", map_points);
     point_window_px = readIniDouble(c, s, "point_window_px", point_window_px);
     point_sigma_px = readIniDouble(c, s, "point_sigma_px", point_sigma_px);
+    map_planes = core::readIniBool(c, s, "map_planes", map_planes);
+    plane_effective_points = readIniDouble(c, s, "plane_effective_points", plane_effective_points);
 }
 
 void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -101,6 +103,8 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "map_points", map_points ? "true" : "false", 24, 10, "point factors (map_points.h)");
     c.write(s, "point_window_px", point_window_px, 24, 10, "around the map point's projection at the aligned pose");
     c.write(s, "point_sigma_px", point_sigma_px, 24, 10);
+    c.write(s, "map_planes", map_planes ? "true" : "false", 24, 10, "point-to-plane factors (map_planes.h)");
+    c.write(s, "plane_effective_points", plane_effective_points, 24, 10, "all plane factors count as this many");
 }
 
 void TrackerOptions::check(const std::string& input) const
@@ -113,6 +117,7 @@ void TrackerOptions::check(const std::string& input) const
     core::require(line_max_angle_deg > 0 && line_max_angle_deg < 90, k + "line_max_angle_deg", "must be in (0, 90)");
     core::require(line_max_candidates >= 1, k + "line_max_candidates", "must be >= 1");
     core::require(point_window_px > 0 && point_sigma_px > 0, k + "point_window_px/point_sigma_px", "must be > 0");
+    core::require(plane_effective_points > 0, k + "plane_effective_points", "must be > 0");
     core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
     core::require(map_information == "fixed" || map_information == "observability", k + "map_information",
                   "'" + map_information + "' is not fixed or observability");

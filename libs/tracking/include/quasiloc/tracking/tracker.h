@@ -112,6 +112,12 @@
 //                                 ;   projection at the edge alignment's pose ([Estimator] primitives must include P)
 //   point_window_px = 3
 //   point_sigma_px = 1.5
+//   map_planes = false            ; point-to-plane factors with an association distribution (map_planes.h) on
+//                                 ;   keyframes: each stereo point against the map planes fitted around its pixel
+//                                 ;   in the quasi-image, at the edge alignment's pose; reweighted by [Reweighting]
+//                                 ;   ([Estimator] primitives must include plane). Sigma per point as the stereo map
+//                                 ;   factor's, and all together count as plane_effective_points observations
+//   plane_effective_points = 50
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
 #include <quasiloc/core/worker_thread.h>
@@ -127,6 +133,7 @@
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/tracking/map_lines.h>
+#include <quasiloc/tracking/map_planes.h>
 #include <string>
 
 namespace quasiloc::tracking
@@ -167,6 +174,8 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     int line_max_candidates = 3;
     bool map_points = false;
     double point_window_px = 3, point_sigma_px = 1.5;
+    bool map_planes = false;
+    double plane_effective_points = 50;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
@@ -193,6 +202,9 @@ struct FrameReport
     double ms_lines = 0;
     int quasi_keypoints = 0, point_factors = 0;  ///< map_points: the quasi-image's keypoints, point factors
     double ms_points = 0;
+    int plane_factors = 0;  ///< map_planes
+    double plane_candidates = 0;  ///< mean candidates per plane factor
+    double ms_planes = 0;
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
     /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
      *  points and temporal matching (with concurrent_stages the extraction runs beside the alignment and only the
@@ -277,6 +289,10 @@ class Tracker
     /** The left image's segments (map_lines); with concurrent_stages on the worker thread beside the alignment. */
     std::vector<frontend::LineSegment> cameraLines(const cv::Mat& image) const;
 
+    /** Point-to-plane factors of a keyframe (map_planes): the frame's stereo points at T_world_cam. */
+    void addMapPlanes(const StereoPoints& points, const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in,
+                      FrameReport& rep) const;
+    std::unique_ptr<MapPlaneAssociator> plane_associator_;  ///< map_planes
     std::unique_ptr<MapLineExtractor> line_extractor_;  ///< map_lines
     std::unique_ptr<frontend::LineDetector> line_detector_;  ///< map_lines: the camera side
     std::unique_ptr<core::WorkerThread> worker_;  ///< concurrent_stages: the stereo extraction's thread
