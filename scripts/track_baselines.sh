@@ -14,14 +14,8 @@
 # Writes <out>/<seq>/<variant>/ (trajectory, diagnostics) and the table <out>.md (ATE RMSE / max in cm, map frame,
 # no alignment).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
-SEQ_ROOT="${1:-out/sequences}"
-OUT="${2:-out/baselines}"
-cd "$ROOT"
-mkdir -p "$OUT"
-source "$ROOT/scripts/track_variant.sh"
-run() { track_variant "$SEQ_ROOT" "$OUT" "$@"; }  # run <seq> <variant> [--set ...]
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
+ablation_setup out/baselines "$@"
 {
   echo "| sequence | full (edges + surfaces) | edges | surfaces | edges as measurement, uniform | edges as measurement, observability | VIO, no map | IMU only |"
   echo "|---|---|---|---|---|---|---|---|"

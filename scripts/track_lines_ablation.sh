@@ -9,17 +9,8 @@
 #   bash scripts/track_lines_ablation.sh [root=out/sequences] [out=out/lines_ablation] [sequences...]
 # Writes <out>/<seq>/<variant>/ and the table <out>.md (ATE RMSE / max in cm, map frame, no alignment).
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
-SEQ_ROOT="${1:-out/sequences}"
-OUT="${2:-out/lines_ablation}"
-shift 2 || shift $#
-SEQS=("$@")
-[ ${#SEQS[@]} -gt 0 ] || SEQS=(V1_01_easy V1_02_medium V1_03_difficult V2_01_easy V2_02_medium V2_03_difficult)
-cd "$ROOT"
-mkdir -p "$OUT"
-source "$ROOT/scripts/track_variant.sh"
-run() { track_variant "$SEQ_ROOT" "$OUT" "$@"; }  # run <seq> <variant> [--set ...]
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
+ablation_setup out/lines_ablation "$@"
 {
   echo "| sequence | full (edges + surfaces) | + lines, full reweighting | + lines, uniform | + lines, observability |"
   echo "|---|---|---|---|---|"

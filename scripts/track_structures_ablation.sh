@@ -11,17 +11,8 @@
 # Writes <out>/<seq>/<variant>/ and the table <out>.md (ATE RMSE / max in cm, map frame, no alignment); then
 # `bash scripts/eval_baselines.sh <out>` gives the same runs through quasiloc-eval.
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
-SEQ_ROOT="${1:-out/sequences}"
-OUT="${2:-out/structures_ablation}"
-shift 2 || shift $#
-SEQS=("$@")
-[ ${#SEQS[@]} -gt 0 ] || SEQS=(V1_01_easy V1_02_medium V1_03_difficult V2_01_easy V2_02_medium V2_03_difficult)
-cd "$ROOT"
-mkdir -p "$OUT"
-source "$ROOT/scripts/track_variant.sh"
-run() { track_variant "$SEQ_ROOT" "$OUT" "$@"; }  # run <seq> <variant> [--set ...]
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
+ablation_setup out/structures_ablation "$@"
 P=(--set Tracking.map_points=true)
 L=(--set Tracking.map_lines=true)
 PLANE=(--set Tracking.map_planes=true)

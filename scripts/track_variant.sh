@@ -11,3 +11,22 @@ track_variant() {
     --set Tracking.init=groundtruth --set Tracking.write_scene=false "$@" > "$out/$seq/$variant.log" 2>&1
   sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$out/$seq/$variant.log"
 }
+
+# ablation_setup <default_out> [root=out/sequences] [out=<default_out>] [sequences...]: the ablation scripts' common
+# arguments. Sets ROOT, BIN (QUASILOC_BUILD_DIR/bin or build/bin), SEQ_ROOT, OUT and SEQS (the six simulated
+# sequences unless given), enters the repository root and creates OUT.
+ablation_setup() {
+  local default_out="$1"; shift
+  ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
+  SEQ_ROOT="${1:-out/sequences}"
+  OUT="${2:-$default_out}"
+  shift 2 || shift $#
+  SEQS=("$@")
+  [ ${#SEQS[@]} -gt 0 ] || SEQS=(V1_01_easy V1_02_medium V1_03_difficult V2_01_easy V2_02_medium V2_03_difficult)
+  cd "$ROOT"
+  mkdir -p "$OUT"
+}
+
+# run <seq> <variant> [--set ...]: track_variant into the ablation's SEQ_ROOT and OUT.
+run() { track_variant "$SEQ_ROOT" "$OUT" "$@"; }
