@@ -45,8 +45,8 @@ void BackgroundSearch::collectAndStart()
     batch_.assign(std::make_move_iterator(queue_.begin()), std::make_move_iterator(queue_.end()));
     queue_.clear();
     worker_.start([this] {
-        for (const dataset::StereoFrame& f : batch_)
-            if (auto start = starter_.feed(f))
+        for (size_t i = 0; i < batch_.size(); ++i)
+            if (auto start = starter_.feed(batch_[i], !latest_only_ || i + 1 == batch_.size()))
             {
                 found_ = std::move(start);
                 break;

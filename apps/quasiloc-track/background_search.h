@@ -6,6 +6,11 @@
 // the fix is tracked again from it after a restart (the caller keeps them), the trajectory does not depend on when
 // the thread finished.
 //
+// When the search falls behind (an attempt takes longer than a frame), latest_only attempts only the newest frame
+// of those waiting and gives the older ones to the search for their IMU samples alone: the search stays near the
+// present (real time) at the price of depending on the machine's speed (which frames are attempted). Without it
+// every frame is attempted in order: the same fixes on every machine, but a search that can fall seconds behind.
+//
 // Threads: the starter must not be used by anyone else while searching() (its refiner must have a renderer of its
 // own); its distance field is only read.
 #include <deque>
@@ -22,7 +27,10 @@ class BackgroundSearch
 {
    public:
     /** The starter's console lines are printed by this thread (in poll/finish). */
-    explicit BackgroundSearch(GlobalStarter& starter) : starter_(starter) { starter_.deferConsole(true); }
+    BackgroundSearch(GlobalStarter& starter, bool latest_only) : starter_(starter), latest_only_(latest_only)
+    {
+        starter_.deferConsole(true);
+    }
     ~BackgroundSearch();
 
     /** Starts a search (GlobalStarter::begin); none may be under way. */
@@ -42,6 +50,7 @@ class BackgroundSearch
     void collectAndStart();
 
     GlobalStarter& starter_;
+    bool latest_only_ = true;
     std::deque<dataset::StereoFrame> queue_;    // this thread's: frames not yet handed over
     std::vector<dataset::StereoFrame> batch_;   // the worker's while it runs
     std::optional<tracking::GlobalInitialState> found_;  // written by the worker, read once it is idle

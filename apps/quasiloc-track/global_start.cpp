@@ -69,13 +69,13 @@ void GlobalStarter::begin(const std::string& label)
     truth_.clear();
 }
 
-std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f)
+std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f, bool attempt)
 {
     core::require(bool(init_), "GlobalStarter", "feed() without begin()");
     std::ostringstream r;
     r << std::fixed << std::setprecision(3);
     if (f.T_world_cam0) truth_[f.timestamp] = *f.T_world_cam0;
-    std::optional<tracking::GlobalInitialState> start = init_->feed(f);
+    std::optional<tracking::GlobalInitialState> start = init_->feed(f, attempt);
     for (; reported_ < init_->attempts().size(); ++reported_)
     {
         const tracking::InitAttempt& a = init_->attempts()[reported_];

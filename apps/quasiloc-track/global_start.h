@@ -32,9 +32,10 @@ class GlobalStarter
     std::optional<tracking::GlobalInitialState> find(const std::function<bool(dataset::StereoFrame&)>& next,
                                                      const std::string& label);
     /** The same one frame at a time, for a caller that goes on tracking meanwhile: begin() starts a search,
-     *  feed() returns the start once found (and ends the search). */
+     *  feed() returns the start once found (and ends the search); attempt = false: the frame's IMU samples only
+     *  (GlobalInitializer::feed). */
     void begin(const std::string& label);
-    std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame);
+    std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
     bool searching() const { return bool(init_); }
 
     const map::DistanceField& field() const { return localizer_->field(); }

@@ -51,6 +51,10 @@ struct TrackRunOptions : public tracking::TrackerOptions
     int max_frames = 0;
     bool write_scene = true;
     bool relocalize = true;  ///< with map_updates only
+    /** The relocalization search (on its own thread) attempts only the newest of the frames waiting for it (real
+     *  time; which frames depends on the machine's speed); false: every frame in order (reproducible, but the search
+     *  can fall seconds behind: an attempt takes 0.4-1.3 s). */
+    bool relocalize_latest_only = true;
     /** A test of loss recovery ("kidnapping"): at this time after the start (< 0: never) the tracker is restarted
      *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
     double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
@@ -81,6 +85,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
         max_frames = core::readIniInt(c, s, "max_frames", max_frames);
         write_scene = core::readIniBool(c, s, "write_scene", write_scene);
         relocalize = core::readIniBool(c, s, "relocalize", relocalize);
+        relocalize_latest_only = core::readIniBool(c, s, "relocalize_latest_only", relocalize_latest_only);
         kidnap_at_s = core::readIniDouble(c, s, "kidnap_at_s", kidnap_at_s);
         kidnap_m = core::readIniDouble(c, s, "kidnap_m", kidnap_m);
         kidnap_deg = core::readIniDouble(c, s, "kidnap_deg", kidnap_deg);
@@ -100,6 +105,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
         c.write(s, "max_frames", max_frames);
         c.write(s, "write_scene", write_scene ? "true" : "false");
         c.write(s, "relocalize", relocalize ? "true" : "false");
+        c.write(s, "relocalize_latest_only", relocalize_latest_only ? "true" : "false");
         c.write(s, "kidnap_at_s", kidnap_at_s);
         c.write(s, "kidnap_m", kidnap_m);
         c.write(s, "kidnap_deg", kidnap_deg);
@@ -239,7 +245,7 @@ int run(const core::CommandLine& cmd)
     int failed_checks = 0;  // consecutive failed geometry checks (TrackRunOptions::check_every)
     size_t n = 1;
     std::optional<app::BackgroundSearch> search;
-    if (starter && relocalize) search.emplace(*starter);
+    if (starter && relocalize) search.emplace(*starter, o.relocalize_latest_only);
     // Frames tracked since the search began, with the track's biases at each: after a restart at a fix the ones
     // after it are tracked again, from the biases the track had at the fix.
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss;

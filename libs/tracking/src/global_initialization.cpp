@@ -88,7 +88,7 @@ std::optional<Eigen::Vector3d> GlobalInitializer::velocity(const Eigen::Isometry
     return v;
 }
 
-std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame)
+std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame, bool localize_it)
 {
     for (const auto& s : frame.imu) recent_imu_.push_back(s);
     while (!recent_imu_.empty() && recent_imu_.front().t < frame.timestamp - options_.gravity_window_s)
@@ -99,6 +99,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
         pending_.push_back(frame);
         if (frame.timestamp - anchor_->timestamp < options_.velocity_interval_s) return std::nullopt;
     }
+    if (!localize_it) return std::nullopt;
     InitAttempt attempt;
     attempt.t = frame.timestamp;
     std::string appearance_note;

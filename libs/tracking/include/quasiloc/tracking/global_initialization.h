@@ -77,8 +77,10 @@ class GlobalInitializer
     /** Optional: settles ambiguous fixes by the image (see above). */
     void setAppearanceScore(AppearanceScore score) { appearance_ = std::move(score); }
 
-    /** Feeds the next frame; returns the initial state once a pair closes. */
-    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame);
+    /** Feeds the next frame; returns the initial state once a pair closes. With localize_it = false the frame only
+     *  carries its IMU samples (and is kept among the pending frames): a caller that cannot localize every frame
+     *  (a search behind the tracker) still gives the pair the whole IMU record between its fixes. */
+    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool localize_it = true);
 
     const std::vector<InitAttempt>& attempts() const { return attempts_; }
 
