@@ -11,11 +11,9 @@
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
 #include <quasiloc/estimation/map_measurement.h>
-#include <quasiloc/tracking/tracker.h>
-
 #include <quasiloc/quasi/histogram_matching.h>
 #include <quasiloc/tracking/map_points.h>
-
+#include <quasiloc/tracking/tracker.h>
 
 namespace quasiloc::tracking
 {
@@ -107,7 +105,7 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
                   "initial pose or velocity is not finite");
     const estimation::FrameState biases = biases_from ? *biases_from : estimation::FrameState{};
     state_ = estimation::FrameState{};
-    // A relocalization: the IMU biases estimated so far are still the best guess.
+    // After a relocalization the IMU biases estimated so far are the best guess; at a first start, zero.
     state_.gyro_bias = biases.gyro_bias;
     state_.acc_bias = biases.acc_bias;
     state_.t = t;
@@ -328,7 +326,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     estimation::WindowInput in;
     std::shared_ptr<const estimation::DirectAlignmentModel> direct_model;  // map_term = factor: alive until the window
     std::optional<Eigen::Isometry3d> aligned_T_map_body;                     // ... and its linearisation point
-    std::optional<Eigen::Isometry3d> lines_T_world_cam;  // map_lines: the aligned pose the lines are associated at
+    std::optional<Eigen::Isometry3d> aligned_T_world_cam;  // structural factors: the aligned pose they associate at
     rep.keyframe = options_.map_updates && options_.map_term != "none" && frames_ % size_t(options_.keyframe_every) == 0;
     if (rep.keyframe)
     {
@@ -349,7 +347,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
                          rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
         if (rep.map_update && (options_.map_lines || options_.map_points || options_.map_planes))
-            lines_T_world_cam = r.T_world_cam;
+            aligned_T_world_cam = r.T_world_cam;
         if (rep.map_update && options_.map_term == "factor")
         {
             // The edge residuals themselves in the window, linearised from the alignment's pose.
@@ -381,7 +379,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     // The map side of the line factors needs only the quasi-image: done here, while the worker may still be
     // detecting the camera's segments.
     std::vector<MapLine> map_lines;
-    if (lines_T_world_cam && options_.map_lines) map_lines = quasiImageLines(rep);
+    if (aligned_T_world_cam && options_.map_lines) map_lines = quasiImageLines(rep);
     rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
 
     // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
@@ -393,14 +391,14 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     }
     else if (options_.temporal_landmarks)
         stereo_points = extractStereo(frame);
-    if (lines_T_world_cam && options_.map_planes && options_.temporal_landmarks)
-        addMapPlanes(stereo_points, *lines_T_world_cam, in, rep);
-    if (lines_T_world_cam && options_.map_points && options_.temporal_landmarks)
-        addMapPoints(stereo_points.left, frame.left, *lines_T_world_cam, in, rep);
-    if (lines_T_world_cam && options_.map_lines)
+    if (aligned_T_world_cam && options_.map_planes && options_.temporal_landmarks)
+        addMapPlanes(stereo_points, *aligned_T_world_cam, in, rep);
+    if (aligned_T_world_cam && options_.map_points && options_.temporal_landmarks)
+        addMapPoints(stereo_points.left, frame.left, *aligned_T_world_cam, in, rep);
+    if (aligned_T_world_cam && options_.map_lines)
     {
         if (!concurrent) camera_lines = cameraLines(frame.left);
-        addMapLines(camera_lines, map_lines, *lines_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
+        addMapLines(camera_lines, map_lines, *aligned_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
     }
     if (options_.temporal_landmarks && options_.map_updates && options_.stereo_map_factor && distance_field_)
         addStereoMapTerm(stereo_points, in);
