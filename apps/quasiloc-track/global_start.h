@@ -36,7 +36,6 @@ class GlobalStarter
      *  (GlobalInitializer::feed). */
     void begin(const std::string& label);
     std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
-    bool searching() const { return bool(init_); }
 
     const map::DistanceField& field() const { return localizer_->field(); }
 

@@ -121,6 +121,11 @@ void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera,
     image_ms_ = tic.Tac() * 1e3;
 }
 
+cv::Mat MapRefiner::quasiFeatureImage() const
+{
+    return options_.quasi_gray == "matched_reflectivity" ? quasi::reflectivityMatchedToImage(q_, gray_) : q_.gray;
+}
+
 double MapRefiner::windowFor(double sigma_m, double sigma_rad, double median_depth_m) const
 {
     const double f = 0.5 * (camera_.fx + camera_.fy);
@@ -160,8 +165,7 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
     res.window_px = window_px;
     tic.Tic();
     frontend::FrameFeatures fq;
-    if (options_.quasi_gray == "matched_reflectivity") q_.gray = quasi::reflectivityMatchedToImage(q_, gray_);
-    frontend_.extract(q_.gray, q_.valid, fq);
+    frontend_.extract(quasiFeatureImage(), q_.valid, fq);
     res.ms_extract = tic.Tac() * 1e3;
 
     tic.Tic();

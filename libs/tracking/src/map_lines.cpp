@@ -20,15 +20,8 @@ constexpr double kDiscontinuityRel = 0.05;
 
 MapLineExtractor::MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options,
                                    const frontend::LineOptions& lines)
-    : options_(options), ray_x_(camera.height, camera.width, CV_32FC1), ray_y_(camera.height, camera.width, CV_32FC1)
+    : options_(options), rays_(camera)
 {
-    for (int v = 0; v < camera.height; ++v)
-        for (int u = 0; u < camera.width; ++u)
-        {
-            const Eigen::Vector3d r = camera.unproject(Eigen::Vector2d(u, v));
-            ray_x_.at<float>(v, u) = float(r.x());
-            ray_y_.at<float>(v, u) = float(r.y());
-        }
     frontend::LineOptions shading_lines = lines;  // the same lengths in image pixels
     shading_lines.min_length_px /= options.shading_step;
     shading_detector_ = std::make_unique<frontend::LineDetector>(shading_lines);
@@ -47,11 +40,6 @@ std::vector<MapLine> MapLineExtractor::mapLines(const cv::Mat& depth, const Eige
         if (auto m = lift(s, depth, T_world_cam)) out.push_back(std::move(*m));
     }
     return out;
-}
-
-Eigen::Vector3d MapLineExtractor::ray(int u, int v) const
-{
-    return {double(ray_x_.at<float>(v, u)), double(ray_y_.at<float>(v, u)), 1.0};
 }
 
 namespace
@@ -111,14 +99,14 @@ cv::Mat boxSumsAtStep(const cv::Mat& depth, const cv::Mat& ray_x, const cv::Mat&
 
 cv::Mat MapLineExtractor::normalShading(const cv::Mat& depth) const
 {
-    CV_Assert(depth.type() == CV_32FC1 && depth.size() == ray_x_.size());
+    CV_Assert(depth.type() == CV_32FC1 && depth.size() == rays_.x.size());
     // The map's points are noisy at the pixel scale (a centimetre of range noise across 4 mm pixels): normals come
     // from the points averaged over a window and differenced over kBaselinePx, about 5 cm at 2 m. The shading is
     // made at every step-th pixel, so only those windows are summed.
     constexpr int kWindowPx = 9, kBaselinePx = 4;
     const int step = options_.shading_step;
     cv::Mat out(depth.rows / step, depth.cols / step, CV_8UC1, cv::Scalar(0));
-    const cv::Mat sums = boxSumsAtStep(depth, ray_x_, ray_y_, step, kWindowPx);
+    const cv::Mat sums = boxSumsAtStep(depth, rays_.x, rays_.y, step, kWindowPx);
     // The windows' mean points, at the centres: a baseline of kBaselinePx is kBaselinePx / step shading pixels.
     cv::Mat points(out.size(), CV_32FC3);
     for (int y = 0; y < out.rows; ++y)
@@ -228,7 +216,7 @@ std::optional<MapLine> MapLineExtractor::lift(const frontend::LineSegment& segme
         }
         if (pick < 0 && d[size_t(band)] > 0) pick = band;  // a crease: the pixel on the segment
         if (pick < 0) continue;
-        pts.push_back(T_world_cam * (double(d[size_t(pick)]) * ray(px[size_t(pick)].x, px[size_t(pick)].y)));
+        pts.push_back(T_world_cam * (double(d[size_t(pick)]) * rays_.ray(px[size_t(pick)].x, px[size_t(pick)].y)));
     }
     if (int(pts.size()) < options_.min_support) return std::nullopt;
     // RANSAC over pairs (at most samples^2 / 2 of them): the line with the most points within tolerance_m.

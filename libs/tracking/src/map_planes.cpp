@@ -9,16 +9,8 @@
 namespace quasiloc::tracking
 {
 MapPlaneAssociator::MapPlaneAssociator(const core::CameraModel& camera, const MapPlaneOptions& options)
-    : camera_(camera), options_(options), ray_x_(camera.height, camera.width, CV_32FC1),
-      ray_y_(camera.height, camera.width, CV_32FC1)
+    : camera_(camera), options_(options), rays_(camera)
 {
-    for (int v = 0; v < camera.height; ++v)
-        for (int u = 0; u < camera.width; ++u)
-        {
-            const Eigen::Vector3d r = camera.unproject(Eigen::Vector2d(u, v));
-            ray_x_.at<float>(v, u) = float(r.x() / r.z());
-            ray_y_.at<float>(v, u) = float(r.y() / r.z());
-        }
 }
 
 bool MapPlaneAssociator::fitPlane(const cv::Mat& depth, const Eigen::Isometry3d& T_world_q, int u, int v,
@@ -31,7 +23,7 @@ bool MapPlaneAssociator::fitPlane(const cv::Mat& depth, const Eigen::Isometry3d&
         for (int x = u - w; x <= u + w; x += 2)
         {
             const float z = depth.at<float>(y, x);
-            if (z > 0) pts.emplace_back(ray_x_.at<float>(y, x) * z, ray_y_.at<float>(y, x) * z, z);
+            if (z > 0) pts.emplace_back(rays_.x.at<float>(y, x) * z, rays_.y.at<float>(y, x) * z, z);
         }
     // PCA, then again on the points within max_rms_m of that plane: a window across a crease is mostly one
     // surface, whose plane the second fit finds (the first one is tilted by the other surface's points).

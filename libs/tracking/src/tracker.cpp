@@ -11,7 +11,6 @@
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
 #include <quasiloc/estimation/map_measurement.h>
-#include <quasiloc/quasi/histogram_matching.h>
 #include <quasiloc/tracking/map_points.h>
 #include <quasiloc/tracking/tracker.h>
 
@@ -164,20 +163,12 @@ void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines
     rep.ms_lines += tic.Tac() * 1e3;
 }
 
-void Tracker::addMapPoints(const frontend::FrameFeatures& camera, const cv::Mat& left_image,
-                           const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in, FrameReport& rep)
+void Tracker::addMapPoints(const frontend::FrameFeatures& camera, const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in, FrameReport& rep)
 {
     mrpt::system::CTicTac tic;
     const quasi::QuasiImage& q = refiner_.quasiImage();
-    cv::Mat gray = q.gray;
-    if (refiner_.options().quasi_gray == "matched_reflectivity")
-    {
-        cv::Mat left = left_image;
-        if (left.channels() == 3) cv::cvtColor(left_image, left, cv::COLOR_BGR2GRAY);
-        gray = quasi::reflectivityMatchedToImage(q, left);
-    }
     frontend::FrameFeatures fq;
-    frontend_.extractPoints(gray, q.valid, fq);
+    frontend_.extractPoints(refiner_.quasiFeatureImage(), q.valid, fq);
     MapPointOptions po;
     po.window_px = options_.point_window_px;
     po.sigma_px = options_.point_sigma_px;
@@ -193,16 +184,9 @@ void Tracker::addMapPlanes(const StereoPoints& points, const Eigen::Isometry3d& 
                            estimation::WindowInput& in, FrameReport& rep) const
 {
     mrpt::system::CTicTac tic;
-    const double fb = stereo_.left.model.fx * stereo_.T_left_right.translation().norm();
     std::vector<Eigen::Vector3d> p_cam;
     std::vector<double> sigma;
-    for (const frontend::StereoPoint& s : points.stereo)
-    {
-        const double z = s.p_left.z();
-        if (z < 0.2 || z > options_.stereo_map_max_depth_m || !s.p_left.allFinite()) continue;
-        p_cam.push_back(s.p_left);
-        sigma.push_back(std::hypot(options_.stereo_map_sigma_m, z * z / fb * options_.stereo_disparity_sigma_px));
-    }
+    mapPointsWithSigma(points, p_cam, sigma);
     // All points together count as plane_effective_points independent observations (neighbouring points share the
     // map's and the stereo's errors), as in the stereo map factor.
     const double scale = std::sqrt(std::max(1.0, double(p_cam.size()) / options_.plane_effective_points));
@@ -215,21 +199,27 @@ void Tracker::addMapPlanes(const StereoPoints& points, const Eigen::Isometry3d& 
     rep.ms_planes = tic.Tac() * 1e3;
 }
 
-void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
+void Tracker::mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
+                                 std::vector<double>& sigma_m) const
 {
-    estimation::MapDistanceTerm term;
-    term.field = distance_field_;
-    term.effective_points = options_.stereo_map_effective_points;
-    term.truncation_m = options_.stereo_map_truncation_m;
     const double fb = stereo_.left.model.fx * stereo_.T_left_right.translation().norm();
     for (const frontend::StereoPoint& s : points.stereo)
     {
         const double z = s.p_left.z();
         if (z < 0.2 || z > options_.stereo_map_max_depth_m || !s.p_left.allFinite()) continue;
         const double depth_sigma = z * z / fb * options_.stereo_disparity_sigma_px;
-        term.p_cam.push_back(s.p_left);
-        term.sigma_m.push_back(std::hypot(options_.stereo_map_sigma_m, depth_sigma));
+        p_cam.push_back(s.p_left);
+        sigma_m.push_back(std::hypot(options_.stereo_map_sigma_m, depth_sigma));
     }
+}
+
+void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
+{
+    estimation::MapDistanceTerm term;
+    term.field = distance_field_;
+    term.effective_points = options_.stereo_map_effective_points;
+    term.truncation_m = options_.stereo_map_truncation_m;
+    mapPointsWithSigma(points, term.p_cam, term.sigma_m);
     if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
 }
 
@@ -394,7 +384,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     if (aligned_T_world_cam && options_.map_planes && options_.temporal_landmarks)
         addMapPlanes(stereo_points, *aligned_T_world_cam, in, rep);
     if (aligned_T_world_cam && options_.map_points && options_.temporal_landmarks)
-        addMapPoints(stereo_points.left, frame.left, *aligned_T_world_cam, in, rep);
+        addMapPoints(stereo_points.left, *aligned_T_world_cam, in, rep);
     if (aligned_T_world_cam && options_.map_lines)
     {
         if (!concurrent) camera_lines = cameraLines(frame.left);

@@ -117,6 +117,9 @@ class MapRefiner
     const frontend::FrameFeatures& cameraFeatures() const { return camera_features_; }
     /** The quasi-image the last refine() rendered (at its T_world_cam_pred). */
     const quasi::QuasiImage& quasiImage() const { return q_; }
+    /** The 8-bit image of that quasi-image that its features are extracted on (quasi_gray): its gray image, or its
+     *  reflectivity matched to the current camera image's histogram. */
+    cv::Mat quasiFeatureImage() const;
 
    private:
     /** Render at the prediction, extract on Q, match (guided: within the window of sigma_m / sigma_rad), lift,

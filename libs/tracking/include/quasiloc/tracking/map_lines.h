@@ -21,6 +21,7 @@
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/estimation/measurements.h>
 #include <quasiloc/frontend/lines.h>
+#include <quasiloc/tracking/pixel_rays.h>
 #include <vector>
 
 namespace quasiloc::tracking
@@ -75,9 +76,8 @@ class MapLineExtractor
                                 const Eigen::Isometry3d& T_world_cam) const;
 
    private:
-    Eigen::Vector3d ray(int u, int v) const;
     MapLineOptions options_;
-    cv::Mat ray_x_, ray_y_;  ///< CV_32F: x and y on the normalised plane z = 1 of every pixel
+    PixelRays rays_;
     std::unique_ptr<frontend::LineDetector> shading_detector_;
 };
 

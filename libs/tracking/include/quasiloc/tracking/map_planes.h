@@ -11,6 +11,7 @@
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/estimation/measurements.h>
 #include <quasiloc/quasi/quasi_image.h>
+#include <quasiloc/tracking/pixel_rays.h>
 #include <vector>
 
 namespace quasiloc::tracking
@@ -28,7 +29,7 @@ struct MapPlaneOptions
 class MapPlaneAssociator
 {
    public:
-    /** `camera`: the quasi-images' pixel geometry (its rays are tabulated once). */
+    /** `camera`: the quasi-images' pixel geometry. */
     MapPlaneAssociator(const core::CameraModel& camera, const MapPlaneOptions& options);
 
     /** Plane factors for `points_cam` (left camera frame; sigma_m per point), placed in the map at T_world_cam, against
@@ -46,6 +47,6 @@ class MapPlaneAssociator
    private:
     core::CameraModel camera_;
     MapPlaneOptions options_;
-    cv::Mat ray_x_, ray_y_;  ///< normalised ray per pixel (z = 1)
+    PixelRays rays_;
 };
 }  // namespace quasiloc::tracking

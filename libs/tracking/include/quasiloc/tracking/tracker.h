@@ -256,6 +256,10 @@ class Tracker
                const estimation::FrameState* biases_from);
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
+    /** The stereo points that the map terms use (depth 0.2 .. stereo_map_max_depth_m) and their sigma against the
+     *  map: stereo_map_sigma_m and the disparity's depth noise (z^2 / (f b) stereo_disparity_sigma_px). */
+    void mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
+                            std::vector<double>& sigma_m) const;
     /** Landmarks between the previous frame's stereo points and `current`, which are then kept for the next frame. */
     void temporalLandmarks(StereoPoints current, std::vector<estimation::TemporalLandmark>& out);
 
@@ -282,10 +286,11 @@ class Tracker
                      const Eigen::Isometry3d& T_world_cam, double sigma_m, double sigma_rad,
                      estimation::WindowInput& in, FrameReport& rep);
     MapLineOptions mapLineOptions() const;
-    /** Point factors of a keyframe (map_points): the refiner's quasi-image's keypoints against the left image's
-     *  (`camera`), associated at T_world_cam. Uses the front-end: not while the worker extracts. */
-    void addMapPoints(const frontend::FrameFeatures& camera, const cv::Mat& left_image,
-                      const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in, FrameReport& rep);
+    /** Point factors of a keyframe (map_points): the keypoints of the refiner's quasi-image (its quasiFeatureImage)
+     *  against the left image's (`camera`), associated at T_world_cam. Uses the front-end: not while the worker
+     *  extracts. */
+    void addMapPoints(const frontend::FrameFeatures& camera, const Eigen::Isometry3d& T_world_cam,
+                      estimation::WindowInput& in, FrameReport& rep);
     /** The left image's segments (map_lines); with concurrent_stages on the worker thread beside the alignment. */
     std::vector<frontend::LineSegment> cameraLines(const cv::Mat& image) const;
 
