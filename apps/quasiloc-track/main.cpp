@@ -239,8 +239,10 @@ int run(const core::CommandLine& cmd)
     int relocalizations = 0, losses = 0, withdrawn = 0;
     // Time the track went unverified: from the last frame whose pose the stereo geometry confirmed (a check that
     // passed, or a start) to the start of the relocalization that followed a loss (or the fixes that confirmed the
-    // track after all).
-    double last_verified_t = f0.timestamp, longest_unverified_s = 0;
+    // track after all): the stretch of the output with unconfirmed poses. The fix is found later, on a frame the
+    // tracker reaches while the search works (the wait: it depends on the machine's speed, and the replay runs
+    // faster than real time when a frame takes less than the camera's period).
+    double last_verified_t = f0.timestamp, longest_unverified_s = 0, longest_wait_s = 0;
     bool kidnapped = false;
     int failed_checks = 0;  // consecutive failed geometry checks (TrackRunOptions::check_every)
     size_t n = 1;
@@ -251,14 +253,15 @@ int run(const core::CommandLine& cmd)
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss;
     // Two fixes agreed with the IMU. If they agree with the track too, the loss is withdrawn; otherwise the tracker
     // restarts at the first fix and the frames since are tracked again from there. Returns true on a restart.
-    auto settle = [&](const tracking::GlobalInitialState& found) {
+    auto settle = [&](const tracking::GlobalInitialState& found, double t_now) {
         const double t_fix = found.anchor.timestamp;
         longest_unverified_s = std::max(longest_unverified_s, t_fix - last_verified_t);
+        longest_wait_s = std::max(longest_wait_s, t_now - last_verified_t);
         const auto tracked = log.poseAt(t_fix);
         const bool agrees = tracked && core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
                             core::rotationDistanceRad(*tracked, found.T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
         std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
-                  << last_verified_t << "; " << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted")
+                  << last_verified_t << ", found at t " << t_now << "; " << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted")
                   << std::endl;
         last_verified_t = t_fix;
         if (agrees)
@@ -338,7 +341,7 @@ int run(const core::CommandLine& cmd)
                 search->push(f);
                 const auto found = search->poll();
                 ms_search = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_search).count();
-                if (found) restarted = settle(*found);
+                if (found) restarted = settle(*found, r.t);
             }
         }
         if (!restarted)  // else this frame is among those tracked again
@@ -352,7 +355,7 @@ int run(const core::CommandLine& cmd)
         if (!have_frame && search && search->searching())
         {
             // The frames ended with the search behind: let it finish them (a restart then tracks them again).
-            if (const auto found = search->finish()) settle(*found);
+            if (const auto found = search->finish()) settle(*found, f.timestamp);
             have_frame = nextFrame(f);
         }
     }
@@ -360,6 +363,7 @@ int run(const core::CommandLine& cmd)
     if (search && search->searching())
     {
         longest_unverified_s = std::max(longest_unverified_s, f.timestamp - last_verified_t);
+        longest_wait_s = std::max(longest_wait_s, f.timestamp - last_verified_t);
         std::cout << "the frames ended during a relocalization search (unverified since t " << std::fixed
                   << std::setprecision(3) << last_verified_t << ")" << std::endl;
     }
@@ -376,7 +380,7 @@ int run(const core::CommandLine& cmd)
     core::writeEffectiveConfig(out.addFile(o.output_dir + "/quasiloc-track.ini"), sections,
                                "quasiloc-track effective configuration");
     out.commit();
-    std::cout << log.summary(n, losses, withdrawn, relocalizations, longest_unverified_s) << "outputs     " << o.output_dir
+    std::cout << log.summary(n, losses, withdrawn, relocalizations, longest_unverified_s, longest_wait_s) << "outputs     " << o.output_dir
               << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini" << (starter ? ",initialization.txt" : "")
               << (o.write_scene ? ",scene.3Dscene" : "") << "}" << std::endl;
     return 0;

@@ -91,7 +91,7 @@ std::string RunLog::csv() const
 }
 
 std::string RunLog::summary(size_t frames, int losses, int withdrawn, int relocalizations,
-                            double longest_unverified_s) const
+                            double longest_unverified_s, double longest_wait_s) const
 {
     std::vector<double> err_m, ms;
     int keyframes = 0, updates = 0, lost_frames = 0;
@@ -107,7 +107,8 @@ std::string RunLog::summary(size_t frames, int losses, int withdrawn, int reloca
     s << std::fixed << std::setprecision(3) << "frames      " << frames << " (keyframes " << keyframes
       << ", map updates accepted " << updates << ", frames marked lost " << lost_frames << ")\n"
       << "losses      " << losses << " (withdrawn " << withdrawn << ", relocalizations " << relocalizations
-      << "), longest unverified stretch " << longest_unverified_s << " s\n"
+      << "), longest unverified stretch " << longest_unverified_s << " s (fix found after " << longest_wait_s
+      << " s of replay)\n"
       << "ATE         RMSE " << 100 * std::sqrt(sq / double(std::max<size_t>(1, err_m.size()))) << " cm, median "
       << 100 * percentile(err_m, 50) << " cm, max " << 100 * percentile(err_m, 100)
       << " cm (map frame, no alignment, vs ground truth at " << err_m.size() << " frames)\n"

@@ -35,7 +35,8 @@ class RunLog
     double lastErrorM() const { return rows_.empty() ? NAN : rows_.back().error_m; }
     /** The printed summary: frames, losses (withdrawn: the relocalization's fixes confirmed the track;
      *  relocalizations: restarts), ATE against ground truth, time per frame. */
-    std::string summary(size_t frames, int losses, int withdrawn, int relocalizations, double longest_unverified_s) const;
+    std::string summary(size_t frames, int losses, int withdrawn, int relocalizations, double longest_unverified_s,
+                        double longest_wait_s) const;
 
    private:
     struct Row

@@ -18,19 +18,23 @@ GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer,
 {
 }
 
-reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame, std::string& note)
+reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame, std::string& note,
+                                                         AmbiguousFix& ambiguous)
 {
     std::vector<Eigen::Vector3d> acc;
     for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
     reloc::GeometricLocalization r = localizer_.localize(frame.left, frame.right, up_cam);
-    if (!r.ambiguous || !appearance_) return r;
-    std::vector<Eigen::Isometry3d> poses{r.T_world_cam};
-    poses.insert(poses.end(), r.alternatives.begin(), r.alternatives.end());
-    const std::vector<double> score = appearance_(frame, poses);
+    ambiguous = {};
+    if (!r.ambiguous) return r;
+    ambiguous.poses = {r.T_world_cam};
+    ambiguous.poses.insert(ambiguous.poses.end(), r.alternatives.begin(), r.alternatives.end());
+    if (!appearance_) return r;
+    const std::vector<double> score = appearance_(frame, ambiguous.poses);
     size_t best = 0;
     for (size_t i = 1; i < score.size(); ++i)
         if (score[i] > score[best]) best = i;
+    ambiguous.best_by_appearance = best;
     double next = 0;
     for (size_t i = 0; i < score.size(); ++i)
         if (i != best) next = std::max(next, score[i]);
@@ -40,7 +44,7 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
     for (double v : score) s << " " << v;
     if (score[best] >= options_.min_appearance_score && score[best] >= options_.appearance_margin * next)
     {
-        r.T_world_cam = poses[best];
+        r.T_world_cam = ambiguous.poses[best];
         r.localized = true;
         r.reason.clear();
         s << ": ambiguity settled (pose " << best << ")";
@@ -49,6 +53,26 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
         s << ": still ambiguous";
     note = s.str();
     return r;
+}
+
+bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
+                                       std::string& note) const
+{
+    std::vector<size_t> consistent;
+    for (size_t i = 0; i < ambiguous.poses.size(); ++i)
+    {
+        std::string why;
+        if (velocity(ambiguous.poses[i], t, why)) consistent.push_back(i);
+    }
+    if (consistent.size() != 1) return false;
+    const size_t pick = consistent.front();
+    if (ambiguous.best_by_appearance && *ambiguous.best_by_appearance != pick) return false;
+    r.T_world_cam = ambiguous.poses[pick];
+    r.localized = true;
+    r.reason.clear();
+    note += (note.empty() ? "" : "; ") + std::string("ambiguity settled by the anchor (pose ") +
+            std::to_string(pick) + ")";
+    return true;
 }
 
 Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, double t_a,
@@ -103,7 +127,10 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     InitAttempt attempt;
     attempt.t = frame.timestamp;
     std::string appearance_note;
-    attempt.result = localize(frame, appearance_note);
+    AmbiguousFix ambiguous;
+    attempt.result = localize(frame, appearance_note, ambiguous);
+    if (anchor_ && !attempt.result.localized && attempt.result.ambiguous)
+        settleByAnchor(attempt.result, ambiguous, frame.timestamp, appearance_note);
     if (anchor_ && attempt.result.localized)
     {
         std::string why;
