@@ -284,9 +284,10 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
               << " deg; time = the refinement (render, Q features, matching, PnP, direct) per attempt; the camera image's "
                  "own features and edge field take "
               << std::fixed << std::setprecision(1) << image_ms / nf << " ms once per frame\n\n";
-    std::cout << "| method | perturbation | success | median error [cm] | median error [deg] | mean time [ms] | max time [ms] |\n";
-    std::cout << "|---|---|---|---|---|---|---|\n";
-    for (size_t mi = 0; mi < methods.size(); ++mi)
+    if (b.draws > 0)
+        std::cout << "| method | perturbation | success | median error [cm] | median error [deg] | mean time [ms] | max time "
+                     "[ms] |\n|---|---|---|---|---|---|---|\n";
+    for (size_t mi = 0; mi < methods.size() && b.draws > 0; ++mi)
         for (int li = 0; li < 3; ++li)
         {
             const Cell& c = cells[{int(mi), li}];
