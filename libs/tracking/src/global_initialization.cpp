@@ -58,14 +58,10 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
 bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
                                        std::string& note) const
 {
-    std::vector<size_t> consistent;
-    for (size_t i = 0; i < ambiguous.poses.size(); ++i)
-    {
-        std::string why;
-        if (velocity(ambiguous.poses[i], t, why)) consistent.push_back(i);
-    }
-    if (consistent.size() != 1) return false;
-    const size_t pick = consistent.front();
+    const std::vector<size_t> closing = placesClosingThePair(T_world_anchor_, anchor_->timestamp, ambiguous.poses, t,
+                                                             pendingSamples(), T_body_cam_, imu_noise_, options_);
+    if (closing.size() != 1) return false;
+    const size_t pick = closing.front();
     if (ambiguous.best_by_appearance && *ambiguous.best_by_appearance != pick) return false;
     r.T_world_cam = ambiguous.poses[pick];
     r.localized = true;
@@ -91,25 +87,46 @@ Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, dou
     return (T_b.translation() - T_a.translation() - 0.5 * noise.gravity() * dt * dt - T_a.linear() * imu.deltaP()) / dt;
 }
 
-std::optional<Eigen::Vector3d> GlobalInitializer::velocity(const Eigen::Isometry3d& T_world_cam_b, double t_b,
-                                                           std::string& why) const
+std::optional<Eigen::Vector3d> pairVelocity(const Eigen::Isometry3d& T_world_cam_a, double t_a,
+                                            const Eigen::Isometry3d& T_world_cam_b, double t_b,
+                                            const std::vector<estimation::ImuMeasurement>& samples,
+                                            const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
+                                            const GlobalInitOptions& options, std::string* why)
+{
+    double disagreement_deg = 0;
+    const Eigen::Vector3d v =
+        velocityBetweenFixes(T_world_cam_a, t_a, T_world_cam_b, t_b, samples, T_body_cam, noise, &disagreement_deg);
+    std::ostringstream s;
+    s.precision(3);
+    if (disagreement_deg > options.max_disagreement_deg)
+        s << "the two fixes' rotation differs from the gyroscope's by " << disagreement_deg << " deg (> "
+          << options.max_disagreement_deg << ")";
+    else if (v.norm() > options.max_speed_m_s)
+        s << "implied speed " << v.norm() << " m/s (> " << options.max_speed_m_s << ")";
+    if (why) *why = s.str();
+    if (!s.str().empty()) return std::nullopt;
+    return v;
+}
+
+std::vector<size_t> placesClosingThePair(const Eigen::Isometry3d& T_world_cam_a, double t_a,
+                                         const std::vector<Eigen::Isometry3d>& places_b, double t_b,
+                                         const std::vector<estimation::ImuMeasurement>& samples,
+                                         const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
+                                         const GlobalInitOptions& options)
+{
+    std::vector<size_t> out;
+    for (size_t i = 0; i < places_b.size(); ++i)
+        if (pairVelocity(T_world_cam_a, t_a, places_b[i], t_b, samples, T_body_cam, noise, options, nullptr))
+            out.push_back(i);
+    return out;
+}
+
+std::vector<estimation::ImuMeasurement> GlobalInitializer::pendingSamples() const
 {
     std::vector<estimation::ImuMeasurement> samples;
     for (const auto& f : pending_)
         for (const auto& s : f.imu) samples.push_back({s.t, s.acc, s.gyro});
-    double disagreement_deg = 0;
-    const Eigen::Vector3d v = velocityBetweenFixes(T_world_anchor_, anchor_->timestamp, T_world_cam_b, t_b, samples,
-                                                   T_body_cam_, imu_noise_, &disagreement_deg);
-    std::ostringstream s;
-    s.precision(3);
-    if (disagreement_deg > options_.max_disagreement_deg)
-        s << "the two fixes' rotation differs from the gyroscope's by " << disagreement_deg << " deg (> "
-          << options_.max_disagreement_deg << ")";
-    else if (v.norm() > options_.max_speed_m_s)
-        s << "implied speed " << v.norm() << " m/s (> " << options_.max_speed_m_s << ")";
-    why = s.str();
-    if (!why.empty()) return std::nullopt;
-    return v;
+    return samples;
 }
 
 std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame, bool localize_it)
@@ -134,7 +151,8 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     if (anchor_ && attempt.result.localized)
     {
         std::string why;
-        if (const auto v = velocity(attempt.result.T_world_cam, frame.timestamp, why))
+        if (const auto v = pairVelocity(T_world_anchor_, anchor_->timestamp, attempt.result.T_world_cam, frame.timestamp,
+                                        pendingSamples(), T_body_cam_, imu_noise_, options_, &why))
         {
             attempt.note = "pair closed" + bracketed(appearance_note);
             attempts_.push_back(attempt);

@@ -71,3 +71,28 @@ TEST(GlobalInitialization, AFixWithAWrongRotationDisagreesWithTheGyroscope)
                                    noise, &disagreement_deg);
     EXPECT_NEAR(disagreement_deg, 0.06 * 180 / M_PI, 0.1);
 }
+
+TEST(GlobalInitialization, AnAmbiguousFixIsSettledByTheAnchorOnlyWhereTheImuAgrees)
+{
+    // A box-shaped room fits a closing fix also 90 degrees turned about the vertical through the room's centre
+    // (the ambiguity of the simulated rooms); only the true place agrees with the anchor through the gyroscope.
+    const Motion m;
+    const estimation::ImuNoise noise;
+    const Eigen::Isometry3d T_body_cam = bodyToCamera();
+    const double t_b = 0.5;
+    const Eigen::Isometry3d a = m.T_world_body(0) * T_body_cam, b = m.T_world_body(t_b) * T_body_cam;
+    Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+    turn.linear() = estimation::expSO3(Eigen::Vector3d(0, 0, M_PI / 2));
+    turn.translation() = Eigen::Vector3d(1, 2, 0) - turn.linear() * Eigen::Vector3d(1, 2, 0);
+    Eigen::Isometry3d far_b = b;  // the right rotation 3 m away: 6 m/s, faster than max_speed_m_s
+    far_b.translation() += Eigen::Vector3d(3, 0, 0);
+    const tracking::GlobalInitOptions options;
+    const auto samples = m.samples(t_b, noise);
+    EXPECT_EQ(tracking::placesClosingThePair(a, 0, {turn * b, b, far_b}, t_b, samples, T_body_cam, noise, options),
+              std::vector<size_t>{1});
+    // The turned place alone closes nothing: an ambiguous fix without its true place is not settled.
+    EXPECT_EQ(tracking::placesClosingThePair(a, 0, {turn * b}, t_b, samples, T_body_cam, noise, options).size(), 0u);
+    std::string why;
+    EXPECT_FALSE(tracking::pairVelocity(a, 0, far_b, t_b, samples, T_body_cam, noise, options, &why));
+    EXPECT_NE(why.find("implied speed"), std::string::npos) << why;
+}

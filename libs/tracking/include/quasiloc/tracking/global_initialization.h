@@ -71,6 +71,21 @@ Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, dou
                                      const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
                                      double* rotation_disagreement_deg = nullptr);
 
+/** The velocity at a when fixes a and b close a pair (rotation agrees with the gyroscope within
+ *  max_disagreement_deg, implied speed below max_speed_m_s); otherwise nullopt and, if `why`, the reason. */
+std::optional<Eigen::Vector3d> pairVelocity(const Eigen::Isometry3d& T_world_cam_a, double t_a,
+                                            const Eigen::Isometry3d& T_world_cam_b, double t_b,
+                                            const std::vector<estimation::ImuMeasurement>& samples,
+                                            const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
+                                            const GlobalInitOptions& options, std::string* why);
+
+/** The indices of the places b could be (an ambiguous fix) that close a pair with fix a. */
+std::vector<size_t> placesClosingThePair(const Eigen::Isometry3d& T_world_cam_a, double t_a,
+                                         const std::vector<Eigen::Isometry3d>& places_b, double t_b,
+                                         const std::vector<estimation::ImuMeasurement>& samples,
+                                         const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
+                                         const GlobalInitOptions& options);
+
 class GlobalInitializer
 {
    public:
@@ -100,8 +115,8 @@ class GlobalInitializer
      *  the image (if scored) prefers that place too. */
     bool settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
                         std::string& note) const;
-    /** Closes the pair (anchor, b): checks and the velocity; the failure reason otherwise. */
-    std::optional<Eigen::Vector3d> velocity(const Eigen::Isometry3d& T_world_cam_b, double t_b, std::string& why) const;
+    /** The IMU samples of the frames after the anchor. */
+    std::vector<estimation::ImuMeasurement> pendingSamples() const;
 
     const reloc::GeometricLocalizer& localizer_;
     Eigen::Isometry3d T_body_cam_;
