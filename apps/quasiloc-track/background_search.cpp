@@ -12,11 +12,11 @@ BackgroundSearch::~BackgroundSearch()
     starter_.deferConsole(false);
 }
 
-void BackgroundSearch::begin(const std::string& label)
+void BackgroundSearch::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior)
 {
     core::require(!searching_, "BackgroundSearch", "begin() while a search is under way");
     worker_.wait();
-    starter_.begin(label);
+    starter_.begin(label, prior);
     queue_.clear();
     found_.reset();
     result_.reset();

@@ -33,7 +33,7 @@ class BackgroundSearch
     ~BackgroundSearch();
 
     /** Starts a search (GlobalStarter::begin); none may be under way. */
-    void begin(const std::string& label);
+    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt);
     bool searching() const { return searching_; }
     /** Queues a frame for the search; the thread takes the queue whenever it is idle. */
     void push(const dataset::StereoFrame& frame);

@@ -31,7 +31,7 @@ GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& ri
     r << std::fixed << std::setprecision(1) << "# global localization by geometry: distance field and "
       << localizer_->positions() << " candidate positions built in " << ms << " ms\n"
       << "# occasion, t, localized, inlier_ratio, runner_up_inlier_ratio, runner_up_offset_m, runner_up_offset_deg, "
-         "query_points, candidates, ms_cloud, ms_search, ms_refine, error_m, error_deg, note\n";
+         "query_points, candidates, ms_cloud, ms_search, ms_refine, error_m, error_deg, search_radius_m, note\n";
     record_ = r.str();
     std::cout << "global localization by geometry ready (" << localizer_->positions() << " candidate positions, "
               << std::fixed << std::setprecision(0) << ms << " ms)" << std::endl;
@@ -51,9 +51,10 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
     return std::nullopt;
 }
 
-void GlobalStarter::begin(const std::string& label)
+void GlobalStarter::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior)
 {
     init_ = std::make_unique<tracking::GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, init_options_);
+    if (prior) init_->setSearchPrior(*prior);
     init_->setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
         refiner_->setImage(frame.left, camera_, false);
         std::vector<double> score;
@@ -90,11 +91,13 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::S
         r << label_ << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", " << g.runner_up_inlier_ratio
           << ", " << g.runner_up_offset_m << ", " << g.runner_up_offset_deg << ", " << g.query_points << ", "
           << g.candidates << ", " << g.ms_cloud << ", " << g.ms_search << ", " << g.ms_refine << ", " << e_m << ", "
-          << e_deg << ", " << a.note << "\n";
+          << e_deg << ", " << a.search_radius_m << ", " << a.note << "\n";
         std::ostringstream line;
         line << label_ << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
              << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
-             << g.ms_cloud + g.ms_search + g.ms_refine << " ms)\n";
+             << g.ms_cloud + g.ms_search + g.ms_refine << " ms";
+        if (a.search_radius_m > 0) line << ", searched within " << a.search_radius_m << " m of the last confirmed pose";
+        line << ")\n";
         say(line.str());
     }
     if (start)

@@ -34,7 +34,7 @@ class GlobalStarter
     /** The same one frame at a time, for a caller that goes on tracking meanwhile: begin() starts a search,
      *  feed() returns the start once found (and ends the search); attempt = false: the frame's IMU samples only
      *  (GlobalInitializer::feed). */
-    void begin(const std::string& label);
+    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt);
     std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
 
     const map::DistanceField& field() const { return localizer_->field(); }

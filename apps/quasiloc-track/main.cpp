@@ -55,6 +55,9 @@ struct TrackRunOptions : public tracking::TrackerOptions
      *  time; which frames depends on the machine's speed); false: every frame in order (reproducible, but the search
      *  can fall seconds behind: an attempt takes 0.4-1.3 s). */
     bool relocalize_latest_only = true;
+    /** The relocalization searches near the last confirmed pose first (tracking::SearchPrior): within
+     *  relocalize_near_m of it plus relocalize_speed_m_s per second since; relocalize_near_m = 0: the whole map. */
+    double relocalize_near_m = 1.0, relocalize_speed_m_s = 1.5;
     /** A test of loss recovery ("kidnapping"): at this time after the start (< 0: never) the tracker is restarted
      *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
     double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
@@ -86,6 +89,8 @@ struct TrackRunOptions : public tracking::TrackerOptions
         write_scene = core::readIniBool(c, s, "write_scene", write_scene);
         relocalize = core::readIniBool(c, s, "relocalize", relocalize);
         relocalize_latest_only = core::readIniBool(c, s, "relocalize_latest_only", relocalize_latest_only);
+        relocalize_near_m = core::readIniDouble(c, s, "relocalize_near_m", relocalize_near_m);
+        relocalize_speed_m_s = core::readIniDouble(c, s, "relocalize_speed_m_s", relocalize_speed_m_s);
         kidnap_at_s = core::readIniDouble(c, s, "kidnap_at_s", kidnap_at_s);
         kidnap_m = core::readIniDouble(c, s, "kidnap_m", kidnap_m);
         kidnap_deg = core::readIniDouble(c, s, "kidnap_deg", kidnap_deg);
@@ -106,6 +111,8 @@ struct TrackRunOptions : public tracking::TrackerOptions
         c.write(s, "write_scene", write_scene ? "true" : "false");
         c.write(s, "relocalize", relocalize ? "true" : "false");
         c.write(s, "relocalize_latest_only", relocalize_latest_only ? "true" : "false");
+        c.write(s, "relocalize_near_m", relocalize_near_m);
+        c.write(s, "relocalize_speed_m_s", relocalize_speed_m_s);
         c.write(s, "kidnap_at_s", kidnap_at_s);
         c.write(s, "kidnap_m", kidnap_m);
         c.write(s, "kidnap_deg", kidnap_deg);
@@ -143,6 +150,8 @@ int run(const core::CommandLine& cmd)
     core::loadOptionsChecked(o, cfg, "Tracking", name);
     o.check(name);
     core::require(o.check_every >= 1, name + ": [Tracking] check_every", "must be >= 1");
+    core::require(o.relocalize_near_m >= 0, name + ": [Tracking] relocalize_near_m", "must be >= 0 (0: the whole map)");
+    core::require(o.relocalize_speed_m_s >= 0, name + ": [Tracking] relocalize_speed_m_s", "must be >= 0");
     core::require(o.lost_explained_ratio >= 0 && o.lost_explained_ratio < 1, name + ": [Tracking] lost_explained_ratio",
                   "must be in [0, 1)");
     core::require(o.lost_min_gain > 0, name + ": [Tracking] lost_min_gain", "must be > 0");
@@ -331,7 +340,12 @@ int run(const core::CommandLine& cmd)
                 failed_checks = 0;
                 ++losses;
                 std::cout << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
-                search->begin("reloc " + std::to_string(losses));
+                std::optional<tracking::SearchPrior> prior;
+                if (o.relocalize_near_m > 0)
+                    if (const auto known = log.poseAt(last_verified_t))
+                        prior = tracking::SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m,
+                                                      o.relocalize_speed_m_s};
+                search->begin("reloc " + std::to_string(losses), prior);
             }
             if (search->searching())
             {

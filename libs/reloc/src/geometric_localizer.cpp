@@ -171,12 +171,12 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
 GeometricLocalizer::~GeometricLocalizer() = default;
 
 GeometricLocalization GeometricLocalizer::localize(const cv::Mat& left_raw, const cv::Mat& right_raw,
-                                                   const Eigen::Vector3d& up_cam) const
+                                                   const Eigen::Vector3d& up_cam, const SearchSphere* near) const
 {
     const auto t0 = Clock::now();
     const std::vector<Eigen::Vector3f> points = stereo_.compute(left_raw, right_raw);
     const double ms_cloud = msSince(t0);
-    GeometricLocalization r = localizePoints(points, up_cam);
+    GeometricLocalization r = localizePoints(points, up_cam, near);
     r.ms_cloud = ms_cloud;
     return r;
 }
@@ -273,7 +273,7 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
 }
 
 GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen::Vector3f>& points_cam,
-                                                         const Eigen::Vector3d& up_cam) const
+                                                         const Eigen::Vector3d& up_cam, const SearchSphere* near) const
 {
     GeometricLocalization r;
     r.query_points = points_cam.size();
@@ -300,12 +300,23 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         rotations.push_back(R.cast<float>());
         for (const auto& p : scored) rotated[size_t(k)].push_back(R.cast<float>() * p);
     }
+    std::vector<size_t> searched;  // indices into positions_
+    for (size_t i = 0; i < positions_.size(); ++i)
+        if (!near || (positions_[i] - near->centre).norm() <= near->radius_m) searched.push_back(i);
+    if (searched.empty())
+    {
+        std::ostringstream why;
+        why.precision(3);
+        why << "no candidate position within " << near->radius_m << " m of (" << near->centre.transpose() << ")";
+        r.reason = why.str();
+        return r;
+    }
     const float trunc2 = float(options_.coarse_truncation_m * options_.coarse_truncation_m);
-    std::vector<float> scores(positions_.size() * size_t(yaws));
-    cv::parallel_for_(cv::Range(0, int(positions_.size())), [&](const cv::Range& range) {
+    std::vector<float> scores(searched.size() * size_t(yaws));
+    cv::parallel_for_(cv::Range(0, int(searched.size())), [&](const cv::Range& range) {
         for (int i = range.start; i < range.end; ++i)
         {
-            const Eigen::Vector3f t = positions_[size_t(i)].cast<float>();
+            const Eigen::Vector3f t = positions_[searched[size_t(i)]].cast<float>();
             for (int k = 0; k < yaws; ++k)
             {
                 float sum = 0;
@@ -330,7 +341,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         Candidate c;
         c.T_world_cam.setIdentity();
         c.T_world_cam.linear() = rotations[idx % size_t(yaws)].cast<double>();
-        c.T_world_cam.translation() = positions_[idx / size_t(yaws)];
+        c.T_world_cam.translation() = positions_[searched[idx / size_t(yaws)]];
         const bool near_taken = std::any_of(starts.begin(), starts.end(), [&](const Candidate& s) {
             return core::translationDistance(s.T_world_cam, c.T_world_cam) < 0.5 &&
                    rotationDeg(s.T_world_cam, c.T_world_cam) < 20;

@@ -88,6 +88,27 @@ TEST(GeometricLocalizer, LocalizesARenderedStereoFrameWithNoGuess)
     EXPECT_LT(errorDeg(r.T_world_cam, T_true), 1.0);
 }
 
+TEST(GeometricLocalizer, ASearchSphereScoresOnlyThePositionsInsideIt)
+{
+    // A relocalization near the last confirmed pose: the same answer from a fraction of the candidates, and a
+    // sphere holding no candidate position is a reason, not a guess.
+    const Fixture& f = fixture();
+    const Eigen::Isometry3d T_true = queryPose();
+    const auto points = stereoPoints(f, T_true);
+    const reloc::GeometricLocalization all = f.localizer->localizePoints(points, upIn(T_true));
+    const reloc::SearchSphere near{T_true.translation() + Eigen::Vector3d(0.3, -0.2, 0.1), 0.8};
+    const reloc::GeometricLocalization r = f.localizer->localizePoints(points, upIn(T_true), &near);
+    EXPECT_TRUE(r.localized) << r.reason;
+    EXPECT_LT(errorM(r.T_world_cam, T_true), 0.04);
+    EXPECT_LT(errorDeg(r.T_world_cam, T_true), 1.0);
+    EXPECT_GT(r.candidates, 0u);
+    EXPECT_LT(4 * r.candidates, all.candidates) << "the sphere should leave out most positions";
+    const reloc::SearchSphere nowhere{Eigen::Vector3d(50, 50, 50), 1.0};
+    const reloc::GeometricLocalization none = f.localizer->localizePoints(points, upIn(T_true), &nowhere);
+    EXPECT_FALSE(none.localized);
+    EXPECT_NE(none.reason.find("no candidate position within"), std::string::npos) << none.reason;
+}
+
 TEST(GeometricLocalizer, RefinementConvergesFromAFewDecimetres)
 {
     const Fixture& f = fixture();

@@ -7,7 +7,8 @@
 //  1. query: the frame's stereo points in the left camera frame (stereo_cloud.h);
 //  2. coarse search over 4 DoF: camera positions on a grid over the map's free space (view_sampling.h, at several
 //     heights) x num_yaws headings, roll and pitch from gravity; a candidate's score is the mean squared distance
-//     (truncated at coarse_truncation_m) of score_points query points to the map (map::DistanceField);
+//     (truncated at coarse_truncation_m) of score_points query points to the map (map::DistanceField); with a
+//     SearchSphere (a prior: relocalization near the last confirmed pose) only the positions inside it;
 //  3. the best refine_candidates candidates that differ (> 0.5 m or > 20 deg apart) are refined over 6 DoF by
 //     Gauss-Newton on the distance field, with the truncation shrinking (refine_truncations_m): query points the
 //     map does not explain (people, clutter, stereo errors) stop pulling;
@@ -89,6 +90,15 @@ struct GeometricLocalizationOptions : public mrpt::config::CLoadableOptions
     void check(const std::string& input) const;
 };
 
+/** A prior on where the camera is (a relocalization after a loss: near the last confirmed pose): the coarse search
+ *  scores only the candidate positions within radius_m of centre (world), and the ambiguity test only weighs
+ *  places found there. */
+struct SearchSphere
+{
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    double radius_m = 0;
+};
+
 /** The answer to one query, with what a person needs to see why it failed. */
 struct GeometricLocalization
 {
@@ -116,9 +126,11 @@ class GeometricLocalizer
     ~GeometricLocalizer();
 
     /** Localizes one raw stereo pair; up_cam: world +z (the opposite of gravity) in the left camera frame. */
-    GeometricLocalization localize(const cv::Mat& left_raw, const cv::Mat& right_raw, const Eigen::Vector3d& up_cam) const;
+    GeometricLocalization localize(const cv::Mat& left_raw, const cv::Mat& right_raw, const Eigen::Vector3d& up_cam,
+                                   const SearchSphere* near = nullptr) const;
     /** The same from query points already in the left camera frame. */
-    GeometricLocalization localizePoints(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Vector3d& up_cam) const;
+    GeometricLocalization localizePoints(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Vector3d& up_cam,
+                                         const SearchSphere* near = nullptr) const;
 
     /** Gauss-Newton refinement of T_world_cam (the refine stage alone); returns the share of inliers. */
     double refine(const std::vector<Eigen::Vector3f>& points_cam, Eigen::Isometry3d& T_world_cam) const;

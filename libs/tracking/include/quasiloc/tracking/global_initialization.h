@@ -41,6 +41,18 @@ struct GlobalInitOptions
     double min_appearance_score = 0.2;
 };
 
+/** Where the camera was last known to be (a relocalization after a loss): a frame at time t is searched within
+ *  radius_m + speed_m_s * (t - t_known) of position_world only (reloc::SearchSphere), which is faster and leaves
+ *  out far places that would make the fix ambiguous. The sphere grows with the time since, so a search that keeps
+ *  failing becomes global. */
+struct SearchPrior
+{
+    Eigen::Vector3d position_world = Eigen::Vector3d::Zero();
+    double t_known = 0;
+    double radius_m = 1.0;
+    double speed_m_s = 1.5;
+};
+
 /** Scores of candidate poses T_world_cam0 for a frame by its image (higher is better, 0 = no fit). */
 using AppearanceScore =
     std::function<std::vector<double>(const dataset::StereoFrame&, const std::vector<Eigen::Isometry3d>&)>;
@@ -60,6 +72,7 @@ struct InitAttempt
     double t = 0;
     reloc::GeometricLocalization result;
     std::string note;  ///< anchor / pair closed / why the pair failed
+    double search_radius_m = 0;  ///< the SearchPrior's sphere (0: the whole map)
 };
 
 /** The velocity at a (map frame) that carries the IMU samples from fix a to fix b (zero biases), and the angle
@@ -92,6 +105,9 @@ class GlobalInitializer
     GlobalInitializer(const reloc::GeometricLocalizer& localizer, const Eigen::Isometry3d& T_body_cam,
                       const estimation::ImuNoise& imu_noise, const GlobalInitOptions& options);
 
+    /** Optional: searches near a known position only (see SearchPrior). */
+    void setSearchPrior(const SearchPrior& prior) { prior_ = prior; }
+
     /** Optional: settles ambiguous fixes by the image (see above). */
     void setAppearanceScore(AppearanceScore score) { appearance_ = std::move(score); }
 
@@ -110,7 +126,7 @@ class GlobalInitializer
         std::optional<size_t> best_by_appearance;
     };
     reloc::GeometricLocalization localize(const dataset::StereoFrame& frame, std::string& note,
-                                          AmbiguousFix& ambiguous);
+                                          AmbiguousFix& ambiguous, double& search_radius_m);
     /** With an anchor: an ambiguous fix is taken when exactly one of its places closes the pair with the anchor and
      *  the image (if scored) prefers that place too. */
     bool settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
@@ -128,6 +144,7 @@ class GlobalInitializer
     std::vector<dataset::StereoFrame> pending_;
     std::vector<InitAttempt> attempts_;
     AppearanceScore appearance_;
+    std::optional<SearchPrior> prior_;
 };
 
 }  // namespace quasiloc::tracking
