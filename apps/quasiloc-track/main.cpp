@@ -53,7 +53,7 @@ struct TrackRunOptions : public tracking::TrackerOptions
     bool relocalize = true;  ///< with map_updates only
     /** The relocalization search (on its own thread) attempts only the newest of the frames waiting for it (real
      *  time; which frames depends on the machine's speed); false: every frame in order (reproducible, but the search
-     *  can fall seconds behind: an attempt takes 0.4-1.3 s). */
+     *  can fall seconds behind: an attempt takes 0.2-0.6 s, 0.4-1.3 s over the whole map). */
     bool relocalize_latest_only = true;
     /** The relocalization searches near the last confirmed pose first (tracking::SearchPrior): within
      *  relocalize_near_m of it plus relocalize_speed_m_s per second since; relocalize_near_m = 0: the whole map. */
