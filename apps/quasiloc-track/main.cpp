@@ -270,8 +270,8 @@ int run(const core::CommandLine& cmd)
         const bool agrees = tracked && core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
                             core::rotationDistanceRad(*tracked, found.T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
         std::cout << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
-                  << last_verified_t << ", found at t " << t_now << "; " << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted")
-                  << std::endl;
+                  << last_verified_t << ", found at t " << t_now << "; "
+                  << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted") << std::endl;
         last_verified_t = t_fix;
         if (agrees)
         {
@@ -394,7 +394,8 @@ int run(const core::CommandLine& cmd)
     core::writeEffectiveConfig(out.addFile(o.output_dir + "/quasiloc-track.ini"), sections,
                                "quasiloc-track effective configuration");
     out.commit();
-    std::cout << log.summary(n, losses, withdrawn, relocalizations, longest_unverified_s, longest_wait_s) << "outputs     " << o.output_dir
+    std::cout << log.summary(n, losses, withdrawn, relocalizations, longest_unverified_s, longest_wait_s)
+              << "outputs     " << o.output_dir
               << "/{trajectory.tum,diagnostics.csv,quasiloc-track.ini" << (starter ? ",initialization.txt" : "")
               << (o.write_scene ? ",scene.3Dscene" : "") << "}" << std::endl;
     return 0;

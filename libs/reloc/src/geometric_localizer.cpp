@@ -283,6 +283,17 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
                    std::to_string(options_.score_points) + ")";
         return r;
     }
+    std::vector<size_t> searched;  // indices into positions_
+    for (size_t i = 0; i < positions_.size(); ++i)
+        if (!near || (positions_[i] - near->centre).norm() <= near->radius_m) searched.push_back(i);
+    if (searched.empty())
+    {
+        std::ostringstream why;
+        why.precision(3);
+        why << "no candidate position within " << near->radius_m << " m of (" << near->centre.transpose() << ")";
+        r.reason = why.str();
+        return r;
+    }
     // Coarse search: rotation R_world_cam = Rz(yaw) * R_level, where R_level turns the camera's up into world +z.
     auto t0 = Clock::now();
     const Eigen::Matrix3d R_level = Eigen::Quaterniond::FromTwoVectors(up_cam.normalized(), Eigen::Vector3d::UnitZ())
@@ -299,17 +310,6 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
             Eigen::AngleAxisd(2 * M_PI * k / yaws, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R_level;
         rotations.push_back(R.cast<float>());
         for (const auto& p : scored) rotated[size_t(k)].push_back(R.cast<float>() * p);
-    }
-    std::vector<size_t> searched;  // indices into positions_
-    for (size_t i = 0; i < positions_.size(); ++i)
-        if (!near || (positions_[i] - near->centre).norm() <= near->radius_m) searched.push_back(i);
-    if (searched.empty())
-    {
-        std::ostringstream why;
-        why.precision(3);
-        why << "no candidate position within " << near->radius_m << " m of (" << near->centre.transpose() << ")";
-        r.reason = why.str();
-        return r;
     }
     const float trunc2 = float(options_.coarse_truncation_m * options_.coarse_truncation_m);
     std::vector<float> scores(searched.size() * size_t(yaws));

@@ -18,17 +18,20 @@ GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer,
 {
 }
 
+std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) const
+{
+    if (!prior_) return std::nullopt;
+    return reloc::SearchSphere{prior_->position_world,
+                               prior_->radius_m + prior_->speed_m_s * std::max(0.0, t - prior_->t_known)};
+}
+
 reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame, std::string& note,
-                                                         AmbiguousFix& ambiguous, double& search_radius_m)
+                                                         AmbiguousFix& ambiguous)
 {
     std::vector<Eigen::Vector3d> acc;
     for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
-    std::optional<reloc::SearchSphere> near;
-    if (prior_)
-        near = reloc::SearchSphere{prior_->position_world,
-                                   prior_->radius_m + prior_->speed_m_s * std::max(0.0, frame.timestamp - prior_->t_known)};
-    search_radius_m = near ? near->radius_m : 0.0;
+    const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp);
     reloc::GeometricLocalization r = localizer_.localize(frame.left, frame.right, up_cam, near ? &*near : nullptr);
     ambiguous = {};
     if (!r.ambiguous) return r;
@@ -150,7 +153,8 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     attempt.t = frame.timestamp;
     std::string appearance_note;
     AmbiguousFix ambiguous;
-    attempt.result = localize(frame, appearance_note, ambiguous, attempt.search_radius_m);
+    attempt.result = localize(frame, appearance_note, ambiguous);
+    if (const auto near = searchSphere(frame.timestamp)) attempt.search_radius_m = near->radius_m;
     if (anchor_ && !attempt.result.localized && attempt.result.ambiguous)
         settleByAnchor(attempt.result, ambiguous, frame.timestamp, appearance_note);
     if (anchor_ && attempt.result.localized)

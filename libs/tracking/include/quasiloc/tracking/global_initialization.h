@@ -125,8 +125,10 @@ class GlobalInitializer
         std::vector<Eigen::Isometry3d> poses;
         std::optional<size_t> best_by_appearance;
     };
+    /** Where a frame at time t is searched (the prior's sphere), or nowhere in particular (no prior). */
+    std::optional<reloc::SearchSphere> searchSphere(double t) const;
     reloc::GeometricLocalization localize(const dataset::StereoFrame& frame, std::string& note,
-                                          AmbiguousFix& ambiguous, double& search_radius_m);
+                                          AmbiguousFix& ambiguous);
     /** With an anchor: an ambiguous fix is taken when exactly one of its places closes the pair with the anchor and
      *  the image (if scored) prefers that place too. */
     bool settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
