@@ -19,7 +19,19 @@ using detail::projectToLevel;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
 
-double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+/** The robust kernel of one stage: the distance is truncated at truncation_px (no farther pull), Huber beyond
+ *  huber_px. The fields are truncated at options.truncation_px when built; a stage may only truncate lower. */
+struct Robustness
+{
+    double truncation_px, huber_px;
+};
+Robustness pyramidRobustness(const DirectAlignmentOptions& o) { return {o.truncation_px, o.huber_px}; }
+Robustness fineRobustness(const DirectAlignmentOptions& o)
+{
+    return {std::min(o.fine_truncation_px, o.truncation_px), o.fine_huber_px};
+}
+
+double levelCost(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -35,7 +47,8 @@ double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, cons
             cost += trunc_cost;
             continue;
         }
-        const double r = bilinear(L.distance[model.edge_bin[i]], float(u.x()), float(u.y()));
+        const double r = std::min<double>(bilinear(L.distance[model.edge_bin[i]], float(u.x()), float(u.y())),
+                                          o.truncation_px);
         cost += huberCost(r, o.huber_px);
         inliers += r < o.huber_px;
     }
@@ -46,7 +59,7 @@ double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, cons
 
 /** Gauss-Newton normal equations of the Huber-weighted edge residuals at one level. Points at the
  *  truncation (flat field) or outside the image carry no gradient and are left out. */
-void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+void normalEquations(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                      const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, Matrix6d& H, Vector6d& b)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -89,13 +102,13 @@ double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d*
 }
 
 /** Levenberg-Marquardt at one level. Returns the iterations taken. */
-int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+int alignLevel(const Robustness& o, int iterations, const CameraEdgeLevel& L, const core::CameraModel& camera,
                const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step)
 {
     double cost = levelCost(o, L, camera, model, T_world_cam, nullptr) + priorCost(prior, T_world_cam, nullptr, nullptr);
     double lambda = 1e-3;
     int it = 0;
-    for (; it < o.iterations_per_level; ++it)
+    for (; it < iterations; ++it)
     {
         Matrix6d H;
         Vector6d b;
@@ -156,7 +169,8 @@ double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& fi
                 const core::CameraModel& camera, const DirectAlignmentModel& model,
                 const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
-    return levelCost(options, field.levels.at(size_t(level)), camera, model, T_world_cam, inlier_ratio);
+    return levelCost(pyramidRobustness(options), field.levels.at(size_t(level)), camera, model, T_world_cam,
+                     inlier_ratio);
 }
 
 double normalizedMutualInformation(const DirectAlignmentOptions& o, const CameraEdgeField& field,
@@ -207,12 +221,24 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
     if (!model.nmi_points_world.empty()) st.initial_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     bool any_step = false;
-    for (int l = int(field.levels.size()) - 1; l >= 0; --l)
-        st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step);
+    const int coarsest = int(field.levels.size()) - 1;
+    for (int l = coarsest; l >= 0; --l)
+        st.iterations += alignLevel(pyramidRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
+                                    model, prior, T_world_cam, any_step);
+    // The fine pass: the wide truncation gives the basin, but near the optimum it lets every map edge with no
+    // camera counterpart within truncation_px (LiDAR noise, reflectivity texture the camera does not show) pull
+    // with the full Huber slope. A second coarse-to-fine pass listens only to edges within fine_truncation_px.
+    // Without the prior: the pass's costs are several times smaller than the pyramid's (tighter kernel), so the
+    // same prior would hold the pose where it started (measured: the pose stayed at the perturbed start).
+    const bool fine = o.fine_truncation_px > 0;
+    if (fine)
+        for (int l = coarsest; l >= 0; --l)
+            st.iterations += alignLevel(fineRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
+                                        model, nullptr, T_world_cam, any_step);
     if (o.nmi_polish && !model.nmi_points_world.empty()) polishNmi(o, field, camera, model, T_world_cam);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     Vector6d gradient;
-    normalEquations(o, field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
+    normalEquations(pyramidRobustness(o), field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
     if (!model.nmi_points_world.empty()) st.final_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;

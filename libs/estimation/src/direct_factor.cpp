@@ -31,6 +31,7 @@ DirectEdgeCostFunction::DirectEdgeCostFunction(const CameraEdgeField& field, int
       model_(model),
       T_cam_body_(T_body_cam.inverse()),
       inv_sigma_(1.0 / sigma_px),
+      truncation_px_(truncation_px),
       flat_px_(truncation_px - 1e-3),
       huber_(huber_px / sigma_px)
 {
@@ -62,7 +63,8 @@ bool DirectEdgeCostFunction::Evaluate(double const* const* parameters, double* r
         }
         const cv::Mat& D = level_.distance[model_.edge_bin[i]];
         const float x = float(u.x()), y = float(u.y());
-        const double r = detail::bilinear(D, x, y);
+        // The field is truncated where it was built; a pass may truncate lower (the fine pass of alignDirect).
+        const double r = std::min<double>(detail::bilinear(D, x, y), truncation_px_);
         double slope = 0;
         residuals[i] = robust(r * inv_sigma_, &slope);
         if (!Ji || r >= flat_px_) continue;
@@ -101,22 +103,23 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
     poseToParams(T_world_cam, params);
     bool any_step = false;
     const double n = double(model.edge_points_world.size());
-    for (int l = int(field.levels.size()) - 1; l >= 0; --l)
-    {
+    // One Ceres solve per level and pass, as alignDirect: the pyramid with the prior, then (fine_truncation_px > 0)
+    // the tightly truncated pass without it.
+    const auto solveLevel = [&](int l, double truncation_px, double huber_px, const DirectPrior* level_prior) {
         PoseManifold manifold;  // declared before the problem that points to it, so it outlives it
         ceres::Problem::Options po;
         po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
         ceres::Problem problem(po);
         // The body is the camera here: the block is T_world_cam itself.
         problem.AddResidualBlock(new DirectEdgeCostFunction(field, l, camera, model, Eigen::Isometry3d::Identity(), 1.0,
-                                                            o.truncation_px, o.huber_px),
+                                                            truncation_px, huber_px),
                                  nullptr, params);
-        if (prior)
+        if (level_prior)
         {
             // alignDirect minimises the MEAN edge cost plus the prior; Ceres the sum: scale the prior by n.
-            const Matrix6d information =
-                (n * prior->weight * poseInformationDiagonal(prior->sigma_rad, prior->sigma_m)).asDiagonal();
-            problem.AddResidualBlock(new PosePriorFactor(prior->T_world_cam, information), nullptr, params);
+            const DirectPrior& pr = *level_prior;
+            const Matrix6d information = (n * pr.weight * poseInformationDiagonal(pr.sigma_rad, pr.sigma_m)).asDiagonal();
+            problem.AddResidualBlock(new PosePriorFactor(pr.T_world_cam, information), nullptr, params);
         }
         problem.SetManifold(params, &manifold);
         ceres::Solver::Options so;
@@ -133,7 +136,12 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
         ceres::Solve(so, &problem, &summary);
         st.iterations += int(summary.iterations.size()) - 1;
         any_step = any_step || summary.num_successful_steps > 0;
-    }
+    };
+    const int coarsest = int(field.levels.size()) - 1;
+    for (int l = coarsest; l >= 0; --l) solveLevel(l, o.truncation_px, o.huber_px, prior);
+    if (o.fine_truncation_px > 0)
+        for (int l = coarsest; l >= 0; --l)
+            solveLevel(l, std::min(o.fine_truncation_px, o.truncation_px), o.fine_huber_px, nullptr);
     if (any_step) T_world_cam = paramsToPose(params);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     st.ms = tic.Tac() * 1e3;

@@ -40,7 +40,7 @@ class DirectEdgeCostFunction final : public ceres::CostFunction
     double robust(double d, double* slope) const;
 
     Eigen::Isometry3d T_cam_body_;
-    double inv_sigma_, flat_px_, huber_;
+    double inv_sigma_, truncation_px_, flat_px_, huber_;
 };
 
 /** alignDirect's problem solved by Ceres with DirectEdgeCostFunction: coarse to fine over the field's levels,
