@@ -15,21 +15,12 @@ namespace quasiloc::estimation
 namespace
 {
 using detail::bilinear;
+using detail::fineRobustness;
 using detail::projectToLevel;
+using detail::pyramidRobustness;
+using detail::Robustness;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
-
-/** The robust kernel of one stage: the distance is truncated at truncation_px (no farther pull), Huber beyond
- *  huber_px. The fields are truncated at options.truncation_px when built; a stage may only truncate lower. */
-struct Robustness
-{
-    double truncation_px, huber_px;
-};
-Robustness pyramidRobustness(const DirectAlignmentOptions& o) { return {o.truncation_px, o.huber_px}; }
-Robustness fineRobustness(const DirectAlignmentOptions& o)
-{
-    return {std::min(o.fine_truncation_px, o.truncation_px), o.fine_huber_px};
-}
 
 double levelCost(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)

@@ -105,14 +105,14 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
     const double n = double(model.edge_points_world.size());
     // One Ceres solve per level and pass, as alignDirect: the pyramid with the prior, then (fine_truncation_px > 0)
     // the tightly truncated pass without it.
-    const auto solveLevel = [&](int l, double truncation_px, double huber_px, const DirectPrior* level_prior) {
+    const auto solveLevel = [&](int l, const detail::Robustness& kernel, const DirectPrior* level_prior) {
         PoseManifold manifold;  // declared before the problem that points to it, so it outlives it
         ceres::Problem::Options po;
         po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
         ceres::Problem problem(po);
         // The body is the camera here: the block is T_world_cam itself.
         problem.AddResidualBlock(new DirectEdgeCostFunction(field, l, camera, model, Eigen::Isometry3d::Identity(), 1.0,
-                                                            truncation_px, huber_px),
+                                                            kernel.truncation_px, kernel.huber_px),
                                  nullptr, params);
         if (level_prior)
         {
@@ -138,10 +138,9 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
         any_step = any_step || summary.num_successful_steps > 0;
     };
     const int coarsest = int(field.levels.size()) - 1;
-    for (int l = coarsest; l >= 0; --l) solveLevel(l, o.truncation_px, o.huber_px, prior);
+    for (int l = coarsest; l >= 0; --l) solveLevel(l, detail::pyramidRobustness(o), prior);
     if (o.fine_truncation_px > 0)
-        for (int l = coarsest; l >= 0; --l)
-            solveLevel(l, std::min(o.fine_truncation_px, o.truncation_px), o.fine_huber_px, nullptr);
+        for (int l = coarsest; l >= 0; --l) solveLevel(l, detail::fineRobustness(o), nullptr);
     if (any_step) T_world_cam = paramsToPose(params);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     st.ms = tic.Tac() * 1e3;
