@@ -208,11 +208,6 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
     quasi::QuasiRenderer renderer(seq.map, qo);
     frontend::Frontend frontend(fo);
     estimation::MapRefiner refiner(ro, renderer, frontend);
-    // At the true pose the prediction prior would sit on the answer and hold the pose there: the refinements started
-    // at the truth run without it, so that they show where each method's own cost has its optimum.
-    estimation::MapRefinementOptions ro_free = ro;
-    ro_free.direct_prior_weight = 0;
-    estimation::MapRefiner free_refiner(ro_free, renderer, frontend);
 
     if (!b.overlay_dir.empty())
         writeOverlay(b.overlay_dir + "/" + seq.name + "_edges.png", seq.frames.front(), seq.camera, renderer, ro.direct);
@@ -254,16 +249,17 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
         const bench::QueryFrame& fr = seq.frames[fi];
         refiner.setImage(fr.image, seq.camera);
         image_ms += refiner.lastImageMs();
-        free_refiner.setImage(fr.image, seq.camera);
-        // Refinements started at the true pose with the (a) level's window and no prior, each method once per frame:
-        // the correct matches (the prediction is exact: what each matcher can give PnP) and where each method ends.
+        // Refinements started at the true pose with the (a) level's window, each method once per frame: the correct
+        // matches (the prediction is exact: what each matcher can give PnP) and where each method ends. Without the
+        // prediction prior: at the truth it would sit on the answer and hold the pose there, and the table is to
+        // show where each method's own cost has its optimum.
         std::map<estimation::RefinementMethod, estimation::MapRefinementResult> at_truth;
         const auto atTruth = [&](estimation::RefinementMethod m) -> const estimation::MapRefinementResult& {
             auto it = at_truth.find(m);
             if (it == at_truth.end())
             {
                 const double sigma_rad = kLevels[0].rot_deg * M_PI / 180;
-                it = at_truth.emplace(m, free_refiner.refine(m, fr.T_world_cam, kLevels[0].t_m, sigma_rad)).first;
+                it = at_truth.emplace(m, refiner.refine(m, fr.T_world_cam, kLevels[0].t_m, sigma_rad, 0.0)).first;
             }
             return it->second;
         };

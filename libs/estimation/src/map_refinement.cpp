@@ -225,8 +225,10 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
 }
 
 MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
-                                       double sigma_rad)
+                                       double sigma_rad, std::optional<double> direct_prior_weight)
 {
+    const double prior_weight = direct_prior_weight.value_or(options_.direct_prior_weight);
+    core::require(prior_weight >= 0, "MapRefiner::refine direct_prior_weight", "must be >= 0");
     core::require(!gray_.empty(), "MapRefiner::refine", "setImage() must be called first");
     core::require(has_features_ || method == RefinementMethod::Direct, "MapRefiner::refine",
                   "method " + toString(method) + " needs the camera features (setImage with_features)");
@@ -255,8 +257,8 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
         const DirectAlignmentModel& model = *model_ptr;
         Eigen::Isometry3d T = T_world_cam_pred;
         DirectAlignmentStats ds;
-        DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, options_.direct_prior_weight};
-        const DirectPrior* p = options_.direct_prior_weight > 0 ? &prior : nullptr;
+        DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, prior_weight};
+        const DirectPrior* p = prior_weight > 0 ? &prior : nullptr;
         const bool ok = options_.direct_solver == "ceres"
                             ? alignDirectCeres(options_.direct, edge_field_, camera_, model, T, &ds, p)
                             : alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);

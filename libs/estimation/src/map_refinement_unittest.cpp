@@ -4,6 +4,7 @@
 // (matching, lifting, PnP, gating, alignment), not the descriptors'.
 #include <gtest/gtest.h>
 
+#include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/map_refinement.h>
 #include <quasiloc/estimation/pose_parametrization.h>
@@ -45,4 +46,28 @@ TEST(MapRefinement, EveryMethodRecoversFromLevelA)
             EXPECT_LT(err_m, 0.1) << estimation::toString(method) << " seed " << seed;
             EXPECT_LT(err_deg, 0.5) << estimation::toString(method) << " seed " << seed;
         }
+}
+
+TEST(MapRefinement, APerCallPriorWeightReplacesTheOption)
+{
+    const map::LidarMap map = quasi::makeSyntheticRoom(400000);
+    const core::CameraModel camera = core::CameraModel::pinhole(752, 480, 458.0, 457.0, 367.0, 248.0);
+    quasi::QuasiRenderer renderer(map, quasi::QuasiOptions{});
+    frontend::FrontendOptions fo;
+    frontend::Frontend frontend(fo);
+    estimation::MapRefiner refiner(estimation::MapRefinementOptions{}, renderer, frontend);
+    const Eigen::Isometry3d T_true = estimation::test::syntheticRoomCameraPose();
+    quasi::QuasiImage q;
+    renderer.render(core::fromIsometry(T_true), camera, q);
+    refiner.setImage(q.gray, camera, false);
+    const Eigen::Isometry3d T0 = perturbedPose(T_true, 0.1, 1.0, 1);
+    const auto error_m = [&](const estimation::MapRefinementResult& r) {
+        return (T_true.inverse() * r.T_world_cam).translation().norm();
+    };
+    // Without a prior the edges bring the pose back; a prior a million times the option's holds it at the start.
+    const auto free = refiner.refine(estimation::RefinementMethod::Direct, T0, 0.1, M_PI / 180, 0.0);
+    const auto held = refiner.refine(estimation::RefinementMethod::Direct, T0, 0.1, M_PI / 180, 2e5);
+    EXPECT_LT(error_m(free), 0.05);
+    EXPECT_GT(error_m(held), 0.09);
+    EXPECT_THROW(refiner.refine(estimation::RefinementMethod::Direct, T0, 0.1, M_PI / 180, -1.0), core::InputError);
 }

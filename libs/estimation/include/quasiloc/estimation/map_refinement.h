@@ -44,6 +44,7 @@
 #include <quasiloc/frontend/frontend.h>
 #include <quasiloc/quasi/quasi_renderer.h>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace quasiloc::estimation
@@ -106,9 +107,11 @@ class MapRefiner
     /** The camera image (8-bit gray or BGR) and its camera model: extracts features (unless with_features is
      *  false: then only the direct method can be used) and the edge field once. */
     void setImage(const cv::Mat& image, const core::CameraModel& camera, bool with_features = true);
-    /** Refines T_world_cam_pred with `method`; sigma_*: the prediction's uncertainty (guided window). */
+    /** Refines T_world_cam_pred with `method`; sigma_*: the prediction's uncertainty (guided window).
+     *  direct_prior_weight: this call's weight of the prediction prior in the direct term (default: the option's;
+     *  0: none, e.g. to see where the term's own optimum lies when the prediction is the answer). */
     MapRefinementResult refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
-                               double sigma_rad);
+                               double sigma_rad, std::optional<double> direct_prior_weight = std::nullopt);
 
     double lastImageMs() const { return image_ms_; }
     const MapRefinementOptions& options() const { return options_; }
