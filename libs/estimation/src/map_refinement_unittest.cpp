@@ -17,20 +17,32 @@ using namespace quasiloc;
 
 using estimation::test::perturbedPose;
 
-TEST(MapRefinement, EveryMethodRecoversFromLevelA)
+namespace
+{
+/** The synthetic room, a refiner with default options, and the camera image = the quasi-image at the true pose. */
+struct RoomRefiner
 {
     const map::LidarMap map = quasi::makeSyntheticRoom(400000);
     const core::CameraModel camera = core::CameraModel::pinhole(752, 480, 458.0, 457.0, 367.0, 248.0);
-    quasi::QuasiRenderer renderer(map, quasi::QuasiOptions{});
-    frontend::FrontendOptions fo;
-    frontend::Frontend frontend(fo);
-    estimation::MapRefinementOptions ro;
-    estimation::MapRefiner refiner(ro, renderer, frontend);
-
+    quasi::QuasiRenderer renderer{map, quasi::QuasiOptions{}};
+    frontend::Frontend frontend{frontend::FrontendOptions{}};
+    estimation::MapRefiner refiner{estimation::MapRefinementOptions{}, renderer, frontend};
     const Eigen::Isometry3d T_true = estimation::test::syntheticRoomCameraPose();
-    quasi::QuasiImage q;
-    renderer.render(core::fromIsometry(T_true), camera, q);
-    refiner.setImage(q.gray, camera);
+
+    explicit RoomRefiner(bool with_features)
+    {
+        quasi::QuasiImage q;
+        renderer.render(core::fromIsometry(T_true), camera, q);
+        refiner.setImage(q.gray, camera, with_features);
+    }
+};
+}  // namespace
+
+TEST(MapRefinement, EveryMethodRecoversFromLevelA)
+{
+    RoomRefiner room(true);
+    estimation::MapRefiner& refiner = room.refiner;
+    const Eigen::Isometry3d& T_true = room.T_true;
     for (const auto method : {estimation::RefinementMethod::Features, estimation::RefinementMethod::Guided,
                               estimation::RefinementMethod::Direct, estimation::RefinementMethod::Combined})
         for (int seed = 1; seed <= 3; ++seed)
@@ -50,16 +62,9 @@ TEST(MapRefinement, EveryMethodRecoversFromLevelA)
 
 TEST(MapRefinement, APerCallPriorWeightReplacesTheOption)
 {
-    const map::LidarMap map = quasi::makeSyntheticRoom(400000);
-    const core::CameraModel camera = core::CameraModel::pinhole(752, 480, 458.0, 457.0, 367.0, 248.0);
-    quasi::QuasiRenderer renderer(map, quasi::QuasiOptions{});
-    frontend::FrontendOptions fo;
-    frontend::Frontend frontend(fo);
-    estimation::MapRefiner refiner(estimation::MapRefinementOptions{}, renderer, frontend);
-    const Eigen::Isometry3d T_true = estimation::test::syntheticRoomCameraPose();
-    quasi::QuasiImage q;
-    renderer.render(core::fromIsometry(T_true), camera, q);
-    refiner.setImage(q.gray, camera, false);
+    RoomRefiner room(false);
+    estimation::MapRefiner& refiner = room.refiner;
+    const Eigen::Isometry3d& T_true = room.T_true;
     const Eigen::Isometry3d T0 = perturbedPose(T_true, 0.1, 1.0, 1);
     const auto error_m = [&](const estimation::MapRefinementResult& r) {
         return (T_true.inverse() * r.T_world_cam).translation().norm();
