@@ -221,8 +221,7 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
     // with the full Huber slope. A second coarse-to-fine pass listens only to edges within fine_truncation_px.
     // Without the prior: the pass's costs are several times smaller than the pyramid's (tighter kernel), so the
     // same prior would hold the pose where it started (measured: the pose stayed at the perturbed start).
-    const bool fine = o.fine_truncation_px > 0;
-    if (fine)
+    if (o.fine_truncation_px > 0)
         for (int l = coarsest; l >= 0; --l)
             st.iterations += alignLevel(fineRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
                                         model, nullptr, T_world_cam, any_step);
