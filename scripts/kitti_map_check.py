@@ -16,7 +16,12 @@ direct term rather than repeating them. Prints three tables:
  3. From the true pose, a pattern search maximising the road-surface NMI: where its own optimum lies
     (success = within 0.1 m and 0.5 deg, the bench's criterion).
 
-Usage (from the repository root): /usr/bin/python3 scripts/kitti_map_check.py [data_dir] [--frames-step N]
+With --overlays DIR it also writes, for the first and the last query frame, DIR/frame_NN.png: the camera image,
+the map's reflectivity seen from the true pose (nearest point per pixel, within 40 m), and the map's inverse depth
+laid over the image (where the map and the image disagree is where a camera-to-map term is misled).
+
+Usage (from the repository root):
+  /usr/bin/python3 scripts/kitti_map_check.py [data_dir] [--frames-step N] [--overlays DIR]
 Takes about two minutes on two cores.
 """
 import argparse
@@ -167,10 +172,39 @@ def pose_error(T_est, T_true):
     return E[:3, 3], angle
 
 
+def write_overlays(out_dir, data_dir, P, refl, poses, K, frames):
+    """Camera image, map reflectivity and map inverse depth over the image, stacked, per frame (see the docstring)."""
+    os.makedirs(out_dir, exist_ok=True)
+    for k in frames:
+        img = cv2.imread(os.path.join(data_dir, "image_02", f"{k:010d}.png"), cv2.IMREAD_COLOR)
+        if img is None or img.shape[:2] != (HEIGHT, WIDTH):
+            fail(f"{data_dir}/image_02/{k:010d}.png: cannot read a {WIDTH}x{HEIGHT} image")
+        u, v, z = project(K, np.linalg.inv(poses[k]), P)
+        ok = (z > 0.5) & (z < MAX_DEPTH_M) & (u >= 0) & (u < WIDTH) & (v >= 0) & (v < HEIGHT)
+        ui, vi, zi, ri = u[ok].astype(int), v[ok].astype(int), z[ok], refl[ok]
+        far_first = np.argsort(-zi)  # the nearest point of a pixel is written last
+        depth = np.full((HEIGHT, WIDTH), np.inf)
+        reflectivity = np.zeros((HEIGHT, WIDTH))
+        depth[vi[far_first], ui[far_first]] = zi[far_first]
+        reflectivity[vi[far_first], ui[far_first]] = ri[far_first]
+        hit = np.isfinite(depth)
+        inv_depth = np.zeros((HEIGHT, WIDTH), np.uint8)
+        inv_depth[hit] = np.clip(255 * 3.0 / np.maximum(depth[hit], 1.0), 0, 255).astype(np.uint8)
+        coloured = cv2.applyColorMap(inv_depth, cv2.COLORMAP_JET)
+        overlay = img.copy()
+        overlay[hit] = (0.5 * img[hit] + 0.5 * coloured[hit]).astype(np.uint8)
+        refl_img = cv2.cvtColor(np.clip(255 * 2 * reflectivity, 0, 255).astype(np.uint8), cv2.COLOR_GRAY2BGR)
+        path = os.path.join(out_dir, f"frame_{k:02d}.png")
+        if not cv2.imwrite(path, np.vstack([img, refl_img, overlay])):
+            fail(f"{path}: cannot write")
+        print(f"overlay written to {path}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("data_dir", nargs="?", default="../shared/data/kitti_raw_seq78")
     ap.add_argument("--frames-step", type=int, default=2, help="query frames 1, 1+N, ... (odd N is an error)")
+    ap.add_argument("--overlays", metavar="DIR", help="write camera / map reflectivity / depth overlay PNGs here")
     args = ap.parse_args()
     if args.frames_step <= 0 or args.frames_step % 2:
         fail(f"--frames-step {args.frames_step}: must be a positive even number (the queries are the odd frames)")
@@ -181,6 +215,8 @@ def main():
     P, refl = load_ply_xyzi(os.path.join(d, "map_even_frames_5cm.ply"))
     poses = load_poses(os.path.join(d, "poses_cam2.txt"))
     K = load_k(os.path.join(d, "calib.txt"))
+    if args.overlays:
+        write_overlays(args.overlays, d, P, refl, poses, K, [1, len(poses) - 1 if (len(poses) - 1) % 2 else len(poses) - 2])
     height = P[:, 2] - road_height(P)
     road = np.abs(height) < ROAD_BAND_M
     print(f"map: {len(P)} points, {road.sum()} on the road surface (within {ROAD_BAND_M} m of their cell's road height)")
