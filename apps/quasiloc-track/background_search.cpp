@@ -12,11 +12,12 @@ BackgroundSearch::~BackgroundSearch()
     starter_.deferConsole(false);
 }
 
-void BackgroundSearch::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior)
+void BackgroundSearch::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior,
+                             bool single_fix)
 {
     core::require(!searching_, "BackgroundSearch", "begin() while a search is under way");
     worker_.wait();
-    starter_.begin(label, prior);
+    starter_.begin(label, prior, single_fix);
     queue_.clear();
     found_.reset();
     result_.reset();

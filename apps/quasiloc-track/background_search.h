@@ -34,7 +34,8 @@ class BackgroundSearch
     ~BackgroundSearch();
 
     /** Starts a search (GlobalStarter::begin); none may be under way. */
-    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt);
+    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt,
+               bool single_fix = false);
     bool searching() const { return searching_; }
     /** Queues a frame for the search; the thread takes the queue whenever it is idle. */
     void push(const dataset::StereoFrame& frame);

@@ -51,9 +51,12 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
     return std::nullopt;
 }
 
-void GlobalStarter::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior)
+void GlobalStarter::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior,
+                          bool single_fix)
 {
-    init_ = std::make_unique<tracking::GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, init_options_);
+    tracking::GlobalInitOptions options = init_options_;
+    options.single_fix = single_fix;
+    init_ = std::make_unique<tracking::GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, options);
     if (prior) init_->setSearchPrior(*prior);
     init_->setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
         refiner_->setImage(frame.left, camera_, false);

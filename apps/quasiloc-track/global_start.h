@@ -33,8 +33,10 @@ class GlobalStarter
                                                      const std::string& label);
     /** The same one frame at a time, for a caller that goes on tracking meanwhile: begin() starts a search,
      *  feed() returns the start once found (and ends the search); attempt = false: the frame's IMU samples only
-     *  (GlobalInitializer::feed). */
-    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt);
+     *  (GlobalInitializer::feed). single_fix: the first fix is the start, without velocity
+     *  (GlobalInitOptions::single_fix; for a relocalization, whose tracker knows its velocity). */
+    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt,
+               bool single_fix = false);
     std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
 
     const map::DistanceField& field() const { return localizer_->field(); }

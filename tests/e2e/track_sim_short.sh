@@ -47,6 +47,8 @@ awk -v a="$imu_only" -v b="$BOUND_CM" 'BEGIN { exit !(a != "" && a > b) }' \
 track "$WORK/kidnap" --set Tracking.init=groundtruth --set Tracking.kidnap_at_s=2 \
   --set Tracking.relocalize_latest_only=false > /dev/null
 grep -q "relocalizations [1-9]" "$WORK/kidnap.log" || fail "the kidnapped tracker did not relocalize"
+grep -q "single fix" "$WORK/kidnap/initialization.txt" \
+  || fail "the relocalization did not restart from a single fix (relocalize_single_fix = true is the default)"
 last_err=$(tail -1 "$WORK/kidnap/diagnostics.csv" | cut -d, -f12)
 awk -v e="$last_err" 'BEGIN { exit !(e != "" && e < 0.05) }' || fail "after relocalization the last error is $last_err m"
 # The loss must be noticed within the 1 s: from the last check that confirmed the pose to the new start.

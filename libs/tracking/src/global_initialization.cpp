@@ -137,6 +137,13 @@ std::vector<estimation::ImuMeasurement> GlobalInitializer::pendingSamples() cons
     return samples;
 }
 
+Eigen::Vector3d velocityAtFix(const Eigen::Isometry3d& T_world_cam_fix, const Eigen::Isometry3d& T_body_cam,
+                              const Eigen::Isometry3d& T_world_body_track, const Eigen::Vector3d& v_world_track)
+{
+    const Eigen::Vector3d v_body = T_world_body_track.linear().transpose() * v_world_track;
+    return (T_world_cam_fix * T_body_cam.inverse()).linear() * v_body;
+}
+
 std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame, bool localize_it)
 {
     for (const auto& s : frame.imu) recent_imu_.push_back(s);
@@ -185,6 +192,16 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     // Without a closed pair the newest fix (if any) becomes the anchor.
     pending_.clear();
     anchor_.reset();
+    if (attempt.result.localized && options_.single_fix)
+    {
+        attempt.note = "single fix" + bracketed(appearance_note);
+        attempts_.push_back(attempt);
+        GlobalInitialState s;
+        s.anchor = frame;
+        s.T_world_cam0 = attempt.result.T_world_cam;
+        s.velocity_known = false;
+        return s;
+    }
     if (attempt.result.localized)
     {
         anchor_ = frame;

@@ -96,3 +96,22 @@ TEST(GlobalInitialization, AnAmbiguousFixIsSettledByTheAnchorOnlyWhereTheImuAgre
     EXPECT_FALSE(tracking::pairVelocity(a, 0, far_b, t_b, samples, T_body_cam, noise, options, &why));
     EXPECT_NE(why.find("implied speed"), std::string::npos) << why;
 }
+
+TEST(GlobalInitialization, ASingleFixKeepsTheTracksVelocityRelativeToTheBody)
+{
+    // A track gone wrong by 10 deg and 1 m moves its body as the true one does, in its own (wrong) map frame.
+    const Motion m;
+    const Eigen::Isometry3d T_body_cam = bodyToCamera();
+    const double t = 0.3;
+    const Eigen::Vector3d v_true = m.v0 + m.a * t;
+    Eigen::Isometry3d wrong = Eigen::Isometry3d::Identity();
+    wrong.linear() = estimation::expSO3(Eigen::Vector3d(0.05, 0.1, 0.15));
+    wrong.translation() = Eigen::Vector3d(1, 0, -0.2);
+    const Eigen::Isometry3d T_world_body_track = wrong * m.T_world_body(t);
+    const Eigen::Vector3d v_track = wrong.linear() * v_true;
+    const Eigen::Vector3d v = tracking::velocityAtFix(m.T_world_body(t) * T_body_cam, T_body_cam, T_world_body_track,
+                                                      v_track);
+    EXPECT_LT((v - v_true).norm(), 1e-9) << v.transpose();
+    // Taking the track's map-frame velocity as it is would be off by the track's rotation error.
+    EXPECT_GT((v_track - v_true).norm(), 0.05);
+}

@@ -18,7 +18,8 @@
 // and speed as above) and the image, if scored, ranks that place first too: the anchor, the IMU and the image agree
 // (the margin, meant for a fix on its own, is not asked: observed scores 0.47 vs 0.38 at the right place).
 // A pair that fails replaces the anchor by b (when b localized) or drops it. The tracker then starts at a and
-// tracks the kept frames. Gravity for the localization: the mean accelerometer reading of the last
+// tracks the kept frames. A relocalization can take the first fix alone (single_fix: the tracker supplies the
+// velocity), which saves the wait for the second fix. Gravity for the localization: the mean accelerometer reading of the last
 // gravity_window_s (a platform that does not accelerate much: the refinement over 6 DoF absorbs the tilt error).
 #include <deque>
 #include <functional>
@@ -39,6 +40,10 @@ struct GlobalInitOptions
     double gravity_window_s = 0.2;
     double appearance_margin = 1.25;  ///< an ambiguous fix is settled when the best score is this many times the next
     double min_appearance_score = 0.2;
+    /** A relocalization whose caller knows the velocity (the tracker, in its body frame): the first fix is the
+     *  start on its own (GlobalInitialState::velocity_known = false), without waiting velocity_interval_s for a
+     *  second fix. The fix still passes the localizer's own tests (inlier share, ambiguity, appearance). */
+    bool single_fix = false;
 };
 
 /** Where the camera was last known to be (a relocalization after a loss): a frame at time t is searched within
@@ -63,6 +68,8 @@ struct GlobalInitialState
     dataset::StereoFrame anchor;
     Eigen::Isometry3d T_world_cam0 = Eigen::Isometry3d::Identity();
     Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
+    /** false: a single fix (GlobalInitOptions::single_fix); v_world is zero and the caller supplies the velocity. */
+    bool velocity_known = true;
     std::vector<dataset::StereoFrame> pending;  ///< frames after the anchor, in order (the closing frame included)
 };
 
@@ -91,6 +98,12 @@ std::optional<Eigen::Vector3d> pairVelocity(const Eigen::Isometry3d& T_world_cam
                                             const std::vector<estimation::ImuMeasurement>& samples,
                                             const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
                                             const GlobalInitOptions& options, std::string* why);
+
+/** The velocity (map frame) of a relocalized track that restarts at a single fix T_world_cam_fix: the velocity the
+ *  track had there, in its own body frame (speed and heading relative to the body survive a wrong pose; the map
+ *  frame of the wrong pose does not), turned into the map frame by the fix. */
+Eigen::Vector3d velocityAtFix(const Eigen::Isometry3d& T_world_cam_fix, const Eigen::Isometry3d& T_body_cam,
+                              const Eigen::Isometry3d& T_world_body_track, const Eigen::Vector3d& v_world_track);
 
 /** The indices of the places b could be (an ambiguous fix) that close a pair with fix a. */
 std::vector<size_t> placesClosingThePair(const Eigen::Isometry3d& T_world_cam_a, double t_a,
