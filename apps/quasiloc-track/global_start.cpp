@@ -106,7 +106,9 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::S
     if (start)
     {
         r << "# " << label_ << ": start at t " << start->anchor.timestamp << "\n";
-        if (start->anchor.T_world_cam0 && !start->pending.empty() && start->pending.front().T_world_cam0)
+        // A pair's start (a single fix has no velocity of its own to report).
+        if (start->v_world && start->anchor.T_world_cam0 && !start->pending.empty() &&
+            start->pending.front().T_world_cam0)
         {
             const Eigen::Isometry3d G = core::toIsometry(*start->anchor.T_world_cam0);
             const auto& n = start->pending.front();
@@ -117,7 +119,7 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::S
             s << std::fixed << std::setprecision(3) << label_ << " start error "
               << 100 * core::translationDistance(start->T_world_cam0, G) << " cm, "
               << core::rotationDistanceRad(start->T_world_cam0, G) * 180 / M_PI << " deg; velocity "
-              << start->v_world.norm() << " m/s, error " << (start->v_world - dp_gt / dt).norm()
+              << start->v_world->norm() << " m/s, error " << (*start->v_world - dp_gt / dt).norm()
               << " m/s (ground truth by differences over " << dt << " s)";
             r << "# " << s.str() << "\n";
             say(s.str() + "\n");

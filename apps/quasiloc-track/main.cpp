@@ -62,8 +62,8 @@ struct TrackRunOptions : public tracking::TrackerOptions
     double relocalize_near_m = 0.5, relocalize_speed_m_s = 1.5;
     /** The relocalization restarts the tracker at the first fix, with the velocity the track had there (turned
      *  into the fix's frame, tracking::velocityAtFix), instead of waiting for a second fix 0.5 s later that gives it
-     *  (init = global's pair, which also checks the fixes against the gyroscope). A live consumer gets the fix about
-     *  a second sooner (see the README's figures). */
+     *  (init = global's pair, which also checks the fixes against the gyroscope): it saves the second attempt and the
+     *  wait for its frame (the README's Known limitations gives the measured latencies). */
     bool relocalize_single_fix = true;
     /** A test of loss recovery ("kidnapping"): at this time after the start (< 0: never) the tracker is restarted
      *  kidnap_m to its side and kidnap_deg turned, with full confidence, as if it had silently gone wrong. */
@@ -241,7 +241,7 @@ int run(const core::CommandLine& cmd)
         auto& start = *found;
         f0 = std::move(start.anchor);
         T_world_cam_start = start.T_world_cam0;
-        tracker.initializeFromGlobal(f0.timestamp, T_world_cam_start, start.v_world, &f0);
+        tracker.initializeFromGlobal(f0.timestamp, T_world_cam_start, *start.v_world, &f0);  // a pair: always has it
         for (auto& p : start.pending) queued.push_back(std::move(p));
     }
     dataset::StereoFrame f;
@@ -295,9 +295,8 @@ int run(const core::CommandLine& cmd)
             if (frame.timestamp <= t_fix) biases = state;
         // A single fix brings no velocity: the track's, turned into the fix's frame.
         const Eigen::Vector3d v_world =
-            found.velocity_known
-                ? found.v_world
-                : tracking::velocityAtFix(found.T_world_cam0, T_body_cam, biases.T_map_body, biases.v_map);
+            found.v_world ? *found.v_world
+                          : tracking::velocityAtFix(found.T_world_cam0, T_body_cam, biases.T_map_body, biases.v_map);
         tracker.initializeFromGlobal(t_fix, found.T_world_cam0, v_world, &found.anchor, &biases);
         log.rewindTo(t_fix);
         log.addStart(found.anchor, found.T_world_cam0);

@@ -175,7 +175,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
             GlobalInitialState s;
             s.anchor = *anchor_;
             s.T_world_cam0 = T_world_anchor_;
-            s.v_world = *v;
+            s.v_world = v;
             s.pending = std::move(pending_);
             anchor_.reset();
             pending_.clear();
@@ -199,7 +199,6 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
         GlobalInitialState s;
         s.anchor = frame;
         s.T_world_cam0 = attempt.result.T_world_cam;
-        s.velocity_known = false;
         return s;
     }
     if (attempt.result.localized)

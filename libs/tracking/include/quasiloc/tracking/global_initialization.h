@@ -19,8 +19,9 @@
 // (the margin, meant for a fix on its own, is not asked: observed scores 0.47 vs 0.38 at the right place).
 // A pair that fails replaces the anchor by b (when b localized) or drops it. The tracker then starts at a and
 // tracks the kept frames. A relocalization can take the first fix alone (single_fix: the tracker supplies the
-// velocity), which saves the wait for the second fix. Gravity for the localization: the mean accelerometer reading of the last
-// gravity_window_s (a platform that does not accelerate much: the refinement over 6 DoF absorbs the tilt error).
+// velocity), which saves the wait for the second fix. Gravity for the localization: the mean accelerometer reading
+// of the last gravity_window_s (a platform that does not accelerate much: the refinement over 6 DoF absorbs the
+// tilt error).
 #include <deque>
 #include <functional>
 #include <optional>
@@ -41,7 +42,7 @@ struct GlobalInitOptions
     double appearance_margin = 1.25;  ///< an ambiguous fix is settled when the best score is this many times the next
     double min_appearance_score = 0.2;
     /** A relocalization whose caller knows the velocity (the tracker, in its body frame): the first fix is the
-     *  start on its own (GlobalInitialState::velocity_known = false), without waiting velocity_interval_s for a
+     *  start on its own (GlobalInitialState::v_world empty), without waiting velocity_interval_s for a
      *  second fix. The fix still passes the localizer's own tests (inlier share, ambiguity, appearance). */
     bool single_fix = false;
 };
@@ -67,9 +68,9 @@ struct GlobalInitialState
 {
     dataset::StereoFrame anchor;
     Eigen::Isometry3d T_world_cam0 = Eigen::Isometry3d::Identity();
-    Eigen::Vector3d v_world = Eigen::Vector3d::Zero();
-    /** false: a single fix (GlobalInitOptions::single_fix); v_world is zero and the caller supplies the velocity. */
-    bool velocity_known = true;
+    /** The body's velocity at the anchor (map frame); empty for a single fix (GlobalInitOptions::single_fix): the
+     *  caller supplies it. */
+    std::optional<Eigen::Vector3d> v_world;
     std::vector<dataset::StereoFrame> pending;  ///< frames after the anchor, in order (the closing frame included)
 };
 
