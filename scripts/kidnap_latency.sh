@@ -1,31 +1,27 @@
 #!/usr/bin/env bash
-# Relocalization latency: each simulated sequence tracked for DURATION s, kidnapped (1 m / 10 deg, as if the track had
-# silently gone wrong) at each of KIDNAP_TIMES, and once not kidnapped; then a table per run (losses, unverified
-# stretch, fix found in replay time, the live estimate of scripts/kidnap_live_latency.py, error of the last frame).
-#   bash scripts/kidnap_latency.sh [duration_s=30] [output_root=out/kidnap] [--set Section.key=value ...]
-# KIDNAP_TIMES (environment, default "10 20"); SEQUENCES (default: the six). Simulations are reused when present.
+# Relocalization latency, on the simulated sequences that scripts/track_sequences.sh left in <root> (reused, not
+# simulated again): each is tracked from the start that global localization finds (init = global, as the main job),
+# once as it is and once kidnapped (1 m / 10 deg, as if the track had silently gone wrong) at each of KIDNAP_TIMES;
+# then a table per run (losses, unverified stretch, fix found in replay time, the live estimate of
+# scripts/kidnap_live_latency.py, error of the last frame) in <out>.md.
+#   bash scripts/track_sequences.sh 30 out/sequences        # once: the 30 s simulations
+#   bash scripts/kidnap_latency.sh [root=out/sequences] [out=out/kidnap] [sequences...]
+# KIDNAP_TIMES (environment, default "10 20", seconds after the start); TRACK_SETS: --set arguments added to every
+# run, e.g. the relocalization's previous defaults: TRACK_SETS="--set Tracking.relocalize_single_fix=false
+# --set Tracking.check_every=10 --set Tracking.relocalize_near_m=1".
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-BIN="${QUASILOC_BUILD_DIR:-$ROOT/build}/bin"
-DURATION="${1:-30}"
-OUT="${2:-out/kidnap}"
-shift 2 || shift $#
+source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
+ablation_setup out/kidnap "$@"
 read -r -a TIMES <<< "${KIDNAP_TIMES:-10 20}"
-read -r -a SEQS <<< "${SEQUENCES:-V1_01_easy V1_02_medium V1_03_difficult V2_01_easy V2_02_medium V2_03_difficult}"
-cd "$ROOT"
-mkdir -p "$OUT"
+read -r -a EXTRA <<< "${TRACK_SETS:-}"
 for seq in "${SEQS[@]}"; do
-  sim="$OUT/$seq/sim"
-  if [ ! -s "$sim/gt.tum" ]; then
-    "$BIN/sim-rawlog" "share/quasiloc/sim/$seq.ini" --set Simulation.output_dir="$sim" \
-      --set Simulation.duration_s="$DURATION" --set Simulation.inspection_png=false > "$OUT/$seq.sim.log"
+  if [ ! -s "$SEQ_ROOT/$seq/sim/gt.tum" ]; then
+    echo "kidnap_latency: $SEQ_ROOT/$seq/sim: no simulation (run scripts/track_sequences.sh 30 $SEQ_ROOT first)" >&2
+    exit 1
   fi
+  mkdir -p "$OUT/$seq"
   for k in -1 "${TIMES[@]}"; do
-    run="$OUT/$seq/k$k"
-    "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
-      --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
-      --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$run" --set Tracking.write_scene=false \
-      --set Tracking.kidnap_at_s="$k" "$@" > "$run.log"
+    run "$seq" "k$k" --set Tracking.init=global --set Tracking.kidnap_at_s="$k" "${EXTRA[@]}" > /dev/null
   done
 done
 /usr/bin/python3 "$ROOT/scripts/kidnap_live_latency.py" "$OUT" | tee "$OUT.md"
