@@ -3,6 +3,7 @@
 #include <cmath>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/trajectory_io.h>
+#include <quasiloc/map/gmm.h>
 #include <quasiloc/sim/clearance_grid.h>
 #include <quasiloc/sim/world_builder.h>
 #include <random>
@@ -19,7 +20,7 @@ double percentile(std::vector<double> v, double p)
     return v[static_cast<size_t>(std::clamp(p, 0.0, 1.0) * (v.size() - 1))];
 }
 
-Eigen::AlignedBox3f roomExtent(const std::vector<GmmComponent>& gmm, const std::vector<LineSegment3D>& lines)
+Eigen::AlignedBox3f roomExtent(const std::vector<map::GmmComponent>& gmm, const std::vector<LineSegment3D>& lines)
 {
     std::vector<double> xs, ys, zs, line_z;
     for (const auto& c : gmm)
@@ -78,14 +79,14 @@ bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance,
     return true;
 }
 
-void addGmmPatches(const std::vector<GmmComponent>& gmm, const Eigen::AlignedBox3f& room, const WorldOptions& o,
+void addGmmPatches(const std::vector<map::GmmComponent>& gmm, const Eigen::AlignedBox3f& room, const WorldOptions& o,
                    const ClearanceGrid& grid, Rng& rng, Mesh& mesh, WorldStats& st)
 {
     const uint16_t horizontal[] = {kMattress, kCardboard, kWoodPanel, kConcrete};
     const uint16_t vertical[] = {kWoodPanel, kCardboard, kPoster, kConcrete, kMattress, kCurtain};
     std::uniform_real_distribution<float> uv(0.f, 10.f);
     const uint64_t material_salt = rng();
-    for (const GmmComponent& c : gmm)
+    for (const map::GmmComponent& c : gmm)
     {
         const Eigen::Vector3f mean = c.mean.cast<float>();
         if (distanceToShell(mean, room) < o.shell_margin_m || !room.contains(mean))
@@ -261,7 +262,7 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
 {
     o.check("[World]");
     roomSequences(o.world);  // validates the name
-    const std::vector<GmmComponent> gmm = readGmmFile(gmmPath(shared_dir, o.world));
+    const std::vector<map::GmmComponent> gmm = map::readGmmFile(gmmPath(shared_dir, o.world));
     const std::vector<LineSegment3D> lines = readLineSegments(linesPath(shared_dir, o.world));
     Rng rng(seed * 6364136223846793005ull + 1442695040888963407ull);
     World w;
