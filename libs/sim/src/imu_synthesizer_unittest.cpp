@@ -35,6 +35,8 @@ ImuNoiseOptions noiseless()
 {
     ImuNoiseOptions o;
     o.noise_enabled = false;
+    o.initial_gyro_bias.setZero();  // exact samples: no bias either
+    o.initial_acc_bias.setZero();
     return o;
 }
 
@@ -49,6 +51,9 @@ TEST(ImuNoiseOptions, IniRoundTripYamlAndCheck)
     a.seed = 18446744073709551557ull;
     a.initial_gyro_bias = {0.001, -0.002, 0.003};
     a.initial_acc_bias = {-0.1, 0.2, 1e-17};
+    a.source = quasiloc::sim::ImuSource::real;
+    a.real_imu_csv = "/some/imu0/data.csv";
+    a.bias = quasiloc::sim::ImuBiasModel::random_walk;
     mrpt::config::CConfigFileMemory cfg;
     a.saveToConfigFile(cfg, "imu");
     ImuNoiseOptions b;
@@ -63,6 +68,28 @@ TEST(ImuNoiseOptions, IniRoundTripYamlAndCheck)
     EXPECT_EQ(b.seed, a.seed);
     EXPECT_EQ(b.initial_gyro_bias, a.initial_gyro_bias);
     EXPECT_EQ(b.initial_acc_bias, a.initial_acc_bias);
+    EXPECT_EQ(b.source, a.source);
+    EXPECT_EQ(b.real_imu_csv, a.real_imu_csv);
+    EXPECT_EQ(b.bias, a.bias);
+    EXPECT_EQ(b.bias_file, a.bias_file);
+    // Modes are names, not numbers; a key for the other mode is an error, not silently ignored.
+    ImuNoiseOptions m;
+    for (const char* bad : {"Real", "1", "synthetic_real"})
+    {
+        cfg.write("imu", "source", std::string(bad));
+        EXPECT_THROW(m.loadFromConfigFile(cfg, "imu"), quasiloc::core::InputError) << bad;
+    }
+    cfg.write("imu", "source", std::string("synthetic"));
+    cfg.write("imu", "bias", std::string("ground_truth"));
+    EXPECT_THROW(m.loadFromConfigFile(cfg, "imu"), quasiloc::core::InputError);
+    cfg.write("imu", "bias", std::string("random_walk"));
+    cfg.write("imu", "bias_file", std::string("/x.csv"));
+    m.loadFromConfigFile(cfg, "imu");
+    EXPECT_THROW(m.check("x"), quasiloc::core::InputError);  // bias_file needs bias = euroc_groundtruth
+    m.bias_file.clear();
+    EXPECT_THROW(m.check("x"), quasiloc::core::InputError);  // real_imu_csv needs source = real
+    m.real_imu_csv.clear();
+    EXPECT_NO_THROW(m.check("x"));
 
     cfg.write("imu", "initial_acc_bias", std::string("[1 2]"));
     EXPECT_THROW(b.loadFromConfigFile(cfg, "imu"), quasiloc::core::InputError);
@@ -440,7 +467,7 @@ TEST(ImuSynthesizer, DeterministicForASeed)
     // The noiseless samples sit between: noise of the expected size, not zero.
     const auto clean = ImuSynthesizer(spline, noiseless()).generate(t0, t1);
     ASSERT_EQ(clean.size(), sa.size());
-    EXPECT_GT((sa[10].acc - clean[10].acc).norm(), 1e-4);
-    EXPECT_LT((sa[10].acc - clean[10].acc).norm(), 0.2);
+    EXPECT_GT((sa[10].acc - truth_a[10].acc_bias - clean[10].acc).norm(), 1e-4);
+    EXPECT_LT((sa[10].acc - truth_a[10].acc_bias - clean[10].acc).norm(), 0.2);
 }
 }  // namespace

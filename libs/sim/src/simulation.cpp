@@ -75,6 +75,74 @@ double seconds(std::chrono::steady_clock::time_point a)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
 }
 
+/** The IMU samples of the sequence with their rawlog timestamps and, when synthesized, the true biases. */
+struct SimulatedImu
+{
+    std::vector<int64_t> t_ns;  ///< rawlog timestamps, parallel to samples
+    std::vector<dataset::ImuSample> samples;
+    std::vector<ImuTruth> truth;  ///< empty for source = real (biases unknown)
+    std::string description;      ///< source and bias model, one line
+};
+
+/** source = real also moves the frame times onto the real IMU's ticks (snapToImuTicks). */
+SimulatedImu simulateImu(const SimulationOptions& so, const ImuNoiseOptions& io, const TrajectorySpline& spline,
+                         std::vector<int64_t>& frame_ns, const std::string& config_name)
+{
+    SimulatedImu out;
+    if (io.source == ImuSource::real)
+    {
+        const std::string path =
+            io.real_imu_csv.empty() ? so.shared_dir + "/data/euroc/V1_01_easy_micro/mav0/imu0/data.csv" : io.real_imu_csv;
+        const dataset::EurocImuCsv all = dataset::readEurocImuCsv(path, io.rate_hz);
+        const size_t snapped = snapToImuTicks(frame_ns, all.t_ns);
+        dataset::EurocImuCsv real = selectRealImu(all, frame_ns.front(), frame_ns.back(), io.rate_hz);
+        out.t_ns = std::move(real.t_ns);
+        out.samples = std::move(real.samples);
+        out.description = "real samples of " + path + " replayed on the ground-truth clock (source = real; " +
+                          std::to_string(snapped) + " of " + std::to_string(frame_ns.size()) +
+                          " frame times moved <= 1 us onto its ticks); true biases unknown, no gt_imu_bias.csv";
+        return out;
+    }
+    const double t0 = frame_ns.front() * 1e-9, t1 = frame_ns.back() * 1e-9;
+    ResolvedImuBias bias = resolveImuBias(io, so.shared_dir, so.sequence, t0, t1, config_name);
+    ImuNoiseOptions imu_opt = io;
+    imu_opt.seed = io.seed * 0x9E3779B97F4A7C15ull + so.seed;
+    ImuSynthesizer synth(spline, imu_opt, std::move(bias.trajectory));
+    out.samples = synth.generate(t0, t1, &out.truth);
+    // Integer ticks from the first frame: every (rate / camera rate)-th sample has exactly a frame's timestamp,
+    // as in EuRoC (rounding s.t, ~1.4e9 s in a double, would scatter them by +-120 ns around the frames).
+    for (size_t k = 0; k < out.samples.size(); ++k)
+        out.t_ns.push_back(frame_ns.front() + static_cast<int64_t>(std::llround(static_cast<double>(k) * 1e9 / io.rate_hz)));
+    out.description = std::string("synthetic") + (io.noise_enabled ? "" : " (noiseless)") + ", biases: " + bias.description;
+    return out;
+}
+
+/** gt_imu_bias.csv: the true biases added to every IMU sample of the rawlog. */
+std::string imuBiasCsv(const SimulatedImu& imu, const std::string& sequence)
+{
+    std::string text = "# True IMU biases of every IMU sample of " + sequence + ".rawlog (body = IMU frame): " +
+                       imu.description + "\n# t [s], b_g_x, b_g_y, b_g_z [rad/s], b_a_x, b_a_y, b_a_z [m/s^2]\n";
+    char line[200];
+    for (size_t i = 0; i < imu.truth.size(); ++i)
+    {
+        const ImuTruth& b = imu.truth[i];
+        std::snprintf(line, sizeof(line), "%.9f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", imu.t_ns[i] * 1e-9, b.gyro_bias.x(),
+                      b.gyro_bias.y(), b.gyro_bias.z(), b.acc_bias.x(), b.acc_bias.y(), b.acc_bias.z());
+        text += line;
+    }
+    return text;
+}
+
+/** calib.ini [imu]: the noise model a real calibration would give (no simulation keys, no true biases). */
+void saveImuCalibration(const ImuNoiseOptions& io, mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    mrpt::config::CConfigFileMemory all;
+    io.saveToConfigFile(all, section);
+    for (const char* key : {"rate_hz", "gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
+                            "accelerometer_random_walk", "gravity_m_s2"})
+        cfg.write(section, key, all.read_string(section, key, ""));
+}
+
 std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam)
 {
     std::ostringstream s;
@@ -82,7 +150,7 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
       << "World: EuRoC Vicon room " << wo.world << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
       << "procedural objects), trajectory: " << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory)
       << ", seed " << o.seed << ".\n" << r.frames << " stereo frames at " << o.camera_rate_hz << " Hz, " << r.imu_samples
-      << " IMU samples. Map: " << r.map_points << " points. Minimum clearance between the room's trajectories\n"
+      << " IMU samples.\nIMU: " << r.imu_description << ".\nMap: " << r.map_points << " points. Minimum clearance between the room's trajectories\n"
       << "and the geometry: " << r.world.min_clearance_m << " m.\n\nFiles:\n"
       << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity [0,1]\n"
       << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "")
@@ -90,7 +158,8 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
       << "  " << o.sequence << "_Images/  raw (distorted) 752x480 8-bit PNG images referenced by the rawlog\n"
       << "  gt.tum               ground truth T_world_cam0 (TUM: t x y z qx qy qz qw) at every camera frame\n"
       << "  gt_body.tum          ground truth T_world_body (IMU frame) at every IMU sample\n"
-      << "  calib.ini            stereo rig (sections camera_left, camera_right, camera_rig) and [imu] noise\n"
+      << (r.imu_bias_written ? "  gt_imu_bias.csv      true IMU biases at every IMU sample (t, b_g xyz, b_a xyz)\n" : "")
+      << "  calib.ini            stereo rig (sections camera_left, camera_right, camera_rig) and [imu] noise model\n"
       << "  sim-rawlog.ini       the effective configuration (re-run sim-rawlog with it to reproduce the folder)\n"
       << "  inspection.png       camera frame | LiDAR reflectivity projected at the same pose | edges overlay\n\n"
       << "The camera sees albedo x lighting; the LiDAR reflectivity is a different material response with its own\n"
@@ -150,6 +219,14 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     core::require(!frame_ns.empty(), config_name + " [Simulation] start_offset_s",
                   "leaves no camera frame inside the trajectory " + traj_path);
 
+    // IMU on [first frame, last frame], before the slow stages so that a bad IMU input fails early.
+    SimulationResult r;
+    timer.enter("imu");
+    const SimulatedImu imu = simulateImu(so, io, spline, frame_ns, config_name);
+    timer.leave("imu");
+    r.imu_description = imu.description;
+    log("IMU: " + imu.description);
+
     // World: clear of every trajectory of the room and of the simulated one.
     auto clock = std::chrono::steady_clock::now();
     std::vector<Eigen::Vector3f> keep_clear = loadRoomTrajectoryPositions(so.shared_dir, wo.world);
@@ -158,7 +235,6 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         const mrpt::poses::CPose3D T = T_world_cam0(t * 1e-9);
         keep_clear.emplace_back(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z()));
     }
-    SimulationResult r;
     timer.enter("world");
     const World world = buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
     timer.leave("world");
@@ -199,14 +275,6 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         std::to_string(ls.not_visible) + " not seen by any of " + std::to_string(ls.stations.size()) + " stations), " +
         std::to_string(r.map_time_s) + " s");
 
-    // IMU on [first frame, last frame].
-    ImuNoiseOptions imu_opt = io;
-    imu_opt.seed = io.seed * 0x9E3779B97F4A7C15ull + so.seed;
-    ImuSynthesizer imu(spline, imu_opt);
-    timer.enter("imu");
-    const std::vector<dataset::ImuSample> imu_samples = imu.generate(frame_ns.front() * 1e-9, frame_ns.back() * 1e-9);
-    timer.leave("imu");
-
     // Rawlog: IMU samples interleaved in time order with the rendered stereo frames.
     const std::string rawlog_path = (dir / (so.sequence + ".rawlog")).string();
     dataset::RawlogWriter writer(rawlog_path, rig);
@@ -222,10 +290,10 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     {
         // Episodes (illumination, occluder) are tied to the trajectory's clock, not to start_offset_s.
         const double t = frame_ns[f] * 1e-9, t_rel = t - spline.tStart();
-        for (; k_imu < imu_samples.size() && imu_samples[k_imu].t <= t + 1e-9; ++k_imu)
+        for (; k_imu < imu.samples.size() && imu.t_ns[k_imu] <= frame_ns[f]; ++k_imu)
         {
-            writer.writeImuNs(static_cast<int64_t>(std::llround(imu_samples[k_imu].t * 1e9)), imu_samples[k_imu]);
-            gt_body.poses.push_back({imu_samples[k_imu].t, spline.T_world_body(imu_samples[k_imu].t)});
+            writer.writeImuNs(imu.t_ns[k_imu], imu.samples[k_imu]);
+            gt_body.poses.push_back({imu.samples[k_imu].t, spline.T_world_body(imu.samples[k_imu].t)});
         }
         std::vector<mrpt::poses::CPose3D> poses;
         const int n_blur = ao.motion_blur_samples;
@@ -248,10 +316,10 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         if (so.verbose && (f % 100 == 0 || f + 1 == frame_ns.size()))
             std::cout << "frame " << f + 1 << "/" << frame_ns.size() << " (" << ms << " ms)" << std::endl;
     }
-    for (; k_imu < imu_samples.size(); ++k_imu)
+    for (; k_imu < imu.samples.size(); ++k_imu)
     {
-        writer.writeImuNs(static_cast<int64_t>(std::llround(imu_samples[k_imu].t * 1e9)), imu_samples[k_imu]);
-        gt_body.poses.push_back({imu_samples[k_imu].t, spline.T_world_body(imu_samples[k_imu].t)});
+        writer.writeImuNs(imu.t_ns[k_imu], imu.samples[k_imu]);
+        gt_body.poses.push_back({imu.samples[k_imu].t, spline.T_world_body(imu.samples[k_imu].t)});
     }
     writer.close();
     r.frames = writer.numStereo();
@@ -263,9 +331,15 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
 
     core::writeTum((dir / "gt.tum").string(), gt_cam);
     core::writeTum((dir / "gt_body.tum").string(), gt_body);
+    if (!imu.truth.empty())
+    {
+        core::writeTextFileAtomically((dir / "gt_imu_bias.csv").string(), imuBiasCsv(imu, so.sequence));
+        r.imu_bias_written = true;
+        r.files.push_back((out_final / "gt_imu_bias.csv").string());
+    }
     mrpt::config::CConfigFileMemory calib;
     rig.saveToIni(calib, "camera_");
-    io.saveToConfigFile(calib, "imu");
+    saveImuCalibration(io, calib, "imu");
     core::writeTextFileAtomically((dir / "calib.ini").string(),
                                   "# Simulated EuRoC stereo rig (cam0 = left, cam1 = right; body = IMU frame) and IMU noise\n" +
                                       calib.getContent());

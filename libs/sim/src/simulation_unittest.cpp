@@ -1,18 +1,45 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/sim/simulation.h>
+#include <sstream>
 
 using namespace quasiloc;
 namespace fs = std::filesystem;
 
 namespace
 {
+std::string readText(const fs::path& path)
+{
+    std::ifstream f(path);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+/** Numeric rows of a csv ('#' comments skipped), parsed here independently of the library. */
+std::vector<std::vector<double>> csvRows(const std::string& path)
+{
+    std::ifstream in(path);
+    EXPECT_TRUE(in.good()) << path;
+    std::vector<std::vector<double>> rows;
+    std::string line;
+    while (std::getline(in, line))
+    {
+        if (line.empty() || line[0] == '#') continue;
+        std::replace(line.begin(), line.end(), ',', ' ');
+        std::istringstream ss(line);
+        std::vector<double> row;
+        for (double v; ss >> v;) row.push_back(v);
+        rows.push_back(row);
+    }
+    return rows;
+}
+
 mrpt::config::CConfigFileMemory shortRun(const std::string& out)
 {
     mrpt::config::CConfigFileMemory cfg;
@@ -41,7 +68,7 @@ TEST(Simulation, ShortRunWritesEveryOutput)
     EXPECT_EQ(r.frames, 21u);            // 1 s at 20 Hz, both ends
     EXPECT_EQ(r.imu_samples, 201u);      // 1 s at 200 Hz, both ends
     for (const char* f : {"lidar_map.map", "lidar_map_32beam.map", "V2_01_easy.rawlog", "gt.tum", "gt_body.tum",
-                          "calib.ini", "sim-rawlog.ini", "inspection.png", "README.txt"})
+                          "gt_imu_bias.csv", "calib.ini", "sim-rawlog.ini", "inspection.png", "README.txt"})
         EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
     size_t images = 0;
     for (const auto& e : fs::directory_iterator(out / "V2_01_easy_Images")) images += e.path().extension() == ".png";
@@ -62,6 +89,64 @@ TEST(Simulation, ShortRunWritesEveryOutput)
     }()));
     EXPECT_EQ(eff.read_string("World", "world", ""), "v2");
     EXPECT_EQ(eff.read_double("Simulation", "duration_s", 0), 1.0);
+    EXPECT_EQ(eff.read_string("IMU", "bias", ""), "euroc_groundtruth");
+    // The true biases: V2_01_easy's ground truth (bias = euroc_groundtruth by default), one row per IMU sample
+    // at the gt_body.tum times.
+    const auto bias_rows = csvRows((out / "gt_imu_bias.csv").string());
+    ASSERT_EQ(bias_rows.size(), r.imu_samples);
+    EXPECT_NEAR(bias_rows.front()[0], gt_body.poses.front().t, 1e-6);
+    EXPECT_NEAR(bias_rows.back()[0], gt_body.poses.back().t, 1e-6);
+    // V2_01_easy.csv 10 s after its start: b_w (-0.002294 0.024942 0.081665), b_a (-0.023391 0.120855 0.075464)
+    const double file_gyro[] = {-0.002294, 0.024942, 0.081665}, file_acc[] = {-0.023391, 0.120855, 0.075464};
+    for (int i = 0; i < 3; ++i)
+    {
+        EXPECT_NEAR(bias_rows.front()[1 + i], file_gyro[i], 1e-5);
+        EXPECT_NEAR(bias_rows.front()[4 + i], file_acc[i], 1e-4);
+    }
+    EXPECT_NE(r.imu_description.find("groundtruth/body/V2_01_easy.csv"), std::string::npos) << r.imu_description;
+    EXPECT_NE(readText(out / "README.txt").find("V2_01_easy.csv"), std::string::npos);
+    // calib.ini [imu] holds the noise model only: no simulation keys, no true biases.
+    mrpt::config::CConfigFileMemory calib;
+    calib.setContent(readText(out / "calib.ini"));
+    std::vector<std::string> imu_keys;
+    calib.getAllKeys("imu", imu_keys);
+    EXPECT_EQ(imu_keys.size(), 6u);
+    EXPECT_EQ(calib.read_double("imu", "gyroscope_noise_density", 0), 1.6968e-04);
+    EXPECT_EQ(calib.read_string("imu", "bias", "absent"), "absent");
+    fs::remove_all(out);
+}
+
+/** source = real: the semi-real sequence replays the real V1_01 IMU samples of the frames' span, unchanged. */
+TEST(Simulation, RealImuSourceReplaysTheRealSamples)
+{
+    const fs::path out = fs::temp_directory_path() / "quasiloc_sim_unittest_real_imu";
+    fs::remove_all(out);
+    auto cfg = shortRun(out.string());
+    cfg.write("Simulation", "sequence", "V1_01_easy");
+    cfg.write("Simulation", "start_offset_s", 30.0);
+    cfg.write("Simulation", "duration_s", 0.5);
+    cfg.write("World", "world", "v1");
+    cfg.write("Lidar", "beam_map", false);
+    cfg.write("IMU", "source", "real");
+    const sim::SimulationResult r = sim::runSimulation(cfg, "test");
+    EXPECT_FALSE(fs::exists(out / "gt_imu_bias.csv"));  // the real sensor's biases are unknown
+    EXPECT_NE(r.imu_description.find("real samples of"), std::string::npos) << r.imu_description;
+    const core::Trajectory gt = core::readTum((out / "gt.tum").string());
+    const core::Trajectory gt_body = core::readTum((out / "gt_body.tum").string());
+    // Every real row with first frame <= t <= last frame, at the file's own timestamps.
+    const auto real = csvRows(std::string(QUASILOC_SHARED_DIR) + "/data/euroc/V1_01_easy_micro/mav0/imu0/data.csv");
+    std::vector<double> expected_t;
+    for (const auto& row : real)
+        if (row[0] * 1e-9 >= gt.poses.front().t - 1e-6 && row[0] * 1e-9 <= gt.poses.back().t + 1e-6)
+            expected_t.push_back(row[0] * 1e-9);
+    ASSERT_EQ(r.imu_samples, expected_t.size());
+    ASSERT_EQ(gt_body.poses.size(), expected_t.size());
+    for (size_t i = 0; i < expected_t.size(); ++i) EXPECT_NEAR(gt_body.poses[i].t, expected_t[i], 1e-6);
+    // A sequence on another clock than the file is refused before anything is written.
+    auto other = shortRun(out.string() + "_v2");
+    other.write("IMU", "source", "real");
+    EXPECT_THROW(sim::runSimulation(other, "test"), core::InputError);
+    EXPECT_FALSE(fs::exists(out.string() + "_v2"));
     fs::remove_all(out);
 }
 

@@ -45,7 +45,8 @@ std::string eurocMav0Folder(const std::string& asl_folder);
 /** Reads the csv and yaml files of an ASL folder. A stereo pair is a cam0 row whose image file exists and
  *  whose timestamp has a cam1 row with an existing image file; other rows are skipped and recorded in
  *  `skipped`. Malformed csv lines, missing csv/yaml files or an empty result are InputErrors naming the
- *  file (and line). The IMU csv's columns are t, w_x, w_y, w_z, a_x, a_y, a_z (gyro first). */
+ *  file (and line). imu0/data.csv is read by readEurocImuCsv (euroc_imu_csv.h) at the nominal 200 Hz, with
+ *  its checks (time order, duplicates, gaps over 2.5 periods). */
 EurocSequence readEurocSequence(const std::string& asl_folder);
 
 }  // namespace quasiloc::dataset

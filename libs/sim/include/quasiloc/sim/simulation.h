@@ -5,7 +5,10 @@
 //   <sequence>_Images/       the raw (distorted) 8-bit PNG images
 //   gt.tum                   T_world_cam0 at every camera frame
 //   gt_body.tum              T_world_body (IMU frame) at every IMU sample
-//   calib.ini                stereo rig (core::StereoRig INI, prefix camera_) and [imu] noise
+//   gt_imu_bias.csv          the true biases of every IMU sample: "t [s], b_g xyz [rad/s], b_a xyz [m/s^2]";
+//                            not written for [IMU] source = real (the real sensor's biases are unknown)
+//   calib.ini                stereo rig (core::StereoRig INI, prefix camera_) and [imu] noise model (rate,
+//                            densities, gravity: what a calibration gives; no simulation keys, no true biases)
 //   sim-rawlog.ini           the effective configuration
 //   inspection.png           a camera frame beside the map's reflectivity projected at the same pose
 //   README.txt               what the folder holds
@@ -14,7 +17,9 @@
 // Decisions: relative paths in the INI are relative to the working directory; the trajectory defaults to
 // <shared_dir>/data/euroc/groundtruth/cam0/<sequence>.txt; the spline is fitted to it (simimu's
 // TrajectorySpline), camera frames start at tStart() + start_offset_s; IMU samples are generated on the
-// spline from the first to the last camera frame. The world keeps clear of every ground-truth trajectory of
+// spline from the first to the last camera frame, or with [IMU] source = real the real samples of that span
+// (imu_synthesizer.h). The spline keeps the trajectory's timestamps: EuRoC ground truth is on the EuRoC clock
+// (seconds since 1970), the clock of the ground-truth bias files and of the real imu0/data.csv. The world keeps clear of every ground-truth trajectory of
 // its room and of the simulated one. Seeds: Simulation.seed drives world, textures, LiDAR and image noise;
 // the IMU's seed is [IMU] seed combined with Simulation.seed.
 #include <mrpt/config/CConfigFileBase.h>
@@ -52,6 +57,8 @@ struct SimulationOptions : public mrpt::config::CLoadableOptions
 struct SimulationResult
 {
     size_t frames = 0, imu_samples = 0, map_points = 0, beam_map_points = 0;
+    std::string imu_description;  ///< IMU source and bias model, one line
+    bool imu_bias_written = false;  ///< gt_imu_bias.csv (not for source = real)
     WorldStats world;
     double world_time_s = 0, map_time_s = 0, render_time_s = 0, total_time_s = 0;
     double mean_render_ms = 0, max_render_ms = 0;  ///< per stereo frame
