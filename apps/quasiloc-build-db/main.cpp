@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/program_options.h>
@@ -74,7 +75,7 @@ int run(const core::CommandLine& cmd)
 
     const auto t0 = std::chrono::steady_clock::now();
     const map::LidarMap map = map::LidarMap::load(o.map_file);
-    const core::CameraModel camera = core::StereoRig::loadFromIniFile(o.calibration_ini).left;
+    const core::CameraModel camera = dataset::loadCalibration(o.calibration_ini).rig.left;
     std::cout << "map " << map.summary() << "\ncamera " << camera.width << "x" << camera.height << " fx "
               << camera.fx << std::endl;
 

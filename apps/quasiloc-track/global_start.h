@@ -37,6 +37,10 @@ class GlobalStarter
      *  (GlobalInitOptions::single_fix; for a relocalization, whose tracker knows its velocity). */
     void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt,
                bool single_fix = false);
+    /** The IMU biases the next search starts from (its pair check and the start it returns, unless the platform
+     *  stands still meanwhile): the calibration's prior for the start, the track's for a relocalization. Not while
+     *  a search is under way. */
+    void setBiasPrior(const tracking::ImuBiasPrior& biases) { init_options_.bias_prior = biases; }
     std::optional<tracking::GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
 
     const map::DistanceField& field() const { return localizer_->field(); }

@@ -3,7 +3,7 @@
 //     quasiloc-track <config.ini> [--set Section.key=value]... [--print-timing]
 //
 // [Tracking]: the tracker's keys (tracker.h) and
-//   input_rawlog, calibration_ini (StereoRig keys + [imu] noise densities, as sim-rawlog writes), map_file,
+//   input_rawlog, calibration_ini (dataset/calibration.h: rig + [imu], as sim-rawlog and euroc2rawlog write it), map_file,
 //   groundtruth (TUM of T_world_cam0: initial state and the error table), output_dir, max_frames (0 = all),
 //   write_scene (true: also scene.3Dscene).
 // Other sections: [MapRefinement] [DirectAlignment] [Estimator] [Reweighting] [QuasiImage] and the front-end's.
@@ -29,6 +29,7 @@
 #include <quasiloc/core/program_options.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/core/trajectory_io.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/tracking/tracker.h>
 #include <deque>
@@ -133,19 +134,37 @@ struct TrackRunOptions : public tracking::TrackerOptions
     }
 };
 
-estimation::ImuNoise readImuNoise(const std::string& path)
+/** The tracker's IMU model and the biases' prior from the calibration's [imu] (dataset/calibration.h). */
+estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c)
 {
-    mrpt::config::CConfigFile cfg(path);
     estimation::ImuNoise n;
-    core::require(cfg.sectionExists("imu"), path, "no [imu] section (IMU noise densities)");
-    n.gyro_noise_density = core::readIniDouble(cfg, "imu", "gyroscope_noise_density", n.gyro_noise_density);
-    n.acc_noise_density = core::readIniDouble(cfg, "imu", "accelerometer_noise_density", n.acc_noise_density);
-    n.gyro_random_walk = core::readIniDouble(cfg, "imu", "gyroscope_random_walk", n.gyro_random_walk);
-    n.acc_random_walk = core::readIniDouble(cfg, "imu", "accelerometer_random_walk", n.acc_random_walk);
-    n.gravity_m_s2 = core::readIniDouble(cfg, "imu", "gravity_m_s2", n.gravity_m_s2);
+    n.gyro_noise_density = c.gyroscope_noise_density;
+    n.acc_noise_density = c.accelerometer_noise_density;
+    n.gyro_random_walk = c.gyroscope_random_walk;
+    n.acc_random_walk = c.accelerometer_random_walk;
+    n.gravity_m_s2 = c.gravity_m_s2;
     return n;
 }
 
+tracking::ImuBiasPrior calibrationBiasPrior(const dataset::ImuCalibration& c)
+{
+    tracking::ImuBiasPrior p;
+    p.gyro_bias = c.gyroscope_bias;
+    p.acc_bias = c.accelerometer_bias;
+    p.gyro_sigma = c.gyroscope_bias_sigma;
+    p.acc_sigma = c.accelerometer_bias_sigma;
+    p.source = "calibration";
+    return p;
+}
+
+std::string describe(const tracking::ImuBiasPrior& p)
+{
+    std::ostringstream s;
+    s.precision(4);
+    s << "gyroscope bias [" << p.gyro_bias.transpose() << "] +- " << p.gyro_sigma << " rad/s, accelerometer bias ["
+      << p.acc_bias.transpose() << "] +- " << p.acc_sigma << " m/s^2 (" << p.source << ")";
+    return s.str();
+}
 
 const char* kUsage =
     "usage: quasiloc-track <config.ini> [--set Section.key=value]... [--print-timing]\n"
@@ -193,7 +212,9 @@ int run(const core::CommandLine& cmd)
     auto source = dataset::openRawlog(o.input_rawlog, so);
     quasi::QuasiRenderer renderer(map, qo);
     frontend::Frontend frontend(fo);
-    const estimation::ImuNoise imu_noise = readImuNoise(o.calibration_ini);
+    const dataset::SensorCalibration calibration = dataset::loadCalibration(o.calibration_ini);
+    const dataset::ImuCalibration& imu_calibration = calibration.requireImu(o.calibration_ini);
+    const estimation::ImuNoise imu_noise = imuNoise(imu_calibration);
     tracking::Tracker tracker(o, ro, eo, rw, source->rig(), imu_noise, renderer, frontend);
     std::cout << "map " << map.summary() << "\n" << source->description() << std::endl;
 
@@ -218,18 +239,29 @@ int run(const core::CommandLine& cmd)
                                                        search_renderer ? *search_renderer : renderer, frontend,
                                                        T_body_cam, imu_noise, o.map_file);
         if (o.stereo_map_factor) tracker.setMapDistanceField(&starter->field());
+        starter->setBiasPrior(calibrationBiasPrior(imu_calibration));
     }
+    tracking::ImuBiasPrior start_biases;
     if (o.init == "groundtruth")
     {
         // The first two frames with ground truth give the initial pose and velocity.
         dataset::StereoFrame f1;
-        while (source->next(f0) && !f0.T_world_cam0) {}
+        // The IMU samples up to the first frame with ground truth: a platform that stood still over them gives its
+        // gyroscope bias.
+        tracking::StaticInitializer still(imu_calibration.gyroscope_noise_density);
+        while (source->next(f0))
+        {
+            still.add(f0.imu);
+            if (f0.T_world_cam0) break;
+        }
         core::require(bool(f0.T_world_cam0), o.input_rawlog, "no frame with a ground-truth pose");
         core::require(source->next(f1) && f1.T_world_cam0, o.input_rawlog, "the second frame has no ground-truth pose");
         const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam.inverse()).translation();
         const Eigen::Vector3d p1 = (core::toIsometry(*f1.T_world_cam0) * T_body_cam.inverse()).translation();
         T_world_cam_start = core::toIsometry(*f0.T_world_cam0);
-        tracker.initialize(f0.timestamp, T_world_cam_start, (p1 - p0) / (f1.timestamp - f0.timestamp), &f0);
+        start_biases = tracking::withStaticEstimate(calibrationBiasPrior(imu_calibration), still.estimate());
+        tracker.initialize(f0.timestamp, T_world_cam_start, (p1 - p0) / (f1.timestamp - f0.timestamp), start_biases,
+                           &f0);
         queued.push_back(std::move(f1));
     }
     else
@@ -241,7 +273,9 @@ int run(const core::CommandLine& cmd)
         auto& start = *found;
         f0 = std::move(start.anchor);
         T_world_cam_start = start.T_world_cam0;
-        tracker.initializeFromGlobal(f0.timestamp, T_world_cam_start, *start.v_world, &f0);  // a pair: always has it
+        start_biases = start.biases;
+        tracker.initializeFromGlobal(f0.timestamp, T_world_cam_start, *start.v_world, start_biases,
+                                     &f0);  // a pair: always has a velocity
         for (auto& p : start.pending) queued.push_back(std::move(p));
     }
     dataset::StereoFrame f;
@@ -252,6 +286,7 @@ int run(const core::CommandLine& cmd)
         return true;
     };
     core::require(nextFrame(f), o.input_rawlog, "no frame after the initial one");
+    std::cout << "IMU biases at the start: " << describe(start_biases) << std::endl;
 
     app::RunLog log;
     log.addStart(f0, T_world_cam_start);
@@ -290,14 +325,19 @@ int run(const core::CommandLine& cmd)
             return false;
         }
         ++relocalizations;
-        estimation::FrameState biases = tracker.state();
+        estimation::FrameState track_at_fix = tracker.state();
         for (const auto& [frame, state] : since_loss)
-            if (frame.timestamp <= t_fix) biases = state;
+            if (frame.timestamp <= t_fix) track_at_fix = state;
         // A single fix brings no velocity: the track's, turned into the fix's frame.
         const Eigen::Vector3d v_world =
             found.v_world ? *found.v_world
-                          : tracking::velocityAtFix(found.T_world_cam0, T_body_cam, biases.T_map_body, biases.v_map);
-        tracker.initializeFromGlobal(t_fix, found.T_world_cam0, v_world, &found.anchor, &biases);
+                          : tracking::velocityAtFix(found.T_world_cam0, T_body_cam, track_at_fix.T_map_body,
+                                                    track_at_fix.v_map);
+        // The biases the track had at the fix, with its present uncertainty about them.
+        tracking::ImuBiasPrior biases = tracker.biasPrior();
+        biases.gyro_bias = track_at_fix.gyro_bias;
+        biases.acc_bias = track_at_fix.acc_bias;
+        tracker.initializeFromGlobal(t_fix, found.T_world_cam0, v_world, biases, &found.anchor);
         log.rewindTo(t_fix);
         log.addStart(found.anchor, found.T_world_cam0);
         for (auto it = since_loss.rbegin(); it != since_loss.rend(); ++it)
@@ -340,7 +380,7 @@ int run(const core::CommandLine& cmd)
             T_wrong.linear() = T_wrong.linear() * Eigen::AngleAxisd(o.kidnap_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
             std::cout << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted " << o.kidnap_m
                       << " m to the side, " << o.kidnap_deg << " deg turned" << std::endl;
-            tracker.initialize(r.t, T_wrong, tracker.state().v_map, nullptr);
+            tracker.initialize(r.t, T_wrong, tracker.state().v_map, tracker.biasPrior(), nullptr);
         }
         bool restarted = false;
         if (search)
@@ -359,6 +399,7 @@ int run(const core::CommandLine& cmd)
                     if (const auto known = log.poseAt(last_verified_t))
                         prior = tracking::SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m,
                                                       o.relocalize_speed_m_s};
+                starter->setBiasPrior(tracker.biasPrior());
                 search->begin("reloc " + std::to_string(losses), prior, o.relocalize_single_fix);
             }
             if (search->searching())

@@ -19,7 +19,7 @@ const char* kUsage =
     "Usage:\n"
     "  euroc2rawlog <config.ini> [--set Euroc2Rawlog.key=value]... [--print-timing]\n"
     "  euroc2rawlog --input ASL_FOLDER --output OUT.rawlog [--groundtruth FILE] [--calib-out FILE.ini]\n"
-    "               [--gt-out FILE.tum] [--max-frames N] [--print-timing]\n"
+    "               [--gt-out FILE.tum] [--imu-yaml FILE] [--max-frames N] [--print-timing]\n"
     "Converts an EuRoC ASL folder (mav0/cam0, cam1, imu0) into an MRPT rawlog with the images as PNG in\n"
     "<OUT>_Images/, the calibration INI (default <OUT>_calib.ini) and, with --groundtruth (TUM of T_world_cam0\n"
     "or EuRoC state_groundtruth_estimate0/data.csv), a TUM file of T_world_cam0 (default <OUT>_gt_cam0.tum).\n"
@@ -31,7 +31,8 @@ core::CommandLine withFlagsAsOverrides(core::CommandLine cmd)
 {
     static const std::map<std::string, std::string> kFlagKeys = {
         {"--input", "input"},         {"--output", "output"}, {"--groundtruth", "groundtruth"},
-        {"--calib-out", "calib_out"}, {"--gt-out", "gt_out"}, {"--max-frames", "max_frames"}};
+        {"--calib-out", "calib_out"}, {"--gt-out", "gt_out"}, {"--max-frames", "max_frames"},
+        {"--imu-yaml", "imu_yaml"}};
     const auto& f = cmd.flags;
     size_t i = 0;
     if (!f.empty() && f[0].rfind("--", 0) != 0) cmd.config_path = f[i++];
@@ -80,7 +81,7 @@ void printResult(const dataset::Euroc2RawlogResult& r, double seconds)
                 megabytes(fs::file_size(r.rawlog_path)).c_str());
     std::printf("images:                %s (%s)\n", r.images_folder.c_str(),
                 megabytes(folderBytes(r.images_folder)).c_str());
-    std::printf("calibration:           %s\n", r.calib_path.c_str());
+    std::printf("calibration:           %s (IMU noise model from %s)\n", r.calib_path.c_str(), r.imu_yaml.c_str());
     std::printf("time taken:            %.2f s\n", seconds);
 }
 

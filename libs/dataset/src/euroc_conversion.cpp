@@ -6,6 +6,7 @@
 #include <optional>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/euroc.h>
 #include <quasiloc/dataset/euroc_conversion.h>
 #include <quasiloc/dataset/ground_truth.h>
@@ -90,6 +91,7 @@ void Euroc2RawlogOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     groundtruth = cfg.read_string(s, "groundtruth", groundtruth);
     calib_out = cfg.read_string(s, "calib_out", calib_out);
     gt_out = cfg.read_string(s, "gt_out", gt_out);
+    imu_yaml = cfg.read_string(s, "imu_yaml", imu_yaml);
     stereo_sensor_label = cfg.read_string(s, "stereo_sensor_label", stereo_sensor_label);
     imu_sensor_label = cfg.read_string(s, "imu_sensor_label", imu_sensor_label);
     max_frames = cfg.read_int(s, "max_frames", max_frames);
@@ -104,6 +106,7 @@ void Euroc2RawlogOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, c
     cfg.write(s, "groundtruth", groundtruth);
     cfg.write(s, "calib_out", calib_out);
     cfg.write(s, "gt_out", gt_out);
+    cfg.write(s, "imu_yaml", imu_yaml);
     cfg.write(s, "stereo_sensor_label", stereo_sensor_label);
     cfg.write(s, "imu_sensor_label", imu_sensor_label);
     cfg.write(s, "max_frames", max_frames);
@@ -155,6 +158,10 @@ Euroc2RawlogResult convertEurocToRawlog(const Euroc2RawlogOptions& o, mrpt::syst
     r.last_frame_t = nsToSeconds(seq.pairs[num_pairs - 1].t_ns);
 
     // Everything that can fail on bad input is read before the first byte is written.
+    SensorCalibration calibration;
+    calibration.rig = seq.rig;
+    r.imu_yaml = o.imu_yaml.empty() ? seq.mav0_folder + "/imu0/sensor.yaml" : o.imu_yaml;
+    calibration.imu = imuCalibrationFromYaml(r.imu_yaml);
     std::optional<GroundTruthFile> gt;
     stage.emplace(timer, "read ground truth");
     if (!o.groundtruth.empty())
@@ -183,12 +190,10 @@ Euroc2RawlogResult convertEurocToRawlog(const Euroc2RawlogOptions& o, mrpt::syst
     r.images_folder = writer.imagesFolder();
 
     stage.emplace(timer, "write calibration and ground truth");
-    mrpt::config::CConfigFileMemory calib;
-    seq.rig.saveToIni(calib, "camera_");
     r.calib_path = o.calibOutPath();
-    core::writeTextFileAtomically(
-        r.calib_path,
-        "# Stereo rig of " + seq.mav0_folder + " (cam0 = left, cam1 = right; body = IMU frame)\n" + calib.getContent());
+    saveCalibration(calibration, r.calib_path,
+                    "Stereo rig of " + seq.mav0_folder + " (cam0 = left, cam1 = right; body = IMU frame)\nIMU noise model of " +
+                        r.imu_yaml + "; the biases were not measured (zero, with the sigmas of real MEMS biases)");
     if (gt)
     {
         r.gt_path = o.gtOutPath();

@@ -1,6 +1,7 @@
 // openEuroc(): a FrameSource over an EuRoC ASL folder.
 #include <quasiloc/core/error.h>
 #include <quasiloc/dataset/euroc.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/dataset/ground_truth.h>
 #include <quasiloc/dataset/timestamps.h>
@@ -17,7 +18,7 @@ class EurocSource : public FrameSource
     EurocSource(const std::string& asl_folder, const FrameSourceOptions& options)
         : seq_(readEurocSequence(asl_folder)), max_gt_dt_s_(options.max_gt_dt_s)
     {
-        if (!options.calibration_ini.empty()) seq_.rig = core::StereoRig::loadFromIniFile(options.calibration_ini);
+        if (!options.calibration_ini.empty()) seq_.rig = loadCalibration(options.calibration_ini).rig;
         if (!options.groundtruth_tum.empty())
             gt_ = readGroundTruthCam0(options.groundtruth_tum, seq_.rig.T_body_left).T_world_cam0;
         warnings_ = seq_.skippedRowsReport();

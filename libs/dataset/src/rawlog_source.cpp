@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <map>
 #include <quasiloc/core/error.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/dataset/ground_truth.h>
 #include <quasiloc/dataset/rawlog_writer.h>
@@ -53,7 +54,7 @@ class RawlogSource : public FrameSource
         while (!eof_ && stereo_.empty()) readOne();
         require(!stereo_.empty(), path, "holds no CObservationStereoImages with a right image");
         if (!options.calibration_ini.empty())
-            rig_ = core::StereoRig::loadFromIniFile(options.calibration_ini);
+            rig_ = loadCalibration(options.calibration_ini).rig;
         else
             rig_ = rigOf(*stereo_.front().obs, path + " (entry " + std::to_string(stereo_.front().entry) + ")");
         if (!options.groundtruth_tum.empty())

@@ -1,4 +1,3 @@
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/system/CTimeLogger.h>
 
 #include <chrono>
@@ -12,6 +11,7 @@
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/rawlog_writer.h>
 #include <quasiloc/sim/inspection.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/sim/trajectory_spline.h>
 #include <sstream>
@@ -134,15 +134,6 @@ std::string imuBiasCsv(const SimulatedImu& imu, const std::string& sequence)
 }
 
 /** calib.ini [imu]: the noise model a real calibration would give (no simulation keys, no true biases). */
-void saveImuCalibration(const ImuNoiseOptions& io, mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-    mrpt::config::CConfigFileMemory all;
-    io.saveToConfigFile(all, section);
-    for (const char* key : {"rate_hz", "gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
-                            "accelerometer_random_walk", "gravity_m_s2"})
-        cfg.write(section, key, all.read_string(section, key, ""));
-}
-
 std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam)
 {
     std::ostringstream s;
@@ -337,12 +328,19 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         r.imu_bias_written = true;
         r.files.push_back((out_final / "gt_imu_bias.csv").string());
     }
-    mrpt::config::CConfigFileMemory calib;
-    rig.saveToIni(calib, "camera_");
-    saveImuCalibration(io, calib, "imu");
-    core::writeTextFileAtomically((dir / "calib.ini").string(),
-                                  "# Simulated EuRoC stereo rig (cam0 = left, cam1 = right; body = IMU frame) and IMU noise\n" +
-                                      calib.getContent());
+    // The calibration a user would have: the rig and the IMU's noise model, not the biases the simulation drew.
+    dataset::SensorCalibration calib;
+    calib.rig = rig;
+    calib.imu = dataset::ImuCalibration{};
+    calib.imu->rate_hz = io.rate_hz;
+    calib.imu->gyroscope_noise_density = io.gyroscope_noise_density;
+    calib.imu->gyroscope_random_walk = io.gyroscope_random_walk;
+    calib.imu->accelerometer_noise_density = io.accelerometer_noise_density;
+    calib.imu->accelerometer_random_walk = io.accelerometer_random_walk;
+    calib.imu->gravity_m_s2 = io.gravity_m_s2;
+    dataset::saveCalibration(calib, (dir / "calib.ini").string(),
+                             "Simulated EuRoC stereo rig (cam0 = left, cam1 = right; body = IMU frame) and IMU noise "
+                             "model;\nthe biases were not measured (zero, with the sigmas of real MEMS biases)");
     core::writeEffectiveConfig((dir / "sim-rawlog.ini").string(),
                                {{"Simulation", &so}, {"World", &wo}, {"Appearance", &ao}, {"Lidar", &lo}, {"IMU", &io}},
                                "Effective configuration of sim-rawlog (" + config_name + ")");

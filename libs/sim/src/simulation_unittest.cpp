@@ -7,6 +7,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/map/lidar_map.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/sim/simulation.h>
 #include <sstream>
 
@@ -105,14 +106,12 @@ TEST(Simulation, ShortRunWritesEveryOutput)
     }
     EXPECT_NE(r.imu_description.find("groundtruth/body/V2_01_easy.csv"), std::string::npos) << r.imu_description;
     EXPECT_NE(readText(out / "README.txt").find("V2_01_easy.csv"), std::string::npos);
-    // calib.ini [imu] holds the noise model only: no simulation keys, no true biases.
-    mrpt::config::CConfigFileMemory calib;
-    calib.setContent(readText(out / "calib.ini"));
-    std::vector<std::string> imu_keys;
-    calib.getAllKeys("imu", imu_keys);
-    EXPECT_EQ(imu_keys.size(), 6u);
-    EXPECT_EQ(calib.read_double("imu", "gyroscope_noise_density", 0), 1.6968e-04);
-    EXPECT_EQ(calib.read_string("imu", "bias", "absent"), "absent");
+    // calib.ini [imu] holds the noise model only: not the true biases (a user's calibration has not measured them).
+    const dataset::SensorCalibration calib = dataset::loadCalibration((out / "calib.ini").string());
+    ASSERT_TRUE(calib.imu);
+    EXPECT_EQ(calib.imu->gyroscope_noise_density, 1.6968e-04);
+    EXPECT_EQ(calib.imu->gyroscope_bias, Eigen::Vector3d::Zero());
+    EXPECT_EQ(calib.imu->gyroscope_bias_sigma, dataset::kUnknownGyroBiasSigma);
     fs::remove_all(out);
 }
 

@@ -14,9 +14,15 @@ std::string bracketed(const std::string& note) { return note.empty() ? "" : " ["
 
 GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer, const Eigen::Isometry3d& T_body_cam,
                                      const estimation::ImuNoise& imu_noise, const GlobalInitOptions& options)
-    : localizer_(localizer), T_body_cam_(T_body_cam), imu_noise_(imu_noise), options_(options)
+    : localizer_(localizer),
+      T_body_cam_(T_body_cam),
+      imu_noise_(imu_noise),
+      options_(options),
+      static_(imu_noise.gyro_noise_density, options.standstill)
 {
 }
+
+ImuBiasPrior GlobalInitializer::biases() const { return withStaticEstimate(options_.bias_prior, static_.estimate()); }
 
 std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) const
 {
@@ -29,7 +35,10 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
                                                          AmbiguousFix& ambiguous)
 {
     std::vector<Eigen::Vector3d> acc;
-    for (const auto& s : recent_imu_) acc.push_back(s.acc);
+    if (const auto still = static_.estimate())
+        acc.push_back(still->mean_specific_force);  // the whole standing span: less vibration than the last 0.2 s
+    else
+        for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
     const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp);
     reloc::GeometricLocalization r = localizer_.localize(frame.left, frame.right, up_cam, near ? &*near : nullptr);
@@ -67,7 +76,8 @@ bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const Am
                                        std::string& note) const
 {
     const std::vector<size_t> closing = placesClosingThePair(T_world_anchor_, anchor_->timestamp, ambiguous.poses, t,
-                                                             pendingSamples(), T_body_cam_, imu_noise_, options_);
+                                                             pendingSamples(), T_body_cam_, imu_noise_, biases(),
+                                                             options_);
     if (closing.size() != 1) return false;
     const size_t pick = closing.front();
     if (ambiguous.best_by_appearance && *ambiguous.best_by_appearance != pick) return false;
@@ -83,9 +93,9 @@ Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, dou
                                      const Eigen::Isometry3d& T_world_cam_b, double t_b,
                                      const std::vector<estimation::ImuMeasurement>& samples,
                                      const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
-                                     double* rotation_disagreement_deg)
+                                     const ImuBiasPrior& biases, double* rotation_disagreement_deg)
 {
-    estimation::ImuPreintegration imu(noise, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    estimation::ImuPreintegration imu(noise, biases.gyro_bias, biases.acc_bias);
     imu.integrateInterval(samples, t_a, t_b);
     const Eigen::Isometry3d T_a = T_world_cam_a * T_body_cam.inverse(), T_b = T_world_cam_b * T_body_cam.inverse();
     const double dt = imu.dt();
@@ -95,20 +105,28 @@ Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, dou
     return (T_b.translation() - T_a.translation() - 0.5 * noise.gravity() * dt * dt - T_a.linear() * imu.deltaP()) / dt;
 }
 
+double rotationDisagreementBoundDeg(const GlobalInitOptions& options, double gyro_bias_sigma, double dt_s)
+{
+    return options.max_disagreement_deg + 3.0 * gyro_bias_sigma * std::abs(dt_s) * 180.0 / M_PI;
+}
+
 std::optional<Eigen::Vector3d> pairVelocity(const Eigen::Isometry3d& T_world_cam_a, double t_a,
                                             const Eigen::Isometry3d& T_world_cam_b, double t_b,
                                             const std::vector<estimation::ImuMeasurement>& samples,
                                             const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
-                                            const GlobalInitOptions& options, std::string* why)
+                                            const ImuBiasPrior& biases, const GlobalInitOptions& options,
+                                            std::string* why)
 {
     double disagreement_deg = 0;
-    const Eigen::Vector3d v =
-        velocityBetweenFixes(T_world_cam_a, t_a, T_world_cam_b, t_b, samples, T_body_cam, noise, &disagreement_deg);
+    const Eigen::Vector3d v = velocityBetweenFixes(T_world_cam_a, t_a, T_world_cam_b, t_b, samples, T_body_cam, noise,
+                                                   biases, &disagreement_deg);
+    const double bound_deg = rotationDisagreementBoundDeg(options, biases.gyro_sigma, t_b - t_a);
     std::ostringstream s;
     s.precision(3);
-    if (disagreement_deg > options.max_disagreement_deg)
-        s << "the two fixes' rotation differs from the gyroscope's by " << disagreement_deg << " deg (> "
-          << options.max_disagreement_deg << ")";
+    if (disagreement_deg > bound_deg)
+        s << "the two fixes' rotation differs from the bias-corrected gyroscope's by " << disagreement_deg
+          << " deg (> " << bound_deg << ": " << options.max_disagreement_deg << " + 3 x " << biases.gyro_sigma
+          << " rad/s gyroscope bias sigma [" << biases.source << "])";
     else if (v.norm() > options.max_speed_m_s)
         s << "implied speed " << v.norm() << " m/s (> " << options.max_speed_m_s << ")";
     if (why) *why = s.str();
@@ -120,11 +138,11 @@ std::vector<size_t> placesClosingThePair(const Eigen::Isometry3d& T_world_cam_a,
                                          const std::vector<Eigen::Isometry3d>& places_b, double t_b,
                                          const std::vector<estimation::ImuMeasurement>& samples,
                                          const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
-                                         const GlobalInitOptions& options)
+                                         const ImuBiasPrior& biases, const GlobalInitOptions& options)
 {
     std::vector<size_t> out;
     for (size_t i = 0; i < places_b.size(); ++i)
-        if (pairVelocity(T_world_cam_a, t_a, places_b[i], t_b, samples, T_body_cam, noise, options, nullptr))
+        if (pairVelocity(T_world_cam_a, t_a, places_b[i], t_b, samples, T_body_cam, noise, biases, options, nullptr))
             out.push_back(i);
     return out;
 }
@@ -147,6 +165,7 @@ Eigen::Vector3d velocityAtFix(const Eigen::Isometry3d& T_world_cam_fix, const Ei
 std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame, bool localize_it)
 {
     for (const auto& s : frame.imu) recent_imu_.push_back(s);
+    static_.add(frame.imu);
     while (!recent_imu_.empty() && recent_imu_.front().t < frame.timestamp - options_.gravity_window_s)
         recent_imu_.pop_front();
     if (recent_imu_.empty()) return std::nullopt;  // no gravity direction yet
@@ -168,7 +187,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     {
         std::string why;
         if (const auto v = pairVelocity(T_world_anchor_, anchor_->timestamp, attempt.result.T_world_cam, frame.timestamp,
-                                        pendingSamples(), T_body_cam_, imu_noise_, options_, &why))
+                                        pendingSamples(), T_body_cam_, imu_noise_, biases(), options_, &why))
         {
             attempt.note = "pair closed" + bracketed(appearance_note);
             attempts_.push_back(attempt);
@@ -176,6 +195,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
             s.anchor = *anchor_;
             s.T_world_cam0 = T_world_anchor_;
             s.v_world = v;
+            s.biases = biases();
             s.pending = std::move(pending_);
             anchor_.reset();
             pending_.clear();
@@ -199,6 +219,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
         GlobalInitialState s;
         s.anchor = frame;
         s.T_world_cam0 = attempt.result.T_world_cam;
+        s.biases = biases();
         return s;
     }
     if (attempt.result.localized)

@@ -36,6 +36,15 @@ struct Motion
     }
 };
 
+/** Biases known to be zero (the samples above have none). */
+tracking::ImuBiasPrior knownZeroBiases()
+{
+    tracking::ImuBiasPrior p;
+    p.gyro_sigma = 1e-5;
+    p.acc_sigma = 1e-4;
+    return p;
+}
+
 Eigen::Isometry3d bodyToCamera()
 {
     Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -54,7 +63,7 @@ TEST(GlobalInitialization, VelocityBetweenFixesRecoversTheTrueVelocity)
     double disagreement_deg = -1;
     const Eigen::Vector3d v = tracking::velocityBetweenFixes(
         m.T_world_body(0) * T_body_cam, 0.0, m.T_world_body(t_b) * T_body_cam, t_b, m.samples(t_b, noise), T_body_cam,
-        noise, &disagreement_deg);
+        noise, knownZeroBiases(), &disagreement_deg);
     EXPECT_LT((v - m.v0).norm(), 2e-3) << v.transpose();
     EXPECT_LT(disagreement_deg, 0.05);
 }
@@ -68,7 +77,7 @@ TEST(GlobalInitialization, AFixWithAWrongRotationDisagreesWithTheGyroscope)
     wrong_b.linear() = wrong_b.linear() * estimation::expSO3(Eigen::Vector3d(0, 0.06, 0));  // 3.4 deg off
     double disagreement_deg = 0;
     tracking::velocityBetweenFixes(m.T_world_body(0) * T_body_cam, 0.0, wrong_b, 0.5, m.samples(0.5, noise), T_body_cam,
-                                   noise, &disagreement_deg);
+                                   noise, knownZeroBiases(), &disagreement_deg);
     EXPECT_NEAR(disagreement_deg, 0.06 * 180 / M_PI, 0.1);
 }
 
@@ -88,12 +97,15 @@ TEST(GlobalInitialization, AnAmbiguousFixIsSettledByTheAnchorOnlyWhereTheImuAgre
     far_b.translation() += Eigen::Vector3d(3, 0, 0);
     const tracking::GlobalInitOptions options;
     const auto samples = m.samples(t_b, noise);
-    EXPECT_EQ(tracking::placesClosingThePair(a, 0, {turn * b, b, far_b}, t_b, samples, T_body_cam, noise, options),
-              std::vector<size_t>{1});
+    const tracking::ImuBiasPrior zero = knownZeroBiases();
+    EXPECT_EQ(
+        tracking::placesClosingThePair(a, 0, {turn * b, b, far_b}, t_b, samples, T_body_cam, noise, zero, options),
+        std::vector<size_t>{1});
     // The turned place alone closes nothing: an ambiguous fix without its true place is not settled.
-    EXPECT_EQ(tracking::placesClosingThePair(a, 0, {turn * b}, t_b, samples, T_body_cam, noise, options).size(), 0u);
+    EXPECT_EQ(tracking::placesClosingThePair(a, 0, {turn * b}, t_b, samples, T_body_cam, noise, zero, options).size(),
+              0u);
     std::string why;
-    EXPECT_FALSE(tracking::pairVelocity(a, 0, far_b, t_b, samples, T_body_cam, noise, options, &why));
+    EXPECT_FALSE(tracking::pairVelocity(a, 0, far_b, t_b, samples, T_body_cam, noise, zero, options, &why));
     EXPECT_NE(why.find("implied speed"), std::string::npos) << why;
 }
 
@@ -114,4 +126,38 @@ TEST(GlobalInitialization, ASingleFixKeepsTheTracksVelocityRelativeToTheBody)
     EXPECT_LT((v - v_true).norm(), 1e-9) << v.transpose();
     // Taking the track's map-frame velocity as it is would be off by the track's rotation error.
     EXPECT_GT((v_track - v_true).norm(), 0.05);
+}
+
+TEST(GlobalInitialization, TheBiasAwarePairCheckAcceptsTheRightFixesUnderARealBiasAndRejectsTheTurnedTwin)
+{
+    // EuRoC's gyroscope bias (0.08 rad/s about z: 2.3 deg over the pair's 0.5 s, beyond the fixes' 2 deg).
+    const Motion m;
+    const estimation::ImuNoise noise;
+    const Eigen::Isometry3d T_body_cam = bodyToCamera();
+    const Eigen::Vector3d bias(-0.0023, 0.0249, 0.0817);
+    auto samples = m.samples(0.5, noise);
+    for (auto& s : samples) s.gyro += bias;
+    // 2 s of standing data before the motion give the static estimate.
+    std::vector<dataset::ImuSample> standing;
+    for (int k = 0; k < 400; ++k)
+        standing.push_back({-2.0 + k * 0.005, Eigen::Vector3d(0, 0, 9.81), bias + 1e-3 * Eigen::Vector3d(std::sin(k), std::cos(3 * k), std::sin(7 * k))});
+    const auto still = tracking::staticImuEstimate(standing, noise.gyro_noise_density, {});
+    ASSERT_TRUE(still);
+    const tracking::ImuBiasPrior prior = tracking::withStaticEstimate(tracking::ImuBiasPrior{}, still);
+    const Eigen::Isometry3d a = m.T_world_body(0) * T_body_cam, b = m.T_world_body(0.5) * T_body_cam;
+    Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+    turn.linear() = estimation::expSO3(Eigen::Vector3d(0, 0, M_PI / 2));
+    const tracking::GlobalInitOptions options;
+    std::string why;
+    EXPECT_TRUE(tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, prior, options, &why)) << why;
+    EXPECT_FALSE(tracking::pairVelocity(a, 0, turn * b, 0.5, samples, T_body_cam, noise, prior, options, &why));
+    // With no static start the calibration's unknown-bias prior (0.1 rad/s) still accepts the right pair and
+    // rejects the twin.
+    EXPECT_TRUE(tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, tracking::ImuBiasPrior{}, options, &why))
+        << why;
+    EXPECT_FALSE(
+        tracking::pairVelocity(a, 0, turn * b, 0.5, samples, T_body_cam, noise, tracking::ImuBiasPrior{}, options, &why));
+    // The old check (the bias taken as zero and known) rejects the right pair: what stopped the start on real data.
+    EXPECT_FALSE(tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, knownZeroBiases(), options, &why));
+    EXPECT_NE(why.find("bias-corrected gyroscope"), std::string::npos) << why;
 }

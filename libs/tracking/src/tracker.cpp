@@ -84,27 +84,52 @@ std::vector<frontend::LineSegment> Tracker::cameraLines(const cv::Mat& image) co
 Tracker::~Tracker() = default;
 
 void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                         const dataset::StereoFrame* frame)
+                         const ImuBiasPrior& biases, const dataset::StereoFrame* frame)
 {
-    start(t, T_world_cam0, v_world, frame, options_.init_sigma_m, options_.init_sigma_deg, options_.init_sigma_v, nullptr);
+    start(t, T_world_cam0, v_world, frame, options_.init_sigma_m, options_.init_sigma_deg, options_.init_sigma_v, biases);
 }
 
 void Tracker::initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                                   const dataset::StereoFrame* frame, const estimation::FrameState* biases_from)
+                                   const ImuBiasPrior& biases, const dataset::StereoFrame* frame)
 {
     start(t, T_world_cam0, v_world, frame, options_.init_global_sigma_m, options_.init_global_sigma_deg,
-          options_.init_global_sigma_v, biases_from);
+          options_.init_global_sigma_v, biases);
+}
+
+namespace
+{
+/** Per-axis sigmas of the marginal's gyroscope and accelerometer bias blocks. */
+void biasSigmas(const estimation::StatePrior& prior, Eigen::Vector3d& gyro, Eigen::Vector3d& acc)
+{
+    const Eigen::Matrix<double, 15, 15> cov = prior.information.ldlt().solve(Eigen::Matrix<double, 15, 15>::Identity());
+    gyro = cov.diagonal().segment<3>(9).cwiseMax(0).cwiseSqrt();
+    acc = cov.diagonal().segment<3>(12).cwiseMax(0).cwiseSqrt();
+}
+}  // namespace
+
+ImuBiasPrior Tracker::biasPrior() const
+{
+    ImuBiasPrior p;
+    p.gyro_bias = state_.gyro_bias;
+    p.acc_bias = state_.acc_bias;
+    Eigen::Vector3d sg, sa;
+    biasSigmas(prior_, sg, sa);
+    p.gyro_sigma = sg.maxCoeff();
+    p.acc_sigma = sa.maxCoeff();
+    p.source = "the track's estimate";
+    return p;
 }
 
 void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                     const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
-                    const estimation::FrameState* biases_from)
+                    const ImuBiasPrior& biases)
 {
     core::require(T_world_cam0.matrix().allFinite() && v_world.allFinite(), "Tracker::initialize",
                   "initial pose or velocity is not finite");
-    const estimation::FrameState biases = biases_from ? *biases_from : estimation::FrameState{};
+    core::require(biases.gyro_bias.allFinite() && biases.acc_bias.allFinite() && biases.gyro_sigma > 0 &&
+                      biases.acc_sigma > 0,
+                  "Tracker::initialize", "IMU bias prior is not finite or has a sigma <= 0");
     state_ = estimation::FrameState{};
-    // After a relocalization the IMU biases estimated so far are the best guess; at a first start, zero.
     state_.gyro_bias = biases.gyro_bias;
     state_.acc_bias = biases.acc_bias;
     state_.t = t;
@@ -113,8 +138,8 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     prior_.mean = state_;
     Eigen::Matrix<double, 15, 1> sigma;
     sigma << Eigen::Vector3d::Constant(sigma_deg * kDeg), Eigen::Vector3d::Constant(sigma_m),
-        Eigen::Vector3d::Constant(sigma_v), Eigen::Vector3d::Constant(options_.init_sigma_bg),
-        Eigen::Vector3d::Constant(options_.init_sigma_ba);
+        Eigen::Vector3d::Constant(sigma_v), Eigen::Vector3d::Constant(biases.gyro_sigma),
+        Eigen::Vector3d::Constant(biases.acc_sigma);
     prior_.information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
     frames_ = 0;
     misses_ = 0;
@@ -426,6 +451,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     rep.T_world_cam0 = state_.T_map_body * T_body_cam_;
     rep.gyro_bias = state_.gyro_bias;
     rep.acc_bias = state_.acc_bias;
+    biasSigmas(prior_, rep.gyro_bias_sigma, rep.acc_bias_sigma);
     rep.ms_total = total.Tac() * 1e3;
     return rep;
 }

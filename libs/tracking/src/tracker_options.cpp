@@ -26,8 +26,6 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     init_sigma_m = readIniDouble(c, s, "init_sigma_m", init_sigma_m);
     init_sigma_deg = readIniDouble(c, s, "init_sigma_deg", init_sigma_deg);
     init_sigma_v = readIniDouble(c, s, "init_sigma_v", init_sigma_v);
-    init_sigma_bg = readIniDouble(c, s, "init_sigma_bg", init_sigma_bg);
-    init_sigma_ba = readIniDouble(c, s, "init_sigma_ba", init_sigma_ba);
     concurrent_stages = core::readIniBool(c, s, "concurrent_stages", concurrent_stages);
     init = c.read_string(s, "init", init);
     init_velocity_interval_s = readIniDouble(c, s, "init_velocity_interval_s", init_velocity_interval_s);
@@ -77,8 +75,6 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "init_sigma_m", init_sigma_m, 24, 10, "initial state uncertainty");
     c.write(s, "init_sigma_deg", init_sigma_deg, 24, 10);
     c.write(s, "init_sigma_v", init_sigma_v, 24, 10);
-    c.write(s, "init_sigma_bg", init_sigma_bg, 24, 10);
-    c.write(s, "init_sigma_ba", init_sigma_ba, 24, 10);
     c.write(s, "concurrent_stages", concurrent_stages ? "true" : "false", 24, 10, "independent stages in parallel");
     c.write(s, "init", init, 24, 10, "groundtruth | global (global localization by geometry)");
     c.write(s, "init_velocity_interval_s", init_velocity_interval_s, 24, 10, "global: time between the two fixes");
@@ -130,7 +126,7 @@ void TrackerOptions::check(const std::string& input) const
     core::require(lost_after_misses >= 1, k + "lost_after_misses", "must be >= 1");
     core::require(temporal_window_px > 0, k + "temporal_window_px", "must be > 0");
     core::require(max_landmarks >= 0, k + "max_landmarks", "must be >= 0");
-    core::require(init_sigma_m > 0 && init_sigma_deg > 0 && init_sigma_v > 0 && init_sigma_bg > 0 && init_sigma_ba > 0,
+    core::require(init_sigma_m > 0 && init_sigma_deg > 0 && init_sigma_v > 0,
                   k + "init_sigma_*", "must be > 0");
     core::require(init == "groundtruth" || init == "global", k + "init", "'" + init + "' is not groundtruth or global");
     core::require(init_velocity_interval_s > 0 && init_max_disagreement_deg > 0 && init_max_speed_m_s > 0,

@@ -18,6 +18,9 @@ struct Euroc2RawlogOptions : public mrpt::config::CLoadableOptions
     std::string groundtruth;  ///< optional: TUM file of T_world_cam0 or EuRoC body csv (decided by content)
     std::string calib_out;    ///< calibration INI; empty = <output dir>/<name>_calib.ini
     std::string gt_out;       ///< ground truth TUM of T_world_cam0; empty = <output dir>/<name>_gt_cam0.tum
+    /** The IMU's noise model (Kalibr / EuRoC sensor.yaml) written into the calibration's [imu]; empty =
+     *  <mav0>/imu0/sensor.yaml. */
+    std::string imu_yaml;
     std::string stereo_sensor_label = "stereo";
     std::string imu_sensor_label = "imu";
     /** 0 = every stereo pair and every IMU sample; N > 0 = the first N pairs and the IMU samples up to the
@@ -43,6 +46,7 @@ struct Euroc2RawlogResult
     std::vector<std::string> skipped_rows_report;  ///< from EurocSequence::skippedRowsReport()
     size_t skipped_rows = 0;
     std::string rawlog_path, images_folder, calib_path, gt_path;  ///< gt_path empty without ground truth
+    std::string imu_yaml;  ///< where the calibration's [imu] noise model came from
     std::string gt_kind;                   ///< "TUM T_world_cam0" or "EuRoC body csv x T_body_cam0"
     size_t gt_poses_written = 0;           ///< poses in the written TUM file
     size_t gt_duplicate_rows_dropped = 0;  ///< rows of the whole input file repeating an earlier timestamp

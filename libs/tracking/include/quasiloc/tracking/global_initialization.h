@@ -4,13 +4,19 @@
 //
 // Frames are fed in order. A frame that localizes becomes the anchor a; the frames after it are kept. The first
 // later frame b at least init_velocity_interval_s after a that also localizes closes the pair when
-//   - the rotation between the two localizations agrees with the gyroscope's within init_max_disagreement_deg
+//   - the rotation between the two localizations agrees with the bias-corrected gyroscope's within
+//     max_disagreement_deg (the fixes' own errors) plus three sigmas of the gyroscope bias times the interval
 //     (two independent answers and the IMU confirm each other: a wrong place almost never passes), and
 //   - the velocity they imply is below init_max_speed_m_s;
-// the velocity at a is then the one that carries the IMU from a to b (Forster preintegration, zero biases):
+// the velocity at a is then the one that carries the IMU from a to b (Forster preintegration at the bias prior):
 //   p_b = p_a + v_a dt + g dt^2 / 2 + R_a dp   =>   v_a = (p_b - p_a - g dt^2 / 2 - R_a dp) / dt.
 // The position errors of the two fixes (a few cm) make an error of about sqrt(2) * 3 cm / 0.5 s = 8 cm/s: the
 // tracker starts with init_global_sigma_v and the map terms of the first frames correct the rest.
+// The gyroscope bias: real IMUs have one (EuRoC: 0.08 rad/s, 2.3 deg over 0.5 s, beyond the fixes' 2 deg). While
+// the platform stands still from the first sample on (static_initialization.h), the mean rate measures it to a
+// few 1e-4 rad/s; otherwise the calibration's prior holds (an unknown bias: 0.1 rad/s, so the bound widens by
+// 8.6 deg over 0.5 s, which still rejects a room's 90-degree-turned twin). The static span's mean specific force
+// also gives the localization its up direction (otherwise the last gravity_window_s of the accelerometer).
 // A fix that geometry alone finds ambiguous (a corner of a box-shaped room fits a 90-degree turned pose nearly as
 // well: simulated rooms, 20 of 30 fixes) is settled by the image when an appearance score is given
 // (setAppearanceScore): the pose whose score is highest, if it beats the next by appearance_margin. A closing fix
@@ -19,15 +25,14 @@
 // (the margin, meant for a fix on its own, is not asked: observed scores 0.47 vs 0.38 at the right place).
 // A pair that fails replaces the anchor by b (when b localized) or drops it. The tracker then starts at a and
 // tracks the kept frames. A relocalization can take the first fix alone (single_fix: the tracker supplies the
-// velocity), which saves the wait for the second fix. Gravity for the localization: the mean accelerometer reading
-// of the last gravity_window_s (a platform that does not accelerate much: the refinement over 6 DoF absorbs the
-// tilt error).
+// velocity), which saves the wait for the second fix.
 #include <deque>
 #include <functional>
 #include <optional>
 #include <quasiloc/dataset/frame.h>
 #include <quasiloc/estimation/imu_preintegration.h>
 #include <quasiloc/reloc/geometric_localizer.h>
+#include <quasiloc/tracking/static_initialization.h>
 #include <string>
 #include <vector>
 
@@ -45,6 +50,10 @@ struct GlobalInitOptions
      *  start on its own (GlobalInitialState::v_world empty), without waiting velocity_interval_s for a
      *  second fix. The fix still passes the localizer's own tests (inlier share, ambiguity, appearance). */
     bool single_fix = false;
+    /** The IMU biases before anything measured them (the calibration's prior); a static start replaces the
+     *  gyroscope's. */
+    ImuBiasPrior bias_prior;
+    StandstillOptions standstill;
 };
 
 /** Where the camera was last known to be (a relocalization after a loss): a frame at time t is searched within
@@ -72,6 +81,9 @@ struct GlobalInitialState
      *  caller supplies it. */
     std::optional<Eigen::Vector3d> v_world;
     std::vector<dataset::StereoFrame> pending;  ///< frames after the anchor, in order (the closing frame included)
+    /** The biases to start from: a static initialization's gyroscope bias when the platform stood still up to the
+     *  closing frame, else the calibration's prior. */
+    ImuBiasPrior biases;
 };
 
 /** One localization attempt, for the diagnostics a person reads when initialisation takes long. */
@@ -83,22 +95,28 @@ struct InitAttempt
     double search_radius_m = 0;  ///< the SearchPrior's sphere (0: the whole map)
 };
 
-/** The velocity at a (map frame) that carries the IMU samples from fix a to fix b (zero biases), and the angle
- *  [deg] between the fixes' relative rotation and the gyroscope's. Fixes are T_world_cam0; samples as
- *  estimation::ImuPreintegration::integrateInterval takes them. */
+/** The velocity at a (map frame) that carries the IMU samples from fix a to fix b (preintegrated at the biases of
+ *  `biases`), and the angle [deg] between the fixes' relative rotation and the bias-corrected gyroscope's. Fixes
+ *  are T_world_cam0; samples as estimation::ImuPreintegration::integrateInterval takes them. */
 Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, double t_a,
                                      const Eigen::Isometry3d& T_world_cam_b, double t_b,
                                      const std::vector<estimation::ImuMeasurement>& samples,
                                      const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
-                                     double* rotation_disagreement_deg = nullptr);
+                                     const ImuBiasPrior& biases, double* rotation_disagreement_deg = nullptr);
 
-/** The velocity at a when fixes a and b close a pair (rotation agrees with the gyroscope within
- *  max_disagreement_deg, implied speed below max_speed_m_s); otherwise nullopt and, if `why`, the reason. */
+/** The bound [deg] on the disagreement between two fixes dt_s apart and the gyroscope: max_disagreement_deg
+ *  (the fixes) plus three sigmas of the remaining gyroscope bias over dt_s. */
+double rotationDisagreementBoundDeg(const GlobalInitOptions& options, double gyro_bias_sigma, double dt_s);
+
+/** The velocity at a when fixes a and b close a pair (rotation agrees with the bias-corrected gyroscope within
+ *  rotationDisagreementBoundDeg, implied speed below max_speed_m_s); otherwise nullopt and, if `why`, the
+ *  reason. */
 std::optional<Eigen::Vector3d> pairVelocity(const Eigen::Isometry3d& T_world_cam_a, double t_a,
                                             const Eigen::Isometry3d& T_world_cam_b, double t_b,
                                             const std::vector<estimation::ImuMeasurement>& samples,
                                             const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
-                                            const GlobalInitOptions& options, std::string* why);
+                                            const ImuBiasPrior& biases, const GlobalInitOptions& options,
+                                            std::string* why);
 
 /** The velocity (map frame) of a relocalized track that restarts at a single fix T_world_cam_fix: the velocity the
  *  track had there, in its own body frame (speed and heading relative to the body survive a wrong pose; the map
@@ -111,7 +129,7 @@ std::vector<size_t> placesClosingThePair(const Eigen::Isometry3d& T_world_cam_a,
                                          const std::vector<Eigen::Isometry3d>& places_b, double t_b,
                                          const std::vector<estimation::ImuMeasurement>& samples,
                                          const Eigen::Isometry3d& T_body_cam, const estimation::ImuNoise& noise,
-                                         const GlobalInitOptions& options);
+                                         const ImuBiasPrior& biases, const GlobalInitOptions& options);
 
 class GlobalInitializer
 {
@@ -131,6 +149,9 @@ class GlobalInitializer
     std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool localize_it = true);
 
     const std::vector<InitAttempt>& attempts() const { return attempts_; }
+    /** The biases the pair check uses now: the static estimate's gyroscope bias while the platform has stood
+     *  still since the first sample, else the calibration's prior. */
+    ImuBiasPrior biases() const;
 
    private:
     /** The places an ambiguous fix could be (the best first), and which the image prefers (if it was scored). */
@@ -155,6 +176,7 @@ class GlobalInitializer
     estimation::ImuNoise imu_noise_;
     GlobalInitOptions options_;
     std::deque<dataset::ImuSample> recent_imu_;  ///< the last gravity_window_s of samples
+    StaticInitializer static_;
     std::optional<dataset::StereoFrame> anchor_;
     Eigen::Isometry3d T_world_anchor_ = Eigen::Isometry3d::Identity();
     std::vector<dataset::StereoFrame> pending_;

@@ -64,10 +64,9 @@
 //   init_sigma_m = 0.01           ; uncertainty of the given initial state
 //   init_sigma_deg = 0.1
 //   init_sigma_v = 0.05           ; m/s
-//   init_sigma_bg = 0.0005        ; rad/s: the gyroscope bias left after a static initialisation; looser (0.002),
-//                                 ;   the first windows set the bias from whatever the map term and the IMU disagree
-//                                 ;   on, and its random walk then freezes it (V1_03: -0.0125 rad/s, 1 deg/s drift)
-//   init_sigma_ba = 0.05          ; m/s^2
+//                                 ; the IMU biases' prior is not here: it comes from the calibration's [imu]
+//                                 ;   (dataset/calibration.h: measured, or unknown at MEMS scale, 0.1 rad/s) or
+//                                 ;   from a static initialization (static_initialization.h), see initialize()
 //   init = groundtruth            ; global: start from global localization by geometry (global_initialization.h)
 //   init_velocity_interval_s = 0.5 ; global: time between the two fixes that give the velocity
 //   init_max_disagreement_deg = 2 ; global: the fixes' rotation must agree with the gyroscope's
@@ -134,6 +133,7 @@
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/tracking/map_lines.h>
 #include <quasiloc/tracking/map_planes.h>
+#include <quasiloc/tracking/static_initialization.h>
 #include <string>
 
 namespace quasiloc::tracking
@@ -152,7 +152,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
     int max_landmarks = 150;
-    double init_sigma_m = 0.01, init_sigma_deg = 0.1, init_sigma_v = 0.05, init_sigma_bg = 0.0005, init_sigma_ba = 0.05;
+    double init_sigma_m = 0.01, init_sigma_deg = 0.1, init_sigma_v = 0.05;
     /** groundtruth: the initial state is given (quasiloc-track: from the ground truth); global: from global
      *  localization by geometry (global_initialization.h), with the init_global_* keys. */
     std::string init = "groundtruth";
@@ -206,6 +206,8 @@ struct FrameReport
     double plane_candidates = 0;  ///< mean candidates per plane factor
     double ms_planes = 0;
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
+    /** Their marginal sigmas per axis after the frame (rad/s, m/s^2). */
+    Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero(), acc_bias_sigma = Eigen::Vector3d::Zero();
     /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
      *  points and temporal matching (with concurrent_stages the extraction runs beside the alignment and only the
      *  wait for it and the matching count); ms_total: the whole frame. */
@@ -223,14 +225,16 @@ class Tracker
             frontend::Frontend& frontend);
     ~Tracker();
 
-    /** Starts at time t with the left camera at T_world_cam0 and the body moving at v_world; `frame` (optional,
-     *  the frame at t) gives the first stereo points for temporal landmarks. */
+    /** Starts at time t with the left camera at T_world_cam0, the body moving at v_world and the IMU biases of
+     *  `biases` (the calibration's prior, a static initialization's, or a track's before a relocalization);
+     *  `frame` (optional, the frame at t) gives the first stereo points for temporal landmarks. */
     void initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                    const dataset::StereoFrame* frame = nullptr);
-    /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*.
-     *  biases_from (a relocalization): the IMU biases to start from, e.g. the track's estimate at time t. */
+                    const ImuBiasPrior& biases, const dataset::StereoFrame* frame = nullptr);
+    /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*. */
     void initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
-                              const dataset::StereoFrame* frame, const estimation::FrameState* biases_from = nullptr);
+                              const ImuBiasPrior& biases, const dataset::StereoFrame* frame);
+    /** The biases now, with their marginal sigmas (the largest axis): what a restart after a loss starts from. */
+    ImuBiasPrior biasPrior() const;
     /** The current estimate (body frame = IMU). */
     const estimation::FrameState& state() const { return state_; }
     bool initialized() const { return initialized_; }
@@ -253,7 +257,7 @@ class Tracker
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
-               const estimation::FrameState* biases_from);
+               const ImuBiasPrior& biases);
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
     /** The stereo points that the map terms use (depth 0.2 .. stereo_map_max_depth_m) and their sigma against the
