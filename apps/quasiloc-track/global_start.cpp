@@ -27,6 +27,7 @@ GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& ri
     init_options_.velocity_interval_s = o.init_velocity_interval_s;
     init_options_.max_disagreement_deg = o.init_max_disagreement_deg;
     init_options_.max_speed_m_s = o.init_max_speed_m_s;
+    init_options_.static_initialization = o.static_initialization;
     std::ostringstream r;
     r << std::fixed << std::setprecision(1) << "# global localization by geometry: distance field and "
       << localizer_->positions() << " candidate positions built in " << ms << " ms\n"

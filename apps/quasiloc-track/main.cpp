@@ -216,7 +216,9 @@ int run(const core::CommandLine& cmd)
     const dataset::ImuCalibration& imu_calibration = calibration.requireImu(o.calibration_ini);
     const estimation::ImuNoise imu_noise = imuNoise(imu_calibration);
     tracking::Tracker tracker(o, ro, eo, rw, source->rig(), imu_noise, renderer, frontend);
-    std::cout << "map " << map.summary() << "\n" << source->description() << std::endl;
+    std::cout << "map " << map.summary() << "\n" << source->description() << "\nmap term: " << tracker.mapTerm()
+              << (o.map_term == "auto" ? " (auto: the map's reflectivity " : "")
+              << (o.map_term == "auto" ? (tracker.mapTerm() == "none" ? "is constant)" : "varies)") : "") << std::endl;
 
     // The start: given by the ground truth, or found by global localization (init = global).
     const Eigen::Isometry3d T_body_cam = core::toIsometry(source->rig().T_body_left);
@@ -259,7 +261,9 @@ int run(const core::CommandLine& cmd)
         const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam.inverse()).translation();
         const Eigen::Vector3d p1 = (core::toIsometry(*f1.T_world_cam0) * T_body_cam.inverse()).translation();
         T_world_cam_start = core::toIsometry(*f0.T_world_cam0);
-        start_biases = tracking::withStaticEstimate(calibrationBiasPrior(imu_calibration), still.estimate());
+        start_biases = o.static_initialization
+                           ? tracking::withStaticEstimate(calibrationBiasPrior(imu_calibration), still.estimate())
+                           : calibrationBiasPrior(imu_calibration);
         tracker.initialize(f0.timestamp, T_world_cam_start, (p1 - p0) / (f1.timestamp - f0.timestamp), start_biases,
                            &f0);
         queued.push_back(std::move(f1));

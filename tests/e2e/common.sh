@@ -3,7 +3,7 @@ set -euo pipefail
 BIN="$1"
 SHARED="$2"
 WORK="$(mktemp -d /tmp/quasiloc_e2e.XXXXXX)"
-trap 'rm -rf "$WORK"' EXIT
+trap '[ -n "${KEEP_WORK:-}" ] || rm -rf "$WORK"' EXIT
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
 # expect_contains <file> <text>

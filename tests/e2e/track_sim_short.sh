@@ -4,7 +4,9 @@
 # accepted, so a broken map alignment fails it too (visual-inertial odometry alone could meet the bound over 5 s).
 # Then the same from a start found by global localization (init = global) instead of the ground truth.
 source "$(dirname "$0")/common.sh"
-BOUND_CM=2.0
+# 2.5 cm (was 2.0 before the simulated IMU had real biases): the 5 s start from the ground truth is in motion, so
+# the gyroscope bias (0.08 rad/s, prior 0 +- 0.1) is learned from the map over the first ~2 s (2.07 cm here).
+BOUND_CM=2.5
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=5 \
   --set Simulation.inspection_png=false > "$WORK/sim.txt"

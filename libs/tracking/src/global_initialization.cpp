@@ -22,7 +22,11 @@ GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer,
 {
 }
 
-ImuBiasPrior GlobalInitializer::biases() const { return withStaticEstimate(options_.bias_prior, static_.estimate()); }
+ImuBiasPrior GlobalInitializer::biases() const
+{
+    return options_.static_initialization ? withStaticEstimate(options_.bias_prior, static_.estimate())
+                                          : options_.bias_prior;
+}
 
 std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) const
 {
@@ -35,7 +39,7 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
                                                          AmbiguousFix& ambiguous)
 {
     std::vector<Eigen::Vector3d> acc;
-    if (const auto still = static_.estimate())
+    if (const auto still = options_.static_initialization ? static_.estimate() : std::nullopt)
         acc.push_back(still->mean_specific_force);  // the whole standing span: less vibration than the last 0.2 s
     else
         for (const auto& s : recent_imu_) acc.push_back(s.acc);

@@ -52,6 +52,12 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       stereo_matcher_(rig, frontend.options().stereo)
 {
     options_.check("Tracker");
+    if (options_.map_term == "auto")
+    {
+        // A map without reflectivity (constant) offers the edge term only its depth discontinuities.
+        const auto [lo, hi] = map_.reflectivityRange();
+        options_.map_term = hi - lo > 1e-3f ? "factor" : "none";
+    }
     estimator_.check("Tracker");
     reweighting_.check("Tracker");
     T_body_cam_ = core::toIsometry(rig.T_body_left);
@@ -107,6 +113,24 @@ void biasSigmas(const estimation::StatePrior& prior, Eigen::Vector3d& gyro, Eige
 }
 }  // namespace
 
+void Tracker::applyStandstill(const StaticImuEstimate& still)
+{
+    // A standing platform: velocity zero to within the vibration's sway, gyroscope bias as measured. The blocks'
+    // correlations with the rest of the state are dropped (their new values come from the IMU alone).
+    constexpr double kStandingSigmaV = 0.01;  // m/s
+    const auto setBlock = [this](int first, double sigma) {
+        prior_.information.middleRows(first, 3).setZero();
+        prior_.information.middleCols(first, 3).setZero();
+        prior_.information.block<3, 3>(first, first) = Eigen::Matrix3d::Identity() / (sigma * sigma);
+    };
+    state_.v_map.setZero();
+    state_.gyro_bias = still.gyro_bias;
+    prior_.mean.v_map.setZero();
+    prior_.mean.gyro_bias = still.gyro_bias;
+    setBlock(6, kStandingSigmaV);
+    setBlock(9, still.gyro_bias_sigma);
+}
+
 ImuBiasPrior Tracker::biasPrior() const
 {
     ImuBiasPrior p;
@@ -143,6 +167,8 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     prior_.information = sigma.cwiseInverse().cwiseAbs2().asDiagonal();
     frames_ = 0;
     misses_ = 0;
+    standstill_.reset();
+    if (options_.static_initialization) standstill_.emplace(imu_noise_.gyro_noise_density);
     prev_stereo_.clear();
     prev_stereo_of_left_.clear();
     if (frame && options_.temporal_landmarks)
@@ -299,7 +325,18 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     FrameReport rep;
     rep.t = frame.timestamp;
 
-    // 1. IMU prediction.
+    // 1. IMU prediction (after a standstill since the start, from its bias and zero velocity).
+    if (standstill_)
+    {
+        standstill_->add(frame.imu);
+        if (standstill_->moved())
+            standstill_.reset();
+        else if (const auto still = standstill_->estimate())
+        {
+            applyStandstill(*still);
+            rep.standing = true;
+        }
+    }
     std::vector<estimation::ImuMeasurement> samples;
     samples.reserve(frame.imu.size());
     for (const auto& s : frame.imu) samples.push_back({s.t, s.acc, s.gyro});

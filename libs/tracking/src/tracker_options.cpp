@@ -27,6 +27,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     init_sigma_deg = readIniDouble(c, s, "init_sigma_deg", init_sigma_deg);
     init_sigma_v = readIniDouble(c, s, "init_sigma_v", init_sigma_v);
     concurrent_stages = core::readIniBool(c, s, "concurrent_stages", concurrent_stages);
+    static_initialization = core::readIniBool(c, s, "static_initialization", static_initialization);
     init = c.read_string(s, "init", init);
     init_velocity_interval_s = readIniDouble(c, s, "init_velocity_interval_s", init_velocity_interval_s);
     init_max_disagreement_deg = readIniDouble(c, s, "init_max_disagreement_deg", init_max_disagreement_deg);
@@ -61,7 +62,8 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "direct_sigma_m", direct_sigma_m, 24, 10, "map-alignment measurement sigma");
     c.write(s, "direct_sigma_deg", direct_sigma_deg, 24, 10);
     c.write(s, "map_information", map_information, 24, 10, "fixed | observability (map_measurement.h)");
-    c.write(s, "map_term", map_term, 24, 10, "measurement | factor (direct_factor.h in the window) | none");
+    c.write(s, "map_term", map_term, 24, 10,
+            "auto (factor if the map has reflectivity, else none) | measurement | factor (direct_factor.h) | none");
     c.write(s, "direct_factor_sigma_px", direct_factor_sigma_px, 24, 10);
     c.write(s, "direct_factor_effective_points", direct_factor_effective_points, 24, 10);
     c.write(s, "min_prior_sigma_m", min_prior_sigma_m, 24, 10, "alignment prior: predicted sigma, at least this");
@@ -76,6 +78,8 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "init_sigma_deg", init_sigma_deg, 24, 10);
     c.write(s, "init_sigma_v", init_sigma_v, 24, 10);
     c.write(s, "concurrent_stages", concurrent_stages ? "true" : "false", 24, 10, "independent stages in parallel");
+    c.write(s, "static_initialization", static_initialization ? "true" : "false", 24, 10,
+            "gyroscope bias from a standing start");
     c.write(s, "init", init, 24, 10, "groundtruth | global (global localization by geometry)");
     c.write(s, "init_velocity_interval_s", init_velocity_interval_s, 24, 10, "global: time between the two fixes");
     c.write(s, "init_max_disagreement_deg", init_max_disagreement_deg, 24, 10, "global: fixes vs gyroscope");
@@ -117,8 +121,8 @@ void TrackerOptions::check(const std::string& input) const
     core::require(direct_sigma_m > 0 && direct_sigma_deg > 0, k + "direct_sigma_m/deg", "must be > 0");
     core::require(map_information == "fixed" || map_information == "observability", k + "map_information",
                   "'" + map_information + "' is not fixed or observability");
-    core::require(map_term == "measurement" || map_term == "factor" || map_term == "none", k + "map_term",
-                  "'" + map_term + "' is not measurement, factor or none");
+    core::require(map_term == "auto" || map_term == "measurement" || map_term == "factor" || map_term == "none",
+                  k + "map_term", "'" + map_term + "' is not auto, measurement, factor or none");
     core::require(direct_factor_sigma_px > 0 && direct_factor_effective_points > 0,
                   k + "direct_factor_sigma_px/effective_points", "must be > 0");
     core::require(min_prior_sigma_m > 0 && min_prior_sigma_deg > 0, k + "min_prior_sigma_m/deg", "must be > 0");

@@ -53,6 +53,7 @@ struct GlobalInitOptions
     /** The IMU biases before anything measured them (the calibration's prior); a static start replaces the
      *  gyroscope's. */
     ImuBiasPrior bias_prior;
+    bool static_initialization = true;  ///< false: the prior stands even when the platform stands still
     StandstillOptions standstill;
 };
 

@@ -41,7 +41,12 @@
 //   direct_sigma_deg = 0.2
 //   map_information = fixed       ; fixed: those sigmas in every direction; observability: shaped by what the
 //                                 ;   alignment's edges observe (estimation/map_measurement.h)
-//   map_term = factor             ; factor: the edge residuals themselves as a Ceres factor in the window
+//   map_term = auto               ; auto: factor when the map's reflectivity varies, none when it is constant (a map
+//                                 ;   without intensities, e.g. sampled from a GMM: its edges are only depth
+//                                 ;   discontinuities, and on the real EuRoC micro set against the GMM map of the
+//                                 ;   room they pulled the pose away: ATE 7.3 cm with them, 5.7 without, 8.8 with
+//                                 ;   them alone; see the README's real-data table)
+//                                 ; factor: the edge residuals themselves as a Ceres factor in the window
 //                                 ;   (direct_factor.h), linearised from the alignment's pose; measurement: the
 //                                 ;   alignment's pose as a Gaussian measurement (the sigmas above). 30 s of the six
 //                                 ;   simulated sequences (ATE cm, with init_sigma_bg = 0.0005): factor 0.93 / 0.96 /
@@ -85,6 +90,7 @@
 //   stereo_map_truncation_m = 0.15 ; farther points from the map do not pull (occluders, clutter)
 //   stereo_map_max_depth_m = 6
 //   concurrent_stages = true      ; stereo point extraction on a worker thread beside the map alignment
+//   static_initialization = true  ; a standing start measures the gyroscope bias (static_initialization.h)
 //   map_lines = false             ; point-to-line map factors (map_lines.h) on keyframes: map lines of the
 //                                 ;   quasi-image's normal shading associated by geometry with the camera's
 //                                 ;   segments ([Lines] detector), reweighted by [Reweighting] ([Estimator]
@@ -144,7 +150,7 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
     int keyframe_every = 1;
     double direct_sigma_m = 0.01, direct_sigma_deg = 0.2;
     std::string map_information = "fixed";
-    std::string map_term = "factor";
+    std::string map_term = "auto";
     double direct_factor_sigma_px = 2.0, direct_factor_effective_points = 25;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
@@ -168,6 +174,9 @@ struct TrackerOptions : public mrpt::config::CLoadableOptions
      *  the map alignment (edge field, render, LM: the render and OpenCV's filters use OpenCV's pool). Same results
      *  either way. (Overlapping the edge field with the render too was slower: both already use the pool.) */
     bool concurrent_stages = true;
+    /** A platform that stands still from the first IMU sample gives its gyroscope bias (static_initialization.h):
+     *  the start's prior instead of the calibration's. */
+    bool static_initialization = true;
     bool map_lines = false;
     double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;
     double line_max_angle_deg = 5;
@@ -206,6 +215,7 @@ struct FrameReport
     double plane_candidates = 0;  ///< mean candidates per plane factor
     double ms_planes = 0;
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
+    bool standing = false;  ///< the platform has stood still since the start (static_initialization)
     /** Their marginal sigmas per axis after the frame (rad/s, m/s^2). */
     Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero(), acc_bias_sigma = Eigen::Vector3d::Zero();
     /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
@@ -233,6 +243,8 @@ class Tracker
     /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*. */
     void initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                               const ImuBiasPrior& biases, const dataset::StereoFrame* frame);
+    /** The map term in use: map_term, with auto resolved by the map (factor with reflectivity, else none). */
+    const std::string& mapTerm() const { return options_.map_term; }
     /** The biases now, with their marginal sigmas (the largest axis): what a restart after a loss starts from. */
     ImuBiasPrior biasPrior() const;
     /** The current estimate (body frame = IMU). */
@@ -305,6 +317,12 @@ class Tracker
     std::unique_ptr<MapLineExtractor> line_extractor_;  ///< map_lines
     std::unique_ptr<frontend::LineDetector> line_detector_;  ///< map_lines: the camera side
     std::unique_ptr<core::WorkerThread> worker_;  ///< concurrent_stages: the stereo extraction's thread
+
+    /** While the platform has stood still since the start (static_initialization): the previous state's prior takes
+     *  the standing span's gyroscope bias and a zero velocity (as OpenVINS's zero-velocity update), so a start
+     *  that is tracked from its first frame still gets what a static initialization gives. */
+    void applyStandstill(const StaticImuEstimate& still);
+    std::optional<StaticInitializer> standstill_;
 
     const map::DistanceField* distance_field_ = nullptr;
     bool initialized_ = false;
