@@ -1,11 +1,11 @@
 #include <quasiloc/core/error.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/sim/imu_synthesizer.h>
 
 #include <cmath>
 #include <mrpt/config/CConfigFileBase.h>
 #include <cstdio>
 #include <filesystem>
-#include <opencv2/core/persistence.hpp>
 
 namespace quasiloc::sim
 {
@@ -61,14 +61,6 @@ template <typename Enum>
 std::string modeName(Enum value)
 {
     return mrpt::typemeta::TEnumType<Enum>::value2name(value);
-}
-
-/** A numeric scalar from a Kalibr/EuRoC yaml; InputError naming the file and key when absent. */
-double readYamlNumber(const cv::FileStorage& fs, const std::string& path, const std::string& key)
-{
-    const cv::FileNode node = fs[key];
-    core::require(!node.empty() && (node.isReal() || node.isInt()), path, "missing numeric key '" + key + "'");
-    return static_cast<double>(node);
 }
 
 Eigen::Vector3d gaussian3(std::mt19937_64& rng, double sigma)
@@ -139,22 +131,12 @@ void ImuNoiseOptions::check(const std::string& input) const
 
 void ImuNoiseOptions::loadFromEurocYaml(const std::string& path)
 {
-    core::require(std::filesystem::is_regular_file(path), path, "IMU sensor.yaml not found");
-    cv::FileStorage fs;
-    try
-    {
-        fs.open(path, cv::FileStorage::READ);
-    }
-    catch (const cv::Exception& e)
-    {
-        throw core::InputError(path, std::string("cannot parse as YAML: ") + e.what());
-    }
-    core::require(fs.isOpened(), path, "cannot open IMU sensor.yaml");
-    rate_hz = readYamlNumber(fs, path, "rate_hz");
-    gyroscope_noise_density = readYamlNumber(fs, path, "gyroscope_noise_density");
-    gyroscope_random_walk = readYamlNumber(fs, path, "gyroscope_random_walk");
-    accelerometer_noise_density = readYamlNumber(fs, path, "accelerometer_noise_density");
-    accelerometer_random_walk = readYamlNumber(fs, path, "accelerometer_random_walk");
+    const dataset::ImuCalibration c = dataset::imuCalibrationFromYaml(path);
+    rate_hz = c.rate_hz;
+    gyroscope_noise_density = c.gyroscope_noise_density;
+    gyroscope_random_walk = c.gyroscope_random_walk;
+    accelerometer_noise_density = c.accelerometer_noise_density;
+    accelerometer_random_walk = c.accelerometer_random_walk;
     check(path);
 }
 
