@@ -126,20 +126,6 @@ void StereoRig::saveToIni(mrpt::config::CConfigFileBase& cfg, const std::string&
     cfg.write(prefix + "rig", "T_body_left", vectorToString(poseToVector(T_body_left)));
 }
 
-StereoRig StereoRig::loadFromIniFile(const std::string& path, const std::string& prefix)
-{
-    require(std::filesystem::is_regular_file(path), path, "calibration INI file not found");
-    mrpt::config::CConfigFile cfg(path);
-    try
-    {
-        return loadFromIni(cfg, prefix);
-    }
-    catch (const InputError& e)
-    {
-        throw InputError(path, e.what());
-    }
-}
-
 mrpt::poses::CPose3D readEurocSensorPose(const std::string& yaml_path)
 {
     cv::FileStorage fs;

@@ -6,6 +6,7 @@
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/euroc.h>
+#include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/euroc_conversion.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/dataset/ground_truth.h>
@@ -79,10 +80,15 @@ TEST(EurocConversion, FirstFramesReadBackPixelExact)
     EXPECT_EQ(imu_seen, r.imu_written);
     EXPECT_TRUE(src->warnings().empty());
 
-    // The calibration INI holds the same rig.
-    const core::StereoRig calib = core::StereoRig::loadFromIniFile(r.calib_path);
-    EXPECT_DOUBLE_EQ(calib.left.cy, seq.rig.left.cy);
-    EXPECT_LT(core::translationDistance(calib.T_body_left, seq.rig.T_body_left), 1e-9);
+    // The calibration INI holds the same rig and the IMU's noise model from imu0/sensor.yaml (biases unmeasured).
+    const SensorCalibration calib = loadCalibration(r.calib_path);
+    EXPECT_DOUBLE_EQ(calib.rig.left.cy, seq.rig.left.cy);
+    EXPECT_LT(core::translationDistance(calib.rig.T_body_left, seq.rig.T_body_left), 1e-9);
+    ASSERT_TRUE(calib.imu);
+    EXPECT_EQ(calib.imu->rate_hz, 200);
+    EXPECT_DOUBLE_EQ(calib.imu->gyroscope_noise_density, 1.6968e-04);
+    EXPECT_DOUBLE_EQ(calib.imu->accelerometer_random_walk, 3.0e-3);
+    EXPECT_EQ(calib.imu->gyroscope_bias_sigma, kUnknownGyroBiasSigma);
 }
 
 TEST(EurocConversion, FullMicroSequenceCounts)

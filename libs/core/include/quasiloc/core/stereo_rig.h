@@ -43,7 +43,6 @@ class StereoRig
      *  T_left_right=[x y z qw qx qy qz], T_body_left=[x y z qw qx qy qz]. */
     static StereoRig loadFromIni(const mrpt::config::CConfigFileBase& cfg, const std::string& prefix = "camera_");
     void saveToIni(mrpt::config::CConfigFileBase& cfg, const std::string& prefix = "camera_") const;
-    static StereoRig loadFromIniFile(const std::string& path, const std::string& prefix = "camera_");
 
     /** Two EuRoC sensor.yaml files (cam0 = left, cam1 = right); the body frame is the IMU frame. */
     static StereoRig fromEuroc(const std::string& cam0_yaml, const std::string& cam1_yaml);

@@ -8,6 +8,14 @@
 // pose as a pose measurement; and, given the map's distance field, the frame's stereo points' distance to the
 // map's surfaces, estimation/map_distance_factor.h) -> pose, velocity and biases -> the marginal for the next frame.
 //
+// IMU biases. Real IMUs start with a bias (EuRoC's gyroscope: 0.08 rad/s). The tracker starts from the bias prior
+// it is given (initialize()): the calibration's (dataset/calibration.h; unmeasured: 0 +- 0.1 rad/s, 0 +- 0.2
+// m/s^2) or a static initialization's (static_initialization.h). While the platform has stood still since the
+// start, each frame's prior takes the standing span's gyroscope bias and a zero velocity (a zero-velocity update,
+// as OpenVINS makes); once it moves, the window estimates the biases with their random walk. A start in motion
+// learns the gyroscope bias from the map terms over the first ~2 s (simulated V1_01, 5 s from the ground truth:
+// ATE 2.07 cm, against 1.34 cm with a zero-bias IMU).
+//
 // Why the direct term and not feature matches for the map: on the simulated world (and on KITTI) camera
 // descriptors do not match quasi-image descriptors (bench_crossmodal: 0 of 75 ORB matches correct at the true
 // pose), while map edges align with camera edges from a prediction within ~0.1 m / 1 deg (67 % success).
