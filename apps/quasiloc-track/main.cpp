@@ -229,6 +229,7 @@ int run(const core::CommandLine& cmd)
     go.check(name);
     Eigen::Isometry3d T_world_cam_start;
     std::unique_ptr<app::GlobalStarter> starter;  // global localization by geometry: start and relocalization
+    std::unique_ptr<reloc::StereoCloud> stereo_cloud;  // stereo_map_points = dense
     // Relocalization is a use of the map: the no-map baselines (map_updates = false) stay pure.
     const bool relocalize = o.relocalize && o.map_updates;
     // The relocalization search runs beside the tracker (background_search.h): its refiner renders with a
@@ -241,6 +242,11 @@ int run(const core::CommandLine& cmd)
                                                        search_renderer ? *search_renderer : renderer, frontend,
                                                        T_body_cam, imu_noise, o.map_file);
         if (o.stereo_map_factor) tracker.setMapDistanceField(&starter->field());
+        if (o.stereo_map_points == "dense")
+        {
+            stereo_cloud = std::make_unique<reloc::StereoCloud>(source->rig(), go.stereo);
+            tracker.setStereoCloud(stereo_cloud.get());
+        }
         starter->setBiasPrior(calibrationBiasPrior(imu_calibration));
     }
     tracking::ImuBiasPrior start_biases;

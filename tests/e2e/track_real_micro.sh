@@ -5,7 +5,7 @@
 # found at the first frames, all 74 frames with ground truth tracked without a loss, within an ATE bound that the
 # old tracker's 0.0005 rad/s "known zero bias" prior (no static initialization) exceeds.
 source "$(dirname "$0")/common.sh"
-BOUND_CM=6.0
+BOUND_CM=4.0
 EUROC="$SHARED/data/euroc"
 "$BIN/euroc2rawlog" --input "$EUROC/V1_01_easy_micro" --output "$WORK/micro.rawlog" \
   --groundtruth "$EUROC/groundtruth/cam0/V1_01_easy.txt" > "$WORK/convert.txt"

@@ -270,7 +270,15 @@ void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInp
     term.field = distance_field_;
     term.effective_points = options_.stereo_map_effective_points;
     term.truncation_m = options_.stereo_map_truncation_m;
-    mapPointsWithSigma(points, term.p_cam, term.sigma_m);
+    if (stereo_cloud_ && options_.stereo_map_points == "dense")
+        for (const Eigen::Vector3f& p : points.dense)
+        {
+            if (p.z() > options_.stereo_map_max_depth_m) continue;
+            term.p_cam.push_back(p.cast<double>());
+            term.sigma_m.push_back(std::hypot(options_.stereo_map_sigma_m, stereo_cloud_->depthSigma(p.z())));
+        }
+    else
+        mapPointsWithSigma(points, term.p_cam, term.sigma_m);
     if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
 }
 
@@ -283,6 +291,8 @@ Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
     sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
     sp.stereo_of_left.assign(sp.left.points.size(), -1);
     for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
+    if (stereo_cloud_ && options_.stereo_map_points == "dense")
+        sp.dense = stereo_cloud_->compute(frame.left, frame.right, "frame " + std::to_string(frame.index));
     return sp;
 }
 

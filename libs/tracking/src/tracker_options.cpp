@@ -41,6 +41,7 @@ void TrackerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, 
     stereo_map_effective_points = readIniDouble(c, s, "stereo_map_effective_points", stereo_map_effective_points);
     stereo_map_truncation_m = readIniDouble(c, s, "stereo_map_truncation_m", stereo_map_truncation_m);
     stereo_map_max_depth_m = readIniDouble(c, s, "stereo_map_max_depth_m", stereo_map_max_depth_m);
+    stereo_map_points = c.read_string(s, "stereo_map_points", stereo_map_points);
     map_lines = core::readIniBool(c, s, "map_lines", map_lines);
     line_sigma_px = readIniDouble(c, s, "line_sigma_px", line_sigma_px);
     line_window_sigmas = readIniDouble(c, s, "line_window_sigmas", line_window_sigmas);
@@ -93,6 +94,7 @@ void TrackerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const st
     c.write(s, "stereo_map_effective_points", stereo_map_effective_points, 24, 10);
     c.write(s, "stereo_map_truncation_m", stereo_map_truncation_m, 24, 10);
     c.write(s, "stereo_map_max_depth_m", stereo_map_max_depth_m, 24, 10);
+    c.write(s, "stereo_map_points", stereo_map_points, 24, 10, "sparse (ORB stereo matches) | dense (SGBM cloud)");
     c.write(s, "map_lines", map_lines ? "true" : "false", 24, 10, "point-to-line map factors (map_lines.h)");
     c.write(s, "line_sigma_px", line_sigma_px, 24, 10);
     c.write(s, "line_window_sigmas", line_window_sigmas, 24, 10, "association window from the pose covariance");
@@ -132,6 +134,8 @@ void TrackerOptions::check(const std::string& input) const
     core::require(max_landmarks >= 0, k + "max_landmarks", "must be >= 0");
     core::require(init_sigma_m > 0 && init_sigma_deg > 0 && init_sigma_v > 0,
                   k + "init_sigma_*", "must be > 0");
+    core::require(stereo_map_points == "sparse" || stereo_map_points == "dense", k + "stereo_map_points",
+                  "'" + stereo_map_points + "' is not sparse or dense");
     core::require(init == "groundtruth" || init == "global", k + "init", "'" + init + "' is not groundtruth or global");
     core::require(init_velocity_interval_s > 0 && init_max_disagreement_deg > 0 && init_max_speed_m_s > 0,
                   k + "init_velocity_interval_s/max_disagreement_deg/max_speed_m_s", "must be > 0");
