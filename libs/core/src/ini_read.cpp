@@ -21,6 +21,13 @@ bool parseFiniteDouble(const std::string& s, double& v)
 }
 }  // namespace
 
+double parseFiniteNumber(const std::string& text, const std::string& where)
+{
+    double v = 0;
+    require(parseFiniteDouble(text, v), where, "'" + text + "' is not a finite number");
+    return v;
+}
+
 std::string iniKeyName(const std::string& section, const std::string& key) { return "[" + section + "] " + key; }
 
 double readIniDouble(const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,
@@ -28,9 +35,7 @@ double readIniDouble(const mrpt::config::CConfigFileBase& cfg, const std::string
 {
     const std::string s = cfg.read_string(section, key, "", false);
     if (s.empty()) return default_value;
-    double v = 0;
-    require(parseFiniteDouble(s, v), iniKeyName(section, key), "'" + s + "' is not a finite number");
-    return v;
+    return parseFiniteNumber(s, iniKeyName(section, key));
 }
 
 int readIniInt(const mrpt::config::CConfigFileBase& cfg, const std::string& section, const std::string& key,

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
 #include <sstream>
 
 namespace quasiloc::dataset::csv
@@ -57,20 +58,6 @@ std::int64_t parseTimestampNs(const std::string& s, const std::string& where)
     }
 }
 
-double parseFinite(const std::string& s, const std::string& where)
-{
-    size_t used = 0;
-    double v = 0;
-    try
-    {
-        v = std::stod(s, &used);
-    }
-    catch (const std::exception&)
-    {
-        used = 0;
-    }
-    core::require(used == s.size() && used > 0 && std::isfinite(v), where, "'" + s + "' is not a finite number");
-    return v;
-}
+double parseFinite(const std::string& s, const std::string& where) { return core::parseFiniteNumber(s, where); }
 
 }  // namespace quasiloc::dataset::csv

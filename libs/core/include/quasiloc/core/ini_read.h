@@ -9,6 +9,10 @@
 
 namespace quasiloc::core
 {
+/** The whole of `text` as a finite number (blanks after it allowed), else InputError(where, "'<text>' is not a finite
+ *  number"): for every reader of user numbers (INI values, CSV fields), where std::stod would accept a prefix. */
+double parseFiniteNumber(const std::string& text, const std::string& where);
+
 /** "[section] key": how errors name an INI key. */
 std::string iniKeyName(const std::string& section, const std::string& key);
 
