@@ -25,9 +25,10 @@
 // odometry between map updates). Optional structural map factors (off by default, see map_lines / map_points below):
 // point-to-line factors from the quasi-image's geometric lines associated by geometry (map_lines.h), reweighted
 // by [Reweighting], and point factors from quasi-image keypoints matched by descriptor within a few pixels of
-// their projection at the aligned pose (map_points.h). Plane factors with an association distribution are not
-// fed (the stereo-to-surface factor is the point-to-plane term, without association). The start and the recovery after a loss are global localization by
-// geometry (global_initialization.h), driven by quasiloc-track.
+// their projection at the aligned pose (map_points.h), and point-to-plane factors with an association distribution
+// (map_planes.h, map_planes = true; the stereo-to-surface factor is the point-to-plane term without association).
+// The start and the recovery after a loss are global localization by geometry (global_initialization.h), driven by
+// quasiloc-track.
 //
 // Keyframe policy: map alignment every `keyframe_every` frames; between keyframes the IMU factor and the
 // temporal stereo landmarks carry the state. A map correction larger than max_correction_* is rejected (counted
