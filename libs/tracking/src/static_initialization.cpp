@@ -59,12 +59,6 @@ double maxDeviation(const std::vector<Eigen::Vector3d>& v, const Eigen::Vector3d
 }
 }  // namespace
 
-BlockDeviation blockDeviation(const std::vector<dataset::ImuSample>& samples, double block_s)
-{
-    const BlockMeans m = blockMeans(samples, block_s);
-    return {maxDeviation(m.gyro, mean(m.gyro)), maxDeviation(m.acc, mean(m.acc))};
-}
-
 std::optional<StaticImuEstimate> staticImuEstimate(const std::vector<dataset::ImuSample>& samples,
                                                    double gyro_noise_density, const StandstillOptions& o,
                                                    std::string* why)
@@ -87,7 +81,6 @@ std::optional<StaticImuEstimate> staticImuEstimate(const std::vector<dataset::Im
 
     StaticImuEstimate e;
     e.span_s = span;
-    e.samples = samples.size();
     // The last block is left out of the means: a motion that starts there may not show in the detector yet.
     const double t_guard = samples.back().t - o.block_s;
     Eigen::Vector3d g = Eigen::Vector3d::Zero(), a = Eigen::Vector3d::Zero();
@@ -127,23 +120,20 @@ void StaticInitializer::add(const std::vector<dataset::ImuSample>& samples)
 {
     if (moved_ || samples.empty()) return;
     samples_.insert(samples_.end(), samples.begin(), samples.end());
-    std::string why;
-    auto e = staticImuEstimate(samples_, gyro_noise_density_, options_, &why);
-    const double span = samples_.back().t - samples_.front().t;
-    if (!e && span >= options_.min_still_s)
+    const double t_oldest = samples_.back().t - options_.max_span_s;
+    samples_.erase(samples_.begin(), std::find_if(samples_.begin(), samples_.end(),
+                                                  [t_oldest](const dataset::ImuSample& x) { return x.t >= t_oldest; }));
+    auto e = staticImuEstimate(samples_, gyro_noise_density_, options_);
+    if (!e && samples_.back().t - samples_.front().t >= options_.min_still_s)
     {
         // Moving: the estimate of the standing span before (if any) stays; no later span is a start.
         moved_ = true;
-        why_ = estimate_ ? "" : why;
         samples_.clear();
         return;
     }
     if (e) estimate_ = e;
-    why_ = e ? "" : why;
 }
 
 std::optional<StaticImuEstimate> StaticInitializer::estimate() const { return estimate_; }
-
-std::string StaticInitializer::status() const { return why_; }
 
 }  // namespace quasiloc::tracking

@@ -28,6 +28,9 @@ struct StandstillOptions
     double max_gyro_block_dev_rad_s = 0.025;
     double max_acc_block_dev_m_s2 = 0.25;
     double min_gyro_bias_sigma = 3e-4;       ///< rad/s
+    /** The standing span kept: a longer one no longer narrows the estimate (its sigma is at min_gyro_bias_sigma
+     *  after about 1 s of EuRoC's noise), and the tracker re-examines the span on every frame while it stands. */
+    double max_span_s = 10;
 };
 
 /** What a standing span of IMU samples tells. */
@@ -38,7 +41,6 @@ struct StaticImuEstimate
     Eigen::Vector3d mean_specific_force = Eigen::Vector3d::Zero();  ///< body frame: up times gravity (plus the
                                                                     ///< accelerometer bias)
     double span_s = 0;
-    size_t samples = 0;
 };
 
 /** The IMU biases a tracker starts from, with their uncertainty (per axis), and where they came from. */
@@ -53,21 +55,14 @@ struct ImuBiasPrior
  *  accelerometer bias stays the calibration's (a standing IMU sees it only mixed with the tilt). */
 ImuBiasPrior withStaticEstimate(const ImuBiasPrior& calibration, const std::optional<StaticImuEstimate>& estimate);
 
-/** The largest deviation of a block mean from the span's mean, for the gyroscope and the accelerometer. */
-struct BlockDeviation
-{
-    double gyro_rad_s = 0, acc_m_s2 = 0;
-};
-BlockDeviation blockDeviation(const std::vector<dataset::ImuSample>& samples, double block_s);
-
 /** The estimate when `samples` (in time order) span at least min_still_s and stand still by the detector;
  *  otherwise nullopt and, if `why`, the reason. gyro_noise_density [rad/s/sqrt(Hz)] sets the white-noise floor. */
 std::optional<StaticImuEstimate> staticImuEstimate(const std::vector<dataset::ImuSample>& samples,
                                                    double gyro_noise_density, const StandstillOptions& options,
                                                    std::string* why = nullptr);
 
-/** Collects the samples from the start for as long as the platform stands still; the first span that moves ends
- *  the collection for good (a standstill later in the flight is no start). */
+/** Collects the samples from the start for as long as the platform stands still (the last max_span_s of them); the
+ *  first span that moves ends the collection for good (a standstill later in the flight is no start). */
 class StaticInitializer
 {
    public:
@@ -78,8 +73,6 @@ class StaticInitializer
     void add(const std::vector<dataset::ImuSample>& samples);
     /** The estimate over the samples so far, if they stand still and span min_still_s. */
     std::optional<StaticImuEstimate> estimate() const;
-    /** Why there is no estimate (empty when there is one). */
-    std::string status() const;
     bool moved() const { return moved_; }
 
    private:
@@ -88,7 +81,6 @@ class StaticInitializer
     std::vector<dataset::ImuSample> samples_;
     bool moved_ = false;
     std::optional<StaticImuEstimate> estimate_;
-    std::string why_ = "no IMU sample yet";
 };
 
 }  // namespace quasiloc::tracking
