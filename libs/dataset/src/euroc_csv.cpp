@@ -1,10 +1,8 @@
 #include "euroc_csv.h"
 
-#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <sstream>
 
 namespace quasiloc::dataset::csv
@@ -57,7 +55,5 @@ std::int64_t parseTimestampNs(const std::string& s, const std::string& where)
         throw core::InputError(where, "timestamp '" + s + "' out of range");
     }
 }
-
-double parseFinite(const std::string& s, const std::string& where) { return core::parseFiniteNumber(s, where); }
 
 }  // namespace quasiloc::dataset::csv

@@ -22,7 +22,4 @@ std::string where(const std::string& path, const Line& line);
 /** A non-negative integer number of nanoseconds. */
 std::int64_t parseTimestampNs(const std::string& s, const std::string& where);
 
-/** A finite floating-point number (the whole field). */
-double parseFinite(const std::string& s, const std::string& where);
-
 }  // namespace quasiloc::dataset::csv

@@ -1,5 +1,6 @@
 #include <cstdio>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
 #include <quasiloc/dataset/euroc_imu_csv.h>
 #include <quasiloc/dataset/timestamps.h>
 
@@ -42,7 +43,7 @@ void readTimedRows(const std::string& path, size_t columns, const std::string& l
                 throw core::InputError(where, msg);
             }
         }
-        for (size_t i = 1; i < columns; ++i) values[i - 1] = csv::parseFinite(l.fields[i], where);
+        for (size_t i = 1; i < columns; ++i) values[i - 1] = core::parseFiniteNumber(l.fields[i], where);
         row(t, values);
         prev_t = t;
     }

@@ -133,7 +133,6 @@ std::string imuBiasCsv(const SimulatedImu& imu, const std::string& sequence)
     return text;
 }
 
-/** calib.ini [imu]: the noise model a real calibration would give (no simulation keys, no true biases). */
 std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam)
 {
     std::ostringstream s;
