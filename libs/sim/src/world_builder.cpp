@@ -1,9 +1,9 @@
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/map/gmm.h>
+#include <quasiloc/map/gmm_surface.h>
 #include <quasiloc/sim/clearance_grid.h>
 #include <quasiloc/sim/world_builder.h>
 #include <random>
@@ -94,10 +94,9 @@ void addGmmPatches(const std::vector<map::GmmComponent>& gmm, const Eigen::Align
             ++st.gmm_shell;
             continue;
         }
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(c.covariance);
-        const Eigen::Vector3d ev = es.eigenvalues().cwiseMax(0.0);  // ascending
-        float su = static_cast<float>(o.gmm_sigma_scale * std::sqrt(ev[2]));
-        float sv = static_cast<float>(o.gmm_sigma_scale * std::sqrt(ev[1]));
+        const map::GmmComponentSurface surface = map::componentSurface(c, o.gmm_sigma_scale);
+        float su = static_cast<float>(surface.semi_u_m);
+        float sv = static_cast<float>(surface.semi_v_m);
         if (su < o.gmm_min_semi_axis_m)
         {
             ++st.gmm_small;
@@ -105,8 +104,8 @@ void addGmmPatches(const std::vector<map::GmmComponent>& gmm, const Eigen::Align
         }
         su = std::min(su, static_cast<float>(o.gmm_max_semi_axis_m));
         sv = std::clamp(sv, static_cast<float>(o.gmm_min_semi_axis_m), su);
-        const Eigen::Vector3f n = es.eigenvectors().col(0).cast<float>();
-        const Eigen::Vector3f au = es.eigenvectors().col(2).cast<float>().normalized();
+        const Eigen::Vector3f n = surface.normal.cast<float>();
+        const Eigen::Vector3f au = surface.axis_u.cast<float>().normalized();
         const Eigen::Vector3f av = n.cross(au).normalized();
         const bool is_horizontal = std::abs(n.z()) > 0.8f;
         // Neighbouring patches usually belong to one object: the material is a hash of the 1 m cell of the

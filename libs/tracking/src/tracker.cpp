@@ -270,7 +270,7 @@ void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInp
     term.field = distance_field_;
     term.effective_points = options_.stereo_map_effective_points;
     term.truncation_m = options_.stereo_map_truncation_m;
-    if (stereo_cloud_ && options_.stereo_map_points == "dense")
+    if (denseStereo())
         for (const Eigen::Vector3f& p : points.dense)
         {
             if (p.z() > options_.stereo_map_max_depth_m) continue;
@@ -291,7 +291,7 @@ Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
     sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
     sp.stereo_of_left.assign(sp.left.points.size(), -1);
     for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
-    if (stereo_cloud_ && options_.stereo_map_points == "dense")
+    if (denseStereo())
         sp.dense = stereo_cloud_->compute(frame.left, frame.right, "frame " + std::to_string(frame.index));
     return sp;
 }

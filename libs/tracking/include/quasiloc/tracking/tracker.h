@@ -292,6 +292,8 @@ class Tracker
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
                const ImuBiasPrior& biases);
+    /** The surface factor takes the dense SGBM cloud (stereo_map_points = dense and a cloud given). */
+    bool denseStereo() const { return stereo_cloud_ && options_.stereo_map_points == "dense"; }
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
     /** The stereo points that the map terms use (depth 0.2 .. stereo_map_max_depth_m) and their sigma against the
