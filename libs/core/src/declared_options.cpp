@@ -1,0 +1,167 @@
+#include <cmath>
+#include <cstdio>
+#include <quasiloc/core/declared_options.h>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+
+namespace quasiloc::core
+{
+namespace
+{
+/** The shortest text that reads back as exactly `v` (0.05, not 0.050000000000000003). */
+std::string numberText(double v)
+{
+    char buf[40];
+    for (int precision = 1; precision <= 17; ++precision)
+    {
+        std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    return buf;
+}
+
+std::string joined(const std::vector<std::string>& names, const std::string& separator)
+{
+    std::string s;
+    for (const auto& n : names) s += (s.empty() ? "" : separator) + n;
+    return s;
+}
+}  // namespace
+
+bool Range::contains(double v) const
+{
+    const bool above_min = min_open ? v > min : v >= min;
+    const bool below_max = max_open ? v < max : v <= max;
+    return above_min && below_max;
+}
+
+std::string Range::text() const
+{
+    const bool has_min = std::isfinite(min), has_max = std::isfinite(max);
+    if (!has_min && !has_max) return "any";
+    if (!has_max) return (min_open ? "> " : ">= ") + numberText(min);
+    if (!has_min) return (max_open ? "< " : "<= ") + numberText(max);
+    return (min_open ? "(" : "[") + numberText(min) + ", " + numberText(max) + (max_open ? ")" : "]");
+}
+
+OptionTable::OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
+                         const std::string& section)
+    : action_(action), in_(in), out_(out), section_(section)
+{
+}
+
+std::string OptionTable::readText(const std::string& key) const { return in_->read_string(section_, key, "", false); }
+
+void OptionTable::emit(const std::string& key, const std::string& type, const std::string& unit,
+                       const std::string& range, const std::string& value, const std::string& doc)
+{
+    if (action_ == Action::Save) out_->write(section_, key, value, 28, 10, unit.empty() ? doc : "[" + unit + "] " + doc);
+    if (action_ == Action::Describe) descriptions_.push_back({key, type, unit, range, value, doc});
+}
+
+void OptionTable::addNumber(const std::string& key, double current, bool integer, const std::string& unit,
+                            Range range, const std::string& doc, const std::function<void(double)>& set)
+{
+    if (action_ == Action::Load)
+    {
+        const std::string text = readText(key);
+        if (text.empty()) return;  // absent or empty: the default stays
+        const std::string where = iniKeyName(section_, key);
+        const double v = parseFiniteNumber(text, where);
+        require(!integer || (v == std::floor(v) && std::abs(v) <= 1e9), where, "'" + text + "' is not an integer");
+        require(range.contains(v), where, "'" + text + "' is out of range (must be " + range.text() + ")");
+        set(v);
+        return;
+    }
+    emit(key, integer ? "integer" : "number", unit, range.text(), numberText(current), doc);
+}
+
+void OptionTable::add(const std::string& key, double& value, const std::string& unit, Range range,
+                      const std::string& doc)
+{
+    addNumber(key, value, false, unit, range, doc, [&value](double v) { value = v; });
+}
+
+void OptionTable::add(const std::string& key, int& value, const std::string& unit, Range range, const std::string& doc)
+{
+    addNumber(key, value, true, unit, range, doc, [&value](double v) { value = int(v); });
+}
+
+void OptionTable::add(const std::string& key, size_t& value, const std::string& unit, Range range,
+                      const std::string& doc)
+{
+    if (range.min < 0) range = Range{0, range.max, false, range.max_open};
+    addNumber(key, double(value), true, unit, range, doc, [&value](double v) { value = size_t(v); });
+}
+
+void OptionTable::add(const std::string& key, bool& value, const std::string& doc)
+{
+    if (action_ == Action::Load)
+    {
+        value = readIniBool(*in_, section_, key, value);
+        return;
+    }
+    emit(key, "bool", "", "true, false", value ? "true" : "false", doc);
+}
+
+void OptionTable::add(const std::string& key, std::string& value, const std::string& doc)
+{
+    if (action_ == Action::Load)
+    {
+        value = in_->read_string(section_, key, value, false);
+        return;
+    }
+    emit(key, "text", "", "", value, doc);
+}
+
+void OptionTable::add(const std::string& key, std::vector<double>& value, const std::string& unit, Range range,
+                      const std::string& doc)
+{
+    if (action_ == Action::Load)
+    {
+        const std::vector<double> v = readIniVector(*in_, section_, key, value);
+        for (double x : v)
+            require(range.contains(x), iniKeyName(section_, key),
+                    numberText(x) + " is out of range (each value must be " + range.text() + ")");
+        value = v;
+        return;
+    }
+    emit(key, "numbers", unit, range.text(), "[" + iniVectorText(value) + "]", doc);
+}
+
+void OptionTable::addChoice(const std::string& key, const std::vector<std::string>& names, int current,
+                            const std::function<void(size_t)>& set, const std::string& doc)
+{
+    if (action_ == Action::Load)
+    {
+        const std::string text = readText(key);
+        if (text.empty()) return;
+        for (size_t i = 0; i < names.size(); ++i)
+            if (names[i] == text) return set(i);
+        throw InputError(iniKeyName(section_, key), "'" + text + "' is not one of " + joined(names, ", "));
+    }
+    require(current >= 0, iniKeyName(section_, key), "the present value has no name (declaration incomplete)");
+    emit(key, "one of", "", joined(names, ", "), names[size_t(current)], doc);
+}
+
+void DeclaredOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
+{
+    OptionTable t(OptionTable::Action::Load, &cfg, nullptr, section);
+    declare(t);
+}
+
+void DeclaredOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const
+{
+    OptionTable t(OptionTable::Action::Save, nullptr, &cfg, section);
+    // declare() takes the members by reference for loading; saving only reads them.
+    const_cast<DeclaredOptions*>(this)->declare(t);
+}
+
+std::vector<OptionDescription> DeclaredOptions::describe() const
+{
+    OptionTable t(OptionTable::Action::Describe, nullptr, nullptr, "");
+    const_cast<DeclaredOptions*>(this)->declare(t);
+    return t.descriptions();
+}
+
+}  // namespace quasiloc::core

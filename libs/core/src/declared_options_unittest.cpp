@@ -1,0 +1,109 @@
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+
+#include <quasiloc/core/declared_options.h>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/program_options.h>
+
+using namespace quasiloc::core;
+
+namespace
+{
+enum class Budget
+{
+    Fast,
+    Full
+};
+
+struct DemoOptions : public DeclaredOptions
+{
+    double max_depth_m = 6;
+    int keyframe_every = 1;
+    bool dense = true;
+    std::string map_file;
+    std::vector<double> heights_m{0.5, 1.5};
+    Budget budget = Budget::Fast;
+    void declare(OptionTable& t) override
+    {
+        t.add("max_depth_m", max_depth_m, "m", Range::above(0), "farther points are dropped");
+        t.add("keyframe_every", keyframe_every, "frames", Range::atLeast(1), "a map update every N frames");
+        t.add("dense", dense, "the dense stereo cloud");
+        t.add("map_file", map_file, "the LiDAR map");
+        t.add("heights_m", heights_m, "m", Range::atLeast(0), "view heights");
+        t.addEnum("budget", budget, {{"fast", Budget::Fast}, {"full", Budget::Full}}, "the search budget");
+    }
+};
+
+mrpt::config::CConfigFileMemory ini(const std::string& text)
+{
+    mrpt::config::CConfigFileMemory cfg;
+    cfg.setContent(text);
+    return cfg;
+}
+
+std::string loadError(const std::string& text)
+{
+    DemoOptions o;
+    try
+    {
+        loadOptionsChecked(o, ini(text), "Demo", "demo.ini");
+    }
+    catch (const InputError& e)
+    {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+TEST(DeclaredOptions, LoadsEveryDeclaredTypeAndKeepsDefaultsOfAbsentKeys)
+{
+    DemoOptions o;
+    loadOptionsChecked(o, ini("[Demo]\nmax_depth_m = 4.5\ndense = false\nheights_m = [1 2]\nbudget = full\n"), "Demo",
+                       "demo.ini");
+    EXPECT_DOUBLE_EQ(o.max_depth_m, 4.5);
+    EXPECT_FALSE(o.dense);
+    EXPECT_EQ(o.heights_m, (std::vector<double>{1, 2}));
+    EXPECT_EQ(o.budget, Budget::Full);
+    EXPECT_EQ(o.keyframe_every, 1);
+}
+
+TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTheKey)
+{
+    EXPECT_NE(loadError("[Demo]\nmax_depth_m = 0\n").find("[Demo] max_depth_m: '0' is out of range (must be > 0)"),
+              std::string::npos);
+    EXPECT_NE(loadError("[Demo]\nkeyframe_every = 1.5\n").find("is not an integer"), std::string::npos);
+    EXPECT_NE(loadError("[Demo]\nbudget = quick\n").find("'quick' is not one of fast, full"), std::string::npos);
+    EXPECT_NE(loadError("[Demo]\nheights_m = 1 -2\n").find("each value must be >= 0"), std::string::npos);
+    EXPECT_NE(loadError("[Demo]\nmax_dept_m = 3\n").find("unknown key"), std::string::npos);
+}
+
+TEST(DeclaredOptions, SavedValuesLoadBackToTheSameOptions)
+{
+    DemoOptions a;
+    a.max_depth_m = 0.05;
+    a.budget = Budget::Full;
+    a.heights_m = {0.25};
+    mrpt::config::CConfigFileMemory mem;
+    a.saveToConfigFile(mem, "Demo");
+    DemoOptions b;
+    loadOptionsChecked(b, ini(mem.getContent()), "Demo", "saved");  // as the effective configuration file is read
+    EXPECT_EQ(b.max_depth_m, 0.05);
+    EXPECT_EQ(b.budget, Budget::Full);
+    EXPECT_EQ(b.heights_m, a.heights_m);
+    EXPECT_EQ(knownKeys(a, "Demo").size(), 6u);
+}
+
+TEST(DeclaredOptions, DescribesEachKeyWithTypeUnitRangeDefaultAndDoc)
+{
+    const auto d = DemoOptions().describe();
+    ASSERT_EQ(d.size(), 6u);
+    EXPECT_EQ(d[0].key, "max_depth_m");
+    EXPECT_EQ(d[0].unit, "m");
+    EXPECT_EQ(d[0].range, "> 0");
+    EXPECT_EQ(d[0].default_value, "6");
+    EXPECT_EQ(d[1].range, ">= 1");
+    EXPECT_EQ(d[5].range, "fast, full");
+    EXPECT_EQ(d[5].default_value, "fast");
+    EXPECT_EQ(Range::fromUpTo(0, 1).text(), "[0, 1)");
+}
