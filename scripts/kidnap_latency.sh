@@ -7,8 +7,8 @@
 #   bash scripts/track_sequences.sh 30 out/sequences        # once: the 30 s simulations
 #   bash scripts/kidnap_latency.sh [root=out/sequences] [out=out/kidnap] [sequences...]
 # KIDNAP_TIMES (environment, default "10 20", seconds after the start); TRACK_SETS: --set arguments added to every
-# run, e.g. the relocalization's previous defaults: TRACK_SETS="--set Tracking.relocalize_single_fix=false
-# --set Tracking.check_every=10 --set Tracking.relocalize_near_m=1".
+# run, e.g. the relocalization's previous defaults: TRACK_SETS="--set Relocalization.relocalize_single_fix=false
+# --set Relocalization.check_every=10 --set Relocalization.relocalize_near_m=1".
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
 ablation_setup out/kidnap "$@"
@@ -21,7 +21,7 @@ for seq in "${SEQS[@]}"; do
   fi
   mkdir -p "$OUT/$seq"
   for k in -1 "${TIMES[@]}"; do
-    run "$seq" "k$k" --set Tracking.init=global --set Tracking.kidnap_at_s="$k" "${EXTRA[@]}" > /dev/null
+    run "$seq" "k$k" --set Initialization.init=global --set Kidnap.kidnap_at_s="$k" "${EXTRA[@]}" > /dev/null
   done
 done
 /usr/bin/python3 "$ROOT/scripts/kidnap_live_latency.py" "$OUT" | tee "$OUT.md"

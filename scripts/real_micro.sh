@@ -25,7 +25,7 @@ fi
 "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$OUT/micro.rawlog" \
   --set Tracking.calibration_ini="$OUT/micro_calib.ini" --set Tracking.map_file="$OUT/v1.map" \
   --set Tracking.groundtruth="$OUT/micro_gt_cam0.tum" --set Tracking.output_dir="$OUT/track" \
-  --set Tracking.init=global --set Tracking.write_scene=false "$@" > "$OUT/track.log" 2>&1 ||
+  --set Initialization.init=global --set Tracking.write_scene=false "$@" > "$OUT/track.log" 2>&1 ||
   { tail -5 "$OUT/track.log" >&2; echo "error: quasiloc-track failed (log: $OUT/track.log)" >&2; exit 1; }
 grep -E "^(init start error|IMU biases at the start|frames|ATE|time/frame|losses)" "$OUT/track.log" || true
 echo "log: $OUT/track.log"

@@ -15,7 +15,7 @@ OUT_ARG="${2:-out/reweighting_seeds}"
 SEEDS="${3:-ini 101 102}"
 shift 3 || shift $#
 ablation_setup out/reweighting_seeds out/sequences "$OUT_ARG" "$@"
-STRUCT=(--set Tracking.map_points=true --set Tracking.map_lines=true --set Tracking.map_planes=true)
+STRUCT=(--set MapFactors.map_points=true --set MapFactors.map_lines=true --set MapFactors.map_planes=true)
 {
   echo "| sequence | seed | full | uniform | full lower |"
   echo "|---|---|---|---|---|"

@@ -18,9 +18,9 @@ ablation_setup out/lines_ablation "$@"
 for seq in "${SEQS[@]}"; do
   mkdir -p "$OUT/$seq"
   set -- $(run "$seq" full) \
-    $(run "$seq" lines_full --set Tracking.map_lines=true --set Reweighting.mode=full) \
-    $(run "$seq" lines_uniform --set Tracking.map_lines=true --set Reweighting.mode=uniform) \
-    $(run "$seq" lines_observability --set Tracking.map_lines=true --set Reweighting.mode=observability)
+    $(run "$seq" lines_full --set MapFactors.map_lines=true --set Reweighting.mode=full) \
+    $(run "$seq" lines_uniform --set MapFactors.map_lines=true --set Reweighting.mode=uniform) \
+    $(run "$seq" lines_observability --set MapFactors.map_lines=true --set Reweighting.mode=observability)
   printf "| %s | %s / %s | %s / %s | %s / %s | %s / %s |\n" "$seq" "$1" "$2" "$3" "$4" "$5" "$6" "$7" "$8" \
     | tee -a "$OUT.md.tmp"
 done

@@ -23,9 +23,10 @@ for seq in "${SEQS[@]}"; do
   "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
     --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
     --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$OUT/$seq/track" > "$OUT/$seq.track.log"
-  frames=$(sed -n 's/^frames *\([0-9]*\) .*accepted \([0-9]*\),.*/\1 \2/p' "$OUT/$seq.track.log")
-  ate=$(sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$OUT/$seq.track.log")
-  ms=$(sed -n 's/^time\/frame *median \([0-9.]*\) ms.*/\1/p' "$OUT/$seq.track.log")
+  summary="$OUT/$seq/track/summary.json"
+  frames=$(/usr/bin/python3 scripts/json_figure.py "$summary" frames map_updates)
+  ate=$(/usr/bin/python3 scripts/json_figure.py "$summary" ate.rmse_m ate.max_m --scale 100 --digits 3)
+  ms=$(/usr/bin/python3 scripts/json_figure.py "$summary" time_per_frame_ms.median --digits 3)
   set -- $frames $ate
   duration_text="$DURATION s"; [ "$DURATION" != 0 ] || duration_text="whole"
   printf "| %s | %s | %s | %s | %s cm | %s cm | %s |\n" "$seq" "$duration_text" "$1" "$2" "$3" "$4" "$ms" | tee -a "$OUT.md.tmp"

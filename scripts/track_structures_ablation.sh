@@ -13,9 +13,9 @@
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
 ablation_setup out/structures_ablation "$@"
-P=(--set Tracking.map_points=true)
-L=(--set Tracking.map_lines=true)
-PLANE=(--set Tracking.map_planes=true)
+P=(--set MapFactors.map_points=true)
+L=(--set MapFactors.map_lines=true)
+PLANE=(--set MapFactors.map_planes=true)
 {
   echo "| sequence | no structures | + P | + L | + P + L | + P + L + plane | + P + L + plane, uniform | + P + L + plane, observability |"
   echo "|---|---|---|---|---|---|---|---|"

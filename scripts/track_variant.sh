@@ -8,8 +8,8 @@ track_variant() {
   "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
     --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
     --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$out/$seq/$variant" \
-    --set Tracking.init=groundtruth --set Tracking.write_scene=false "$@" > "$out/$seq/$variant.log" 2>&1
-  sed -n 's/^ATE *RMSE \([0-9.]*\) cm, median [0-9.]* cm, max \([0-9.]*\) cm.*/\1 \2/p' "$out/$seq/$variant.log"
+    --set Initialization.init=groundtruth --set Tracking.write_scene=false "$@" > "$out/$seq/$variant.log" 2>&1
+  /usr/bin/python3 scripts/json_figure.py "$out/$seq/$variant/summary.json" ate.rmse_m ate.max_m --scale 100 --digits 3
 }
 
 # ablation_setup <default_out> [root=out/sequences] [out=<default_out>] [sequences...]: the ablation scripts' common

@@ -13,3 +13,5 @@ expect_failure() {
   local log="$1"; shift
   if "$@" >"$log" 2>&1; then cat "$log"; fail "expected a non-zero exit from: $*"; fi
 }
+# json_value <file.json> <path.to.key> [--scale 100 --digits 3]: a figure from a program's summary.json
+json_value() { /usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/../../scripts/json_figure.py" "$@" || fail "no $2 in $1"; }

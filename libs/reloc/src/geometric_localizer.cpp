@@ -137,18 +137,30 @@ Eigen::Vector3d upInCamera(const std::vector<Eigen::Vector3d>& acc_body, const E
     return (R_cam_body * mean).normalized();
 }
 
+std::shared_ptr<const map::DistanceField> GeometricLocalizer::buildField(const map::LidarMap& map,
+                                                                         const GeometricLocalizationOptions& o,
+                                                                         const std::string& input)
+{
+    o.check(input);
+    map::DistanceFieldOptions f;
+    f.voxel_m = o.field_voxel_m;
+    f.max_distance_m = o.field_max_distance_m;
+    f.margin_m = std::max(1.0, o.field_max_distance_m);
+    return std::make_shared<const map::DistanceField>(map::DistanceField::build(map, f, input));
+}
+
 GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig,
                                        const GeometricLocalizationOptions& o, const std::string& input)
+    : GeometricLocalizer(map, rig, o, buildField(map, o, input), input)
+{
+}
+
+GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig,
+                                       const GeometricLocalizationOptions& o,
+                                       std::shared_ptr<const map::DistanceField> field, const std::string& input)
     : map_(&map),
       options_(o),
-      field_([&] {
-          o.check(input);
-          map::DistanceFieldOptions f;
-          f.voxel_m = o.field_voxel_m;
-          f.max_distance_m = o.field_max_distance_m;
-          f.margin_m = std::max(1.0, o.field_max_distance_m);
-          return map::DistanceField::build(map, f, input);
-      }()),
+      field_(std::move(field)),
       stereo_(rig, o.stereo)
 {
     ViewSamplingOptions vs;
@@ -189,7 +201,7 @@ double GeometricLocalizer::inlierRatio(const std::vector<Eigen::Vector3f>& point
     const Eigen::Vector3f t = T_world_cam.translation().cast<float>();
     size_t in = 0;
     for (const auto& p : points_cam)
-        in += field_.distance(R * p + t) < float(options_.inlier_m + 2 * stereo_.depthSigma(p.z()));
+        in += field_->distance(R * p + t) < float(options_.inlier_m + 2 * stereo_.depthSigma(p.z()));
     return double(in) / double(points_cam.size());
 }
 
@@ -213,7 +225,7 @@ double GeometricLocalizer::refine(const std::vector<Eigen::Vector3f>& points_cam
             {
                 const Eigen::Vector3f& p = points_cam[i];
                 Eigen::Vector3f grad;
-                const float d = field_.distance(Rf * p + tf, grad);
+                const float d = field_->distance(Rf * p + tf, grad);
                 if (d >= truncation) continue;  // truncated least squares: unexplained points do not pull
                 const Eigen::Vector3d gw = grad.cast<double>();
                 Vector6d J;
@@ -233,7 +245,7 @@ std::vector<double> GeometricLocalizer::pointWeights(const std::vector<Eigen::Ve
     // Each point weighs by its noise: the field's own (half a voxel) and the stereo depth's, which grows with the
     // depth squared (far points are many, since far surfaces are large, and each is a few centimetres off).
     std::vector<double> weight(points_cam.size());
-    const double field_sigma = 0.5 * field_.voxelSize();
+    const double field_sigma = 0.5 * field_->voxelSize();
     for (size_t i = 0; i < points_cam.size(); ++i)
         weight[i] = field_sigma * field_sigma /
                     (field_sigma * field_sigma + std::pow(stereo_.depthSigma(points_cam[i].z()), 2));
@@ -322,7 +334,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
                 float sum = 0;
                 for (const auto& p : rotated[size_t(k)])
                 {
-                    const float d = field_.distance(p + t);
+                    const float d = field_->distance(p + t);
                     sum += std::min(d * d, trunc2);
                 }
                 scores[size_t(i) * size_t(yaws) + size_t(k)] = sum / float(scored.size());

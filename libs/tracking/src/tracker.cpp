@@ -10,7 +10,6 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
-#include <quasiloc/estimation/map_measurement.h>
 #include <quasiloc/tracking/map_points.h>
 #include <quasiloc/tracking/tracker.h>
 
@@ -51,12 +50,12 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       frontend_(frontend),
       stereo_matcher_(rig, frontend.options().stereo)
 {
-    options_.check("Tracker");
-    if (options_.map_term == "auto")
+    options_.factors.check("Tracker");
+    if (options_.map_term == MapTerm::Auto)
     {
         // A map without reflectivity (constant) offers the edge term only its depth discontinuities.
         const auto [lo, hi] = map_.reflectivityRange();
-        options_.map_term = hi - lo > 1e-3f ? "factor" : "none";
+        options_.map_term = hi - lo > 1e-3f ? MapTerm::Factor : MapTerm::None;
     }
     estimator_.check("Tracker");
     reweighting_.check("Tracker");
@@ -64,8 +63,8 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     stereo_.left = estimation::CameraGeometry{rig.left, T_body_cam_};
     stereo_.right = rig.right;
     stereo_.T_left_right = core::toIsometry(rig.T_left_right);
-    if (options_.map_planes) plane_associator_ = std::make_unique<MapPlaneAssociator>(rig.left, MapPlaneOptions{});
-    if (options_.map_lines)
+    if (options_.factors.map_planes) plane_associator_ = std::make_unique<MapPlaneAssociator>(rig.left, MapPlaneOptions{});
+    if (options_.factors.map_lines)
     {
         line_extractor_ = std::make_unique<MapLineExtractor>(stereo_.left.model, mapLineOptions(), frontend.options().lines);
         line_detector_ = std::make_unique<frontend::LineDetector>(frontend.options().lines);
@@ -75,8 +74,8 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
 MapLineOptions Tracker::mapLineOptions() const
 {
     MapLineOptions lo;
-    lo.max_angle_deg = options_.line_max_angle_deg;
-    lo.max_candidates = options_.line_max_candidates;
+    lo.max_angle_deg = options_.factors.line_max_angle_deg;
+    lo.max_candidates = options_.factors.line_max_candidates;
     return lo;
 }
 
@@ -92,14 +91,14 @@ Tracker::~Tracker() = default;
 void Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                          const ImuBiasPrior& biases, const dataset::StereoFrame* frame)
 {
-    start(t, T_world_cam0, v_world, frame, options_.init_sigma_m, options_.init_sigma_deg, options_.init_sigma_v, biases);
+    start(t, T_world_cam0, v_world, frame, options_.initialization.init_sigma_m, options_.initialization.init_sigma_deg, options_.initialization.init_sigma_v, biases);
 }
 
 void Tracker::initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                                    const ImuBiasPrior& biases, const dataset::StereoFrame* frame)
 {
-    start(t, T_world_cam0, v_world, frame, options_.init_global_sigma_m, options_.init_global_sigma_deg,
-          options_.init_global_sigma_v, biases);
+    start(t, T_world_cam0, v_world, frame, options_.initialization.init_global_sigma_m, options_.initialization.init_global_sigma_deg,
+          options_.initialization.init_global_sigma_v, biases);
 }
 
 namespace
@@ -168,7 +167,7 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     frames_ = 0;
     misses_ = 0;
     standstill_.reset();
-    if (options_.static_initialization) standstill_.emplace(imu_noise_.gyro_noise_density);
+    if (options_.initialization.static_initialization) standstill_.emplace(imu_noise_.gyro_noise_density);
     prev_stereo_.clear();
     prev_stereo_of_left_.clear();
     if (frame && options_.temporal_landmarks)
@@ -202,10 +201,10 @@ void Tracker::addMapLines(const std::vector<frontend::LineSegment>& camera_lines
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     for (const MapLine& m : map_lines) depths.push_back((T_cam_world * m.point).z());
     const double depth = std::max(0.3, estimation::medianDepth(depths, 2.0));
-    rep.line_window_px = std::clamp(options_.line_window_sigmas * camera.fx * (sigma_rad + sigma_m / depth),
-                                    options_.line_window_min_px, options_.line_window_max_px);
+    rep.line_window_px = std::clamp(options_.factors.line_window_sigmas * camera.fx * (sigma_rad + sigma_m / depth),
+                                    options_.factors.line_window_min_px, options_.factors.line_window_max_px);
     in.lines = associateMapLines(camera_lines, map_lines, camera, T_world_cam, rep.line_window_px,
-                                 options_.line_sigma_px, lo);
+                                 options_.factors.line_sigma_px, lo);
     rep.camera_lines = int(camera_lines.size());
     rep.line_factors = int(in.lines.size());
     size_t candidates = 0;
@@ -221,8 +220,8 @@ void Tracker::addMapPoints(const frontend::FrameFeatures& camera, const Eigen::I
     frontend::FrameFeatures fq;
     frontend_.extractPoints(refiner_.quasiFeatureImage(), q.valid, fq);
     MapPointOptions po;
-    po.window_px = options_.point_window_px;
-    po.sigma_px = options_.point_sigma_px;
+    po.window_px = options_.factors.point_window_px;
+    po.sigma_px = options_.factors.point_sigma_px;
     po.lift_radius_px = refiner_.options().lift_radius_px;
     in.points = associateMapPoints(camera.points, fq.points, q, map_, stereo_.left.model, T_world_cam,
                                    frontend_.options().point_matching, po);
@@ -240,7 +239,7 @@ void Tracker::addMapPlanes(const StereoPoints& points, const Eigen::Isometry3d& 
     mapPointsWithSigma(points, p_cam, sigma);
     // All points together count as plane_effective_points independent observations (neighbouring points share the
     // map's and the stereo's errors), as in the stereo map factor.
-    const double scale = std::sqrt(std::max(1.0, double(p_cam.size()) / options_.plane_effective_points));
+    const double scale = std::sqrt(std::max(1.0, double(p_cam.size()) / options_.factors.plane_effective_points));
     for (double& s : sigma) s *= scale;
     in.planes = plane_associator_->associate(p_cam, sigma, refiner_.quasiImage(), T_world_cam);
     rep.plane_factors = int(in.planes.size());
@@ -257,10 +256,10 @@ void Tracker::mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::
     for (const frontend::StereoPoint& s : points.stereo)
     {
         const double z = s.p_left.z();
-        if (z < 0.2 || z > options_.stereo_map_max_depth_m || !s.p_left.allFinite()) continue;
-        const double depth_sigma = z * z / fb * options_.stereo_disparity_sigma_px;
+        if (z < 0.2 || z > options_.factors.stereo_map_max_depth_m || !s.p_left.allFinite()) continue;
+        const double depth_sigma = z * z / fb * options_.factors.stereo_disparity_sigma_px;
         p_cam.push_back(s.p_left);
-        sigma_m.push_back(std::hypot(options_.stereo_map_sigma_m, depth_sigma));
+        sigma_m.push_back(std::hypot(options_.factors.stereo_map_sigma_m, depth_sigma));
     }
 }
 
@@ -268,14 +267,14 @@ void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInp
 {
     estimation::MapDistanceTerm term;
     term.field = distance_field_;
-    term.effective_points = options_.stereo_map_effective_points;
-    term.truncation_m = options_.stereo_map_truncation_m;
+    term.effective_points = options_.factors.stereo_map_effective_points;
+    term.truncation_m = options_.factors.stereo_map_truncation_m;
     if (denseStereo())
         for (const Eigen::Vector3f& p : points.dense)
         {
-            if (p.z() > options_.stereo_map_max_depth_m) continue;
+            if (p.z() > options_.factors.stereo_map_max_depth_m) continue;
             term.p_cam.push_back(p.cast<double>());
-            term.sigma_m.push_back(std::hypot(options_.stereo_map_sigma_m, stereo_cloud_->depthSigma(p.z())));
+            term.sigma_m.push_back(std::hypot(options_.factors.stereo_map_sigma_m, stereo_cloud_->depthSigma(p.z())));
         }
     else
         mapPointsWithSigma(points, term.p_cam, term.sigma_m);
@@ -325,32 +324,27 @@ void Tracker::temporalLandmarks(StereoPoints current, std::vector<estimation::Te
     prev_stereo_of_left_ = std::move(current.stereo_of_left);
 }
 
-FrameReport Tracker::track(const dataset::StereoFrame& frame)
+bool Tracker::updateStandstill(const dataset::StereoFrame& frame)
 {
-    core::require(initialized_, "Tracker::track", "initialize() must be called first");
-    const std::string input = "frame " + std::to_string(frame.index) + " (t = " + std::to_string(frame.timestamp) + ")";
-    core::require(frame.timestamp > state_.t, input, "timestamp does not increase");
-    core::require(!frame.imu.empty(), input, "no IMU sample since the previous frame");
-    mrpt::system::CTicTac total, tic;
-    FrameReport rep;
-    rep.t = frame.timestamp;
-
-    // 1. IMU prediction (after a standstill since the start, from its bias and zero velocity).
-    if (standstill_)
+    if (!standstill_) return false;
+    standstill_->add(frame.imu);
+    if (standstill_->moved())
     {
-        standstill_->add(frame.imu);
-        if (standstill_->moved())
-            standstill_.reset();
-        else if (const auto still = standstill_->estimate())
-        {
-            applyStandstill(*still);
-            rep.standing = true;
-        }
+        standstill_.reset();
+        return false;
     }
+    const auto still = standstill_->estimate();
+    if (still) applyStandstill(*still);
+    return bool(still);
+}
+
+estimation::FrameState Tracker::predict(const dataset::StereoFrame& frame, estimation::ImuPreintegration& imu,
+                                        FrameReport& rep) const
+{
+    mrpt::system::CTicTac tic;
     std::vector<estimation::ImuMeasurement> samples;
     samples.reserve(frame.imu.size());
     for (const auto& s : frame.imu) samples.push_back({s.t, s.acc, s.gyro});
-    estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     imu.integrateInterval(samples, state_.t, frame.timestamp);
     estimation::FrameState predicted = state_;
     predicted.t = frame.timestamp;
@@ -360,127 +354,78 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     rep.prior_sigma_m = std::max(sigma_m, options_.min_prior_sigma_m);
     rep.prior_sigma_deg = std::max(sigma_rad / kDeg, options_.min_prior_sigma_deg);
     rep.ms_predict = tic.Tac() * 1e3;
+    return predicted;
+}
 
-    // The stereo points of this frame depend on the images alone: with concurrent_stages they are extracted on the
-    // worker thread while the map alignment runs on this one.
-    const bool concurrent = options_.temporal_landmarks && options_.concurrent_stages && cv::getNumThreads() > 1;
-    StereoPoints stereo_points;
-    std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
-    if (concurrent)
-    {
-        if (!worker_) worker_ = std::make_unique<core::WorkerThread>();
-        worker_->start([this, &frame, &stereo_points, &camera_lines] {
-            stereo_points = extractStereo(frame);
-            if (options_.map_lines) camera_lines = cameraLines(frame.left);
-        });
-    }
-    // Whatever happens below, the worker's task (which uses this frame's locals) ends before they do.
-    struct WaitAtExit
-    {
-        core::WorkerThread* w;
-        ~WaitAtExit()
-        {
-            if (w) try { w->wait(); } catch (...) {}
-        }
-    } wait_at_exit{concurrent ? worker_.get() : nullptr};
-
-    // 2. Map alignment on keyframes.
-    estimation::WindowInput in;
-    std::shared_ptr<const estimation::DirectAlignmentModel> direct_model;  // map_term = factor: alive until the window
-    std::optional<Eigen::Isometry3d> aligned_T_map_body;                     // ... and its linearisation point
-    std::optional<Eigen::Isometry3d> aligned_T_world_cam;  // structural factors: the aligned pose they associate at
-    rep.keyframe = options_.map_updates && options_.map_term != "none" && frames_ % size_t(options_.keyframe_every) == 0;
-    if (rep.keyframe)
-    {
-        tic.Tic();
-        refiner_.setImage(frame.left, stereo_.left.model, false);
-        rep.ms_image = tic.Tac() * 1e3;
-        tic.Tic();
-        const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
-        const auto r = refiner_.refine(estimation::RefinementMethod::Direct, T_world_cam_pred, rep.prior_sigma_m,
-                                       rep.prior_sigma_deg * kDeg);
-        rep.ms_align = tic.Tac() * 1e3;
-        rep.correction_m = core::translationDistance(r.T_world_cam, T_world_cam_pred);
-        rep.correction_deg = core::rotationDistanceRad(r.T_world_cam, T_world_cam_pred) / kDeg;
-        rep.edge_inlier_ratio = r.direct.final_inlier_ratio;
-        rep.edge_points = r.direct.edge_points;
-        // The gate: max_correction_*, or three predicted sigmas when the prediction is less certain than that
-        // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
-        rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
-                         rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
-        if (rep.map_update && (options_.map_lines || options_.map_points || options_.map_planes))
-            aligned_T_world_cam = r.T_world_cam;
-        if (rep.map_update && options_.map_term == "factor")
-        {
-            // The edge residuals themselves in the window, linearised from the alignment's pose.
-            direct_model = r.direct_model;
-            estimation::DirectEdgeTerm d;
-            d.field = &refiner_.edgeField();
-            d.model = direct_model.get();
-            d.camera = &stereo_.left.model;
-            d.sigma_px = options_.direct_factor_sigma_px;
-            d.effective_points = options_.direct_factor_effective_points;
-            // The pyramid's kernel even after a fine pass: the window's factor on the fine kernel tracked worse
-            // (30 s, six sequences x three seeds: lower ATE than without the fine pass in 8/18 runs, against
-            // 10/18 with this kernel).
-            d.truncation_px = refiner_.options().direct.truncation_px;
-            d.huber_px = refiner_.options().direct.huber_px;
-            in.direct_terms.push_back(d);
-            aligned_T_map_body = r.T_world_cam * T_body_cam_.inverse();
-        }
-        else if (rep.map_update)
-        {
-            estimation::PoseMeasurement m;
-            m.T_map_body = r.T_world_cam * T_body_cam_.inverse();
-            const double sr = options_.direct_sigma_deg * kDeg, sm = options_.direct_sigma_m;
-            const estimation::Matrix6d info_cam = options_.map_information == "observability"
-                                                      ? estimation::observabilityMapInformation(r.direct.hessian, sr, sm)
-                                                      : estimation::fixedMapInformation(sr, sm);
-            m.information = estimation::cameraToBodyInformation(info_cam, T_body_cam_);
-            in.pose_measurements.push_back(m);
-        }
-        misses_ = rep.map_update ? 0 : misses_ + 1;
-    }
-    // The map side of the line factors needs only the quasi-image: done here, while the worker may still be
-    // detecting the camera's segments.
-    std::vector<MapLine> map_lines;
-    if (aligned_T_world_cam && options_.map_lines) map_lines = quasiImageLines(rep);
-    rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
-
-    // 3. Temporal stereo landmarks (their left/right keypoints of this frame are kept for the next one).
+Tracker::MapAlignment Tracker::alignToMap(const dataset::StereoFrame& frame, const estimation::FrameState& predicted,
+                                          estimation::WindowInput& in, FrameReport& rep)
+{
+    MapAlignment a;
+    mrpt::system::CTicTac tic;
+    refiner_.setImage(frame.left, stereo_.left.model, false);
+    rep.ms_image = tic.Tac() * 1e3;
     tic.Tic();
-    if (concurrent)
-    {
-        worker_->wait();
-        wait_at_exit.w = nullptr;
-    }
-    else if (options_.temporal_landmarks)
-        stereo_points = extractStereo(frame);
-    if (aligned_T_world_cam && options_.map_planes && options_.temporal_landmarks)
-        addMapPlanes(stereo_points, *aligned_T_world_cam, in, rep);
-    if (aligned_T_world_cam && options_.map_points && options_.temporal_landmarks)
-        addMapPoints(stereo_points.left, *aligned_T_world_cam, in, rep);
-    if (aligned_T_world_cam && options_.map_lines)
-    {
-        if (!concurrent) camera_lines = cameraLines(frame.left);
-        addMapLines(camera_lines, map_lines, *aligned_T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
-    }
-    if (options_.temporal_landmarks && options_.map_updates && options_.stereo_map_factor && distance_field_)
+    const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
+    const auto r = refiner_.refine(estimation::RefinementMethod::Direct, T_world_cam_pred, rep.prior_sigma_m,
+                                   rep.prior_sigma_deg * kDeg);
+    rep.ms_align = tic.Tac() * 1e3;
+    rep.correction_m = core::translationDistance(r.T_world_cam, T_world_cam_pred);
+    rep.correction_deg = core::rotationDistanceRad(r.T_world_cam, T_world_cam_pred) / kDeg;
+    rep.edge_inlier_ratio = r.direct.final_inlier_ratio;
+    rep.edge_points = r.direct.edge_points;
+    // The gate: max_correction_*, or three predicted sigmas when the prediction is less certain than that
+    // (after a global initialisation, or after misses): a correction the prediction allows is not an outlier.
+    rep.map_update = r.success && rep.correction_m <= std::max(options_.max_correction_m, 3 * rep.prior_sigma_m) &&
+                     rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
+    misses_ = rep.map_update ? 0 : misses_ + 1;
+    if (!rep.map_update) return a;
+    const MapFactorOptions& f = options_.factors;
+    if (f.map_lines || f.map_points || f.map_planes) a.T_world_cam = r.T_world_cam;
+    // The edge residuals themselves in the window, linearised from the alignment's pose.
+    a.model = r.direct_model;
+    estimation::DirectEdgeTerm d;
+    d.field = &refiner_.edgeField();
+    d.model = a.model.get();
+    d.camera = &stereo_.left.model;
+    d.sigma_px = f.direct_factor_sigma_px;
+    d.effective_points = f.direct_factor_effective_points;
+    d.truncation_px = refiner_.options().direct.truncation_px;
+    d.huber_px = refiner_.options().direct.huber_px;
+    in.direct_terms.push_back(d);
+    a.T_map_body = r.T_world_cam * T_body_cam_.inverse();
+    return a;
+}
+
+void Tracker::addVisualTerms(StereoPoints stereo_points, const std::vector<frontend::LineSegment>& camera_lines,
+                             const std::vector<MapLine>& map_lines, const MapAlignment& a, estimation::WindowInput& in,
+                             FrameReport& rep)
+{
+    const MapFactorOptions& f = options_.factors;
+    if (a.T_world_cam && f.map_planes && options_.temporal_landmarks)
+        addMapPlanes(stereo_points, *a.T_world_cam, in, rep);
+    if (a.T_world_cam && f.map_points && options_.temporal_landmarks)
+        addMapPoints(stereo_points.left, *a.T_world_cam, in, rep);
+    if (a.T_world_cam && f.map_lines)
+        addMapLines(camera_lines, map_lines, *a.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
+    if (options_.temporal_landmarks && options_.map_updates && f.stereo_map_factor && distance_field_)
         addStereoMapTerm(stereo_points, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
+    last_dense_ = std::move(stereo_points.dense);
     if (options_.temporal_landmarks) temporalLandmarks(std::move(stereo_points), in.landmarks);
     rep.landmarks = int(in.landmarks.size());
-    rep.ms_visual = tic.Tac() * 1e3;
+}
 
-    // 4. The two-frame window.
-    tic.Tic();
+void Tracker::solveWindow(const estimation::FrameState& predicted, const estimation::ImuPreintegration& imu,
+                          const MapAlignment& a, estimation::WindowInput& in, FrameReport& rep)
+{
+    mrpt::system::CTicTac tic;
     in.stereo = &stereo_;
     in.has_previous = true;
     in.previous = state_;
     in.prior = prior_;
     in.imu = &imu;
     in.current = predicted;
-    if (aligned_T_map_body) in.current.T_map_body = *aligned_T_map_body;
+    if (a.T_map_body) in.current.T_map_body = *a.T_map_body;
     estimation::WindowResult result;
     if (estimation::estimateWindow(estimator_, reweighting_, in, result))
     {
@@ -499,6 +444,73 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     rep.gyro_bias = state_.gyro_bias;
     rep.acc_bias = state_.acc_bias;
     biasSigmas(prior_, rep.gyro_bias_sigma, rep.acc_bias_sigma);
+}
+
+FrameReport Tracker::track(const dataset::StereoFrame& frame)
+{
+    core::require(initialized_, "Tracker::track", "initialize() must be called first");
+    const std::string input = "frame " + std::to_string(frame.index) + " (t = " + std::to_string(frame.timestamp) + ")";
+    core::require(frame.timestamp > state_.t, input, "timestamp does not increase");
+    core::require(!frame.imu.empty(), input, "no IMU sample since the previous frame");
+    mrpt::system::CTicTac total, tic;
+    FrameReport rep;
+    rep.t = frame.timestamp;
+
+    // 1. IMU prediction (after a standstill since the start, from its bias and zero velocity).
+    rep.standing = updateStandstill(frame);
+    estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
+    const estimation::FrameState predicted = predict(frame, imu, rep);
+
+    // The stereo points of this frame depend on the images alone: with concurrent_stages they are extracted on the
+    // worker thread while the map alignment runs on this one.
+    const bool concurrent = options_.temporal_landmarks && options_.concurrent_stages && cv::getNumThreads() > 1;
+    StereoPoints stereo_points;
+    std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
+    if (concurrent)
+    {
+        if (!worker_) worker_ = std::make_unique<core::WorkerThread>();
+        worker_->start([this, &frame, &stereo_points, &camera_lines] {
+            stereo_points = extractStereo(frame);
+            if (options_.factors.map_lines) camera_lines = cameraLines(frame.left);
+        });
+    }
+    // Whatever happens below, the worker's task (which uses this frame's locals) ends before they do.
+    struct WaitAtExit
+    {
+        core::WorkerThread* w;
+        ~WaitAtExit()
+        {
+            if (w) try { w->wait(); } catch (...) {}
+        }
+    } wait_at_exit{concurrent ? worker_.get() : nullptr};
+
+    // 2. Map alignment on keyframes (its model stays alive until the window has used it).
+    estimation::WindowInput in;
+    rep.keyframe = options_.map_updates && options_.map_term != MapTerm::None &&
+                   frames_ % size_t(options_.keyframe_every) == 0;
+    const MapAlignment alignment = rep.keyframe ? alignToMap(frame, predicted, in, rep) : MapAlignment{};
+    // The map side of the line factors needs only the quasi-image: done here, while the worker may still be
+    // detecting the camera's segments.
+    std::vector<MapLine> map_lines;
+    if (alignment.T_world_cam && options_.factors.map_lines) map_lines = quasiImageLines(rep);
+    rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
+
+    // 3. The frame's stereo points: temporal landmarks (kept for the next frame) and the map factors on them.
+    tic.Tic();
+    last_dense_.clear();
+    if (concurrent)
+    {
+        worker_->wait();
+        wait_at_exit.w = nullptr;
+    }
+    else if (options_.temporal_landmarks)
+        stereo_points = extractStereo(frame);
+    if (alignment.T_world_cam && options_.factors.map_lines && !concurrent) camera_lines = cameraLines(frame.left);
+    addVisualTerms(std::move(stereo_points), camera_lines, map_lines, alignment, in, rep);
+    rep.ms_visual = tic.Tac() * 1e3;
+
+    // 4. The two-frame window.
+    solveWindow(predicted, imu, alignment, in, rep);
     rep.ms_total = total.Tac() * 1e3;
     return rep;
 }

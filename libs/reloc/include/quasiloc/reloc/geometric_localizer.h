@@ -123,6 +123,14 @@ class GeometricLocalizer
      *  map) for an empty map, a field too large, or no free position. `map` must outlive the localizer. */
     GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig, const GeometricLocalizationOptions& o,
                        const std::string& input = "map");
+    /** The same with a distance field built by buildField() and shared with others (tracking::MapContext). */
+    GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig, const GeometricLocalizationOptions& o,
+                       std::shared_ptr<const map::DistanceField> field, const std::string& input = "map");
+    /** The distance field of `o` (field_voxel_m, field_max_distance_m). InputError naming `input` as the
+     *  constructor. */
+    static std::shared_ptr<const map::DistanceField> buildField(const map::LidarMap& map,
+                                                                const GeometricLocalizationOptions& o,
+                                                                const std::string& input);
     ~GeometricLocalizer();
 
     /** Localizes one raw stereo pair; up_cam: world +z (the opposite of gravity) in the left camera frame. */
@@ -144,7 +152,7 @@ class GeometricLocalizer
      *  checks, independently of its own map term, that it is where it believes it is. */
     double inlierRatio(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3d& T_world_cam) const;
 
-    const map::DistanceField& field() const { return field_; }
+    const map::DistanceField& field() const { return *field_; }
     size_t positions() const { return positions_.size(); }
 
     /** Point-to-point ICP of T_world_cam against the map points (the polish stage alone). Not thread-safe. */
@@ -156,7 +164,7 @@ class GeometricLocalizer
     const map::LidarMap* map_;
 
     GeometricLocalizationOptions options_;
-    map::DistanceField field_;
+    std::shared_ptr<const map::DistanceField> field_;
     StereoCloud stereo_;
     std::vector<Eigen::Vector3d> positions_;  ///< candidate camera positions (world)
 };

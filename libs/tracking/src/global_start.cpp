@@ -1,28 +1,28 @@
-#include "global_start.h"
+#include <quasiloc/tracking/global_start.h>
 
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 
 #include <chrono>
 #include <iomanip>
-#include <iostream>
 #include <map>
 #include <sstream>
 
-namespace quasiloc::app
+namespace quasiloc::tracking
 {
-GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& rig, const tracking::TrackerOptions& o,
+GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, const InitializationOptions& o,
                              const reloc::GeometricLocalizationOptions& localization,
-                             const estimation::MapRefinementOptions& refinement, quasi::QuasiRenderer& renderer,
-                             frontend::Frontend& frontend, const Eigen::Isometry3d& T_body_cam,
-                             const estimation::ImuNoise& imu_noise, const std::string& map_name)
-    : refiner_(std::make_unique<estimation::MapRefiner>(refinement, renderer, frontend)),
+                             const estimation::MapRefinementOptions& refinement, frontend::Frontend& frontend,
+                             const estimation::ImuNoise& imu_noise, std::ostream& console)
+    : refiner_(std::make_unique<estimation::MapRefiner>(refinement, context.searchRenderer(), frontend)),
       camera_(rig.left),
-      T_body_cam_(T_body_cam),
-      imu_noise_(imu_noise)
+      T_body_cam_(core::toIsometry(rig.T_body_left)),
+      imu_noise_(imu_noise),
+      out_(console)
 {
     const auto t0 = std::chrono::steady_clock::now();
-    localizer_ = std::make_unique<reloc::GeometricLocalizer>(map, rig, localization, map_name);
+    localizer_ = std::make_unique<reloc::GeometricLocalizer>(context.map(), rig, localization,
+                                                             context.distanceField(localization), context.name());
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     init_options_.velocity_interval_s = o.init_velocity_interval_s;
     init_options_.max_disagreement_deg = o.init_max_disagreement_deg;
@@ -34,13 +34,13 @@ GlobalStarter::GlobalStarter(const map::LidarMap& map, const core::StereoRig& ri
       << "# occasion, t, localized, inlier_ratio, runner_up_inlier_ratio, runner_up_offset_m, runner_up_offset_deg, "
          "query_points, candidates, ms_cloud, ms_search, ms_refine, error_m, error_deg, search_radius_m, note\n";
     record_ = r.str();
-    std::cout << "global localization by geometry ready (" << localizer_->positions() << " candidate positions, "
+    out_ << "global localization by geometry ready (" << localizer_->positions() << " candidate positions, "
               << std::fixed << std::setprecision(0) << ms << " ms)" << std::endl;
 }
 
 GlobalStarter::~GlobalStarter() = default;
 
-std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::function<bool(dataset::StereoFrame&)>& next,
+std::optional<GlobalInitialState> GlobalStarter::find(const std::function<bool(dataset::StereoFrame&)>& next,
                                                                 const std::string& label)
 {
     begin(label);
@@ -52,12 +52,12 @@ std::optional<tracking::GlobalInitialState> GlobalStarter::find(const std::funct
     return std::nullopt;
 }
 
-void GlobalStarter::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior,
+void GlobalStarter::begin(const std::string& label, const std::optional<SearchPrior>& prior,
                           bool single_fix)
 {
-    tracking::GlobalInitOptions options = init_options_;
+    GlobalInitOptions options = init_options_;
     options.single_fix = single_fix;
-    init_ = std::make_unique<tracking::GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, options);
+    init_ = std::make_unique<GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, options);
     if (prior) init_->setSearchPrior(*prior);
     init_->setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
         refiner_->setImage(frame.left, camera_, false);
@@ -74,16 +74,16 @@ void GlobalStarter::begin(const std::string& label, const std::optional<tracking
     truth_.clear();
 }
 
-std::optional<tracking::GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f, bool attempt)
+std::optional<GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f, bool attempt)
 {
     core::require(bool(init_), "GlobalStarter", "feed() without begin()");
     std::ostringstream r;
     r << std::fixed << std::setprecision(3);
     if (f.T_world_cam0) truth_[f.timestamp] = *f.T_world_cam0;
-    std::optional<tracking::GlobalInitialState> start = init_->feed(f, attempt);
+    std::optional<GlobalInitialState> start = init_->feed(f, attempt);
     for (; reported_ < init_->attempts().size(); ++reported_)
     {
-        const tracking::InitAttempt& a = init_->attempts()[reported_];
+        const InitAttempt& a = init_->attempts()[reported_];
         double e_m = NAN, e_deg = NAN;
         if (auto it = truth_.find(a.t); it != truth_.end())
         {
@@ -136,7 +136,7 @@ void GlobalStarter::say(const std::string& text)
     if (defer_console_)
         console_ += text;
     else
-        std::cout << text << std::flush;
+        out_ << text << std::flush;
 }
 
 std::string GlobalStarter::takeConsole()
@@ -147,10 +147,12 @@ std::string GlobalStarter::takeConsole()
 }
 
 GlobalStarter::TrackCheck GlobalStarter::checkTrack(const dataset::StereoFrame& frame,
-                                                    const Eigen::Isometry3d& T_world_cam0, double refine_below) const
+                                                    const Eigen::Isometry3d& T_world_cam0, double refine_below,
+                                                    const std::vector<Eigen::Vector3f>& given_points) const
 {
     TrackCheck c;
-    const std::vector<Eigen::Vector3f> points = localizer_->stereoPoints(frame.left, frame.right);
+    const std::vector<Eigen::Vector3f> points =
+        given_points.empty() ? localizer_->stereoPoints(frame.left, frame.right) : given_points;
     c.explained = localizer_->inlierRatio(points, T_world_cam0);
     if (c.explained >= refine_below) return c;
     Eigen::Isometry3d T = T_world_cam0;
@@ -162,4 +164,4 @@ GlobalStarter::TrackCheck GlobalStarter::checkTrack(const dataset::StereoFrame& 
     c.moved_deg = core::rotationDistanceRad(T, T_world_cam0) * 180 / M_PI;
     return c;
 }
-}  // namespace quasiloc::app
+}  // namespace quasiloc::tracking

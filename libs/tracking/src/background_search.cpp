@@ -1,10 +1,10 @@
-#include "background_search.h"
+#include <quasiloc/tracking/background_search.h>
 
 #include <quasiloc/core/error.h>
 
 #include <iostream>
 
-namespace quasiloc::app
+namespace quasiloc::tracking
 {
 BackgroundSearch::~BackgroundSearch()
 {
@@ -12,7 +12,7 @@ BackgroundSearch::~BackgroundSearch()
     starter_.deferConsole(false);
 }
 
-void BackgroundSearch::begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior,
+void BackgroundSearch::begin(const std::string& label, const std::optional<SearchPrior>& prior,
                              bool single_fix)
 {
     core::require(!searching_, "BackgroundSearch", "begin() while a search is under way");
@@ -33,7 +33,7 @@ void BackgroundSearch::collectAndStart()
 {
     if (!searching_ || !worker_.idle()) return;
     worker_.wait();  // idle: returns at once, rethrows the search's error
-    std::cout << starter_.takeConsole() << std::flush;
+    starter_.console() << starter_.takeConsole() << std::flush;
     if (found_)
     {
         result_ = std::move(found_);
@@ -56,7 +56,7 @@ void BackgroundSearch::collectAndStart()
     });
 }
 
-std::optional<tracking::GlobalInitialState> BackgroundSearch::poll()
+std::optional<GlobalInitialState> BackgroundSearch::poll()
 {
     collectAndStart();
     auto r = std::move(result_);
@@ -64,7 +64,7 @@ std::optional<tracking::GlobalInitialState> BackgroundSearch::poll()
     return r;
 }
 
-std::optional<tracking::GlobalInitialState> BackgroundSearch::finish()
+std::optional<GlobalInitialState> BackgroundSearch::finish()
 {
     while (searching_)
     {
@@ -77,4 +77,4 @@ std::optional<tracking::GlobalInitialState> BackgroundSearch::finish()
     return r;
 }
 
-}  // namespace quasiloc::app
+}  // namespace quasiloc::tracking

@@ -1,13 +1,15 @@
-#include "run_log.h"
+#include <quasiloc/tracking/run_log.h>
 
 #include <quasiloc/core/pose.h>
+#include <quasiloc/eval/json_writer.h>
+#include <quasiloc/eval/trajectory_metrics.h>
 
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
-namespace quasiloc::app
+namespace quasiloc::tracking
 {
 namespace
 {
@@ -34,7 +36,7 @@ void RunLog::addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d
     if (frame.T_world_cam0) gt_traj_.poses.push_back({frame.timestamp, *frame.T_world_cam0});
 }
 
-void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport& r, double explained_ratio,
+void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, double explained_ratio,
                       double ms_check, double ms_search)
 {
     traj_.poses.push_back({r.t, core::fromIsometry(r.T_world_cam0)});
@@ -45,6 +47,8 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const tracking::FrameReport
     {
         const Eigen::Isometry3d G = core::toIsometry(*f.T_world_cam0);
         row.error_m = core::translationDistance(r.T_world_cam0, G);
+        row.estimate = core::fromIsometry(r.T_world_cam0);
+        row.truth = *f.T_world_cam0;
         e_deg = core::rotationDistanceRad(r.T_world_cam0, G) * 180 / M_PI;
         gt_traj_.poses.push_back({r.t, *f.T_world_cam0});
     }
@@ -93,30 +97,72 @@ std::string RunLog::csv() const
     return out;
 }
 
-std::string RunLog::summary(size_t frames, int losses, int withdrawn, int relocalizations,
-                            double longest_unverified_s, double longest_wait_s) const
+namespace
 {
-    std::vector<double> err_m, ms;
-    int keyframes = 0, updates = 0, lost_frames = 0;
-    for (const Row& r : rows_)
+/** The figures both summaries report. */
+struct Figures
+{
+    size_t keyframes = 0, updates = 0, lost_frames = 0;
+    eval::AteResult ate;
+    double ms_median = NAN, ms_p90 = NAN, ms_max = NAN;
+};
+}  // namespace
+
+static Figures figuresOf(const std::vector<RunLog::Row>& rows)
+{
+    Figures f;
+    std::vector<eval::PosePair> pairs;
+    std::vector<double> ms;
+    for (const RunLog::Row& r : rows)
     {
-        if (!std::isnan(r.error_m)) err_m.push_back(r.error_m);
+        if (r.estimate && r.truth) pairs.push_back({r.t, r.t, *r.estimate, *r.truth});
         ms.push_back(r.ms);
-        keyframes += r.keyframe, updates += r.map_update, lost_frames += r.lost;
+        f.keyframes += r.keyframe, f.updates += r.map_update, f.lost_frames += r.lost;
     }
-    double sq = 0;
-    for (double e : err_m) sq += e * e;
-    std::ostringstream s;
-    s << std::fixed << std::setprecision(3) << "frames      " << frames << " (keyframes " << keyframes
-      << ", map updates accepted " << updates << ", frames marked lost " << lost_frames << ")\n"
-      << "losses      " << losses << " (withdrawn " << withdrawn << ", relocalizations " << relocalizations
-      << "), longest unverified stretch " << longest_unverified_s << " s (fix found after " << longest_wait_s
-      << " s of replay)\n"
-      << "ATE         RMSE " << 100 * std::sqrt(sq / double(std::max<size_t>(1, err_m.size()))) << " cm, median "
-      << 100 * percentile(err_m, 50) << " cm, max " << 100 * percentile(err_m, 100)
-      << " cm (map frame, no alignment, vs ground truth at " << err_m.size() << " frames)\n"
-      << "time/frame  median " << percentile(ms, 50) << " ms, p90 " << percentile(ms, 90) << " ms, max "
-      << percentile(ms, 100) << " ms\n";
-    return s.str();
+    f.ate = eval::computeAte(pairs, eval::Alignment::None);
+    f.ms_median = percentile(ms, 50), f.ms_p90 = percentile(ms, 90), f.ms_max = percentile(ms, 100);
+    return f;
 }
-}  // namespace quasiloc::app
+
+std::string RunLog::summary(const SessionSummary& s) const
+{
+    const Figures f = figuresOf(rows_);
+    const eval::ErrorStats& e = f.ate.trans_m;
+    std::ostringstream o;
+    o << std::fixed << std::setprecision(3) << "frames      " << s.frames << " (keyframes " << f.keyframes
+      << ", map updates accepted " << f.updates << ", frames marked lost " << f.lost_frames << ")\n"
+      << "losses      " << s.losses << " (withdrawn " << s.withdrawn << ", relocalizations " << s.relocalizations
+      << "), longest unverified stretch " << s.longest_unverified_s << " s (fix found after " << s.longest_wait_s
+      << " s of replay)\n"
+      << "ATE         RMSE " << 100 * (e.count ? e.rmse : 0.0) << " cm, median " << 100 * e.median << " cm, max "
+      << 100 * e.max << " cm (map frame, no alignment, vs ground truth at " << e.count << " frames)\n"
+      << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, max " << f.ms_max << " ms\n";
+    return o.str();
+}
+
+std::string RunLog::summaryJson(const SessionSummary& s) const
+{
+    const Figures f = figuresOf(rows_);
+    eval::JsonWriter j;
+    j.beginObject();
+    j.key("frames").value(s.frames).key("keyframes").value(f.keyframes).key("map_updates").value(f.updates);
+    j.key("frames_marked_lost").value(f.lost_frames);
+    j.key("losses").value(s.losses).key("withdrawn").value(s.withdrawn).key("relocalizations").value(s.relocalizations);
+    j.key("longest_unverified_s").value(s.longest_unverified_s).key("longest_wait_s").value(s.longest_wait_s);
+    j.key("start").beginObject();
+    j.key("t").value(traj_.poses.empty() ? NAN : traj_.poses.front().t);
+    if (s.T_world_cam0_start_truth)
+        j.key("error_m").value(core::translationDistance(s.T_world_cam0_start, *s.T_world_cam0_start_truth))
+            .key("error_deg")
+            .value(core::rotationDistanceRad(s.T_world_cam0_start, *s.T_world_cam0_start_truth) * 180 / M_PI);
+    j.endObject();
+    j.key("ate").beginObject().key("frame").value("map, no alignment").key("count").value(f.ate.trans_m.count);
+    j.key("rmse_m").value(f.ate.trans_m.rmse).key("median_m").value(f.ate.trans_m.median);
+    j.key("max_m").value(f.ate.trans_m.max).key("rmse_deg").value(f.ate.rot_deg.rmse).endObject();
+    j.key("time_per_frame_ms").beginObject().key("median").value(f.ms_median).key("p90").value(f.ms_p90);
+    j.key("max").value(f.ms_max).endObject();
+    j.endObject();
+    return j.str() + "\n";
+}
+
+}  // namespace quasiloc::tracking

@@ -19,9 +19,9 @@
 #include <string>
 #include <vector>
 
-#include "global_start.h"
+#include <quasiloc/tracking/global_start.h>
 
-namespace quasiloc::app
+namespace quasiloc::tracking
 {
 class BackgroundSearch
 {
@@ -34,17 +34,17 @@ class BackgroundSearch
     ~BackgroundSearch();
 
     /** Starts a search (GlobalStarter::begin); none may be under way. */
-    void begin(const std::string& label, const std::optional<tracking::SearchPrior>& prior = std::nullopt,
+    void begin(const std::string& label, const std::optional<SearchPrior>& prior = std::nullopt,
                bool single_fix = false);
     bool searching() const { return searching_; }
     /** Queues a frame for the search; the thread takes the queue whenever it is idle. */
     void push(const dataset::StereoFrame& frame);
     /** Without waiting: the start, if the thread has found one (the search has then ended). Rethrows what the
      *  search threw. */
-    std::optional<tracking::GlobalInitialState> poll();
+    std::optional<GlobalInitialState> poll();
     /** Waits until every queued frame has been searched (or a start found): the start, or nullopt (the search then
      *  stays under way). */
-    std::optional<tracking::GlobalInitialState> finish();
+    std::optional<GlobalInitialState> finish();
 
    private:
     /** Hands the queue to the thread when it is idle; collects a start it found. */
@@ -54,9 +54,9 @@ class BackgroundSearch
     bool latest_only_ = true;
     std::deque<dataset::StereoFrame> queue_;    // this thread's: frames not yet handed over
     std::vector<dataset::StereoFrame> batch_;   // the worker's while it runs
-    std::optional<tracking::GlobalInitialState> found_;  // written by the worker, read once it is idle
-    std::optional<tracking::GlobalInitialState> result_;  // collected, not yet returned
+    std::optional<GlobalInitialState> found_;  // written by the worker, read once it is idle
+    std::optional<GlobalInitialState> result_;  // collected, not yet returned
     bool searching_ = false;
     core::WorkerThread worker_;  // last: destroyed (joined) first
 };
-}  // namespace quasiloc::app
+}  // namespace quasiloc::tracking

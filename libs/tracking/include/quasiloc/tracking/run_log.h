@@ -1,6 +1,6 @@
 #pragma once
-// What quasiloc-track keeps of a run: the estimated and ground-truth trajectories, one diagnostics row per frame,
-// and the summary figures it prints.
+// What a tracking session keeps of a run: the estimated and ground-truth trajectories, one diagnostics row per frame,
+// and the summary figures (printed, and as summary.json; the ATE through libs/eval, map frame, no alignment).
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/frame.h>
 #include <quasiloc/tracking/tracker.h>
@@ -9,8 +9,21 @@
 #include <string>
 #include <vector>
 
-namespace quasiloc::app
+namespace quasiloc::tracking
 {
+/** What a session did, beside its RunLog. */
+struct SessionSummary
+{
+    size_t frames = 0;
+    int losses = 0;           ///< loss declared (rejected alignments or failed geometry checks)
+    int withdrawn = 0;        ///< losses whose fix confirmed the track
+    int relocalizations = 0;  ///< restarts at a fix
+    double longest_unverified_s = 0;  ///< from a confirmed pose to the relocalization that followed a loss
+    double longest_wait_s = 0;        ///< ... and to when its fix was found (replay time)
+    Eigen::Isometry3d T_world_cam0_start = Eigen::Isometry3d::Identity();
+    std::optional<Eigen::Isometry3d> T_world_cam0_start_truth;  ///< the start frame's ground truth, if any
+};
+
 class RunLog
 {
    public:
@@ -20,7 +33,7 @@ class RunLog
     void addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0);
     /** A tracked frame; explained_ratio: the geometry check's share (NaN when not checked), ms_check its wall time,
      *  ms_search the relocalization search's on this frame (both counted in the frame's time). */
-    void addFrame(const dataset::StereoFrame& frame, const tracking::FrameReport& r, double explained_ratio,
+    void addFrame(const dataset::StereoFrame& frame, const FrameReport& r, double explained_ratio,
                   double ms_check, double ms_search);
 
     /** Forgets everything logged at or after time t (starts and frames): a relocalization that finds the track
@@ -35,19 +48,22 @@ class RunLog
     double lastErrorM() const { return rows_.empty() ? NAN : rows_.back().error_m; }
     /** The printed summary: frames, losses (withdrawn: the relocalization's fixes confirmed the track;
      *  relocalizations: restarts), ATE against ground truth, time per frame. */
-    std::string summary(size_t frames, int losses, int withdrawn, int relocalizations, double longest_unverified_s,
-                        double longest_wait_s) const;
+    std::string summary(const SessionSummary& session) const;
+    /** The same figures as JSON (summary.json), for scripts and tests. */
+    std::string summaryJson(const SessionSummary& session) const;
 
-   private:
+    /** One tracked frame (public for the summaries' helpers in run_log.cpp). */
     struct Row
     {
         double t = 0;
         double error_m = NAN;  ///< NaN without ground truth
+        std::optional<mrpt::poses::CPose3D> estimate, truth;  ///< the pair the ATE is computed from
         double ms = 0;
         bool map_update = false, keyframe = false, lost = false;
         std::string csv;
     };
+   private:
     core::Trajectory traj_, gt_traj_;
     std::vector<Row> rows_;
 };
-}  // namespace quasiloc::app
+}  // namespace quasiloc::tracking

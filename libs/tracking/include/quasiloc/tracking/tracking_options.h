@@ -1,0 +1,110 @@
+#pragma once
+// The tracking options, one struct per INI section, each key declared once (core/declared_options.h):
+//   [Tracking]        the tracker: map updates, their gate, the temporal landmarks (TrackerOptions)
+//   [Initialization]  the start: given or by global localization, its uncertainty, static initialization
+//   [MapFactors]      the map's factors in the window: edges, stereo points against surfaces, lines, points, planes
+//   [Relocalization]  the loss check and the relocalization search (TrackingSession)
+//   [Kidnap]          a test hook of the loss recovery, not a product setting
+// docs/options.md lists every key with its unit, range, default and documentation; docs/experiments.md the
+// measurements behind the defaults.
+#include <quasiloc/core/declared_options.h>
+
+#include <string>
+
+namespace quasiloc::tracking
+{
+/** What carries the map's edges into the window. */
+enum class MapTerm
+{
+    Auto,    ///< Factor when the map's reflectivity varies, None when it is constant (e.g. sampled from a GMM)
+    Factor,  ///< the edge residuals as a window factor, linearised from the alignment's pose (direct_factor.h)
+    None     ///< no edge alignment (the stereo surface factor alone)
+};
+
+enum class InitMode
+{
+    GroundTruth,  ///< the first frames' ground truth gives the pose and velocity
+    Global        ///< global localization by geometry of two frames and the IMU between them
+};
+
+/** Which stereo points the surface factor uses. */
+enum class StereoMapPoints
+{
+    Dense,  ///< the frame's SGBM cloud (reloc/stereo_cloud.h)
+    Sparse  ///< the ORB stereo matches of the temporal landmarks
+};
+
+struct InitializationOptions : public core::DeclaredOptions
+{
+    InitMode init = InitMode::GroundTruth;
+    double init_sigma_m = 0.01, init_sigma_deg = 0.1, init_sigma_v = 0.05;
+    double init_velocity_interval_s = 0.5, init_max_disagreement_deg = 2.0, init_max_speed_m_s = 4.0;
+    double init_global_sigma_m = 0.05, init_global_sigma_deg = 1.0, init_global_sigma_v = 0.15;
+    bool static_initialization = true;
+    void declare(core::OptionTable& t) override;
+};
+
+struct MapFactorOptions : public core::DeclaredOptions
+{
+    double direct_factor_sigma_px = 2.0, direct_factor_effective_points = 25;
+    bool stereo_map_factor = true;
+    double stereo_map_sigma_m = 0.02, stereo_disparity_sigma_px = 0.5, stereo_map_effective_points = 50;
+    double stereo_map_truncation_m = 0.15, stereo_map_max_depth_m = 6;
+    StereoMapPoints stereo_map_points = StereoMapPoints::Dense;
+    bool map_lines = false;
+    double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;
+    double line_max_angle_deg = 5;
+    int line_max_candidates = 3;
+    bool map_points = false;
+    double point_window_px = 3, point_sigma_px = 1.5;
+    bool map_planes = false;
+    double plane_effective_points = 50;
+    void declare(core::OptionTable& t) override;
+    void check(const std::string& input) const;
+};
+
+struct TrackerOptions : public core::DeclaredOptions
+{
+    bool map_updates = true;
+    int keyframe_every = 1;
+    MapTerm map_term = MapTerm::Auto;
+    double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
+    double max_correction_m = 0.15, max_correction_deg = 1.5;
+    int lost_after_misses = 20;
+    bool temporal_landmarks = true;
+    double temporal_window_px = 60;
+    int max_landmarks = 150;
+    bool concurrent_stages = true;
+    InitializationOptions initialization;  ///< [Initialization]
+    MapFactorOptions factors;              ///< [MapFactors]
+    void declare(core::OptionTable& t) override;
+};
+
+/** [Tracking] as a session reads it: the tracker's keys and the run's inputs and outputs. */
+struct TrackingRunOptions : public TrackerOptions
+{
+    std::string input_rawlog, calibration_ini, map_file, groundtruth, output_dir = "out/track";
+    int max_frames = 0;
+    bool write_scene = true;
+    void declare(core::OptionTable& t) override;
+};
+
+struct RelocalizationOptions : public core::DeclaredOptions
+{
+    bool relocalize = true;
+    bool relocalize_latest_only = true;
+    double relocalize_near_m = 0.5, relocalize_speed_m_s = 1.5;
+    bool relocalize_single_fix = true;
+    int check_every = 5;
+    double lost_explained_ratio = 0.7, lost_min_gain = 0.05, lost_explained_floor = 0.45;
+    void declare(core::OptionTable& t) override;
+    void check(const std::string& input) const;
+};
+
+struct KidnapOptions : public core::DeclaredOptions
+{
+    double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
+    void declare(core::OptionTable& t) override;
+};
+
+}  // namespace quasiloc::tracking

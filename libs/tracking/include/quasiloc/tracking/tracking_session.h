@@ -1,0 +1,111 @@
+#pragma once
+// A tracking session: the product's policy around the tracker, driven frame by frame from a FrameSource.
+//   start         from the ground truth of the first frames, or by global localization by geometry
+//                 ([Initialization] init; GlobalStarter), after a static initialization when the platform stands;
+//   loss check    every check_every frames the frame's stereo points against the map at the tracked pose
+//                 ([Relocalization]); two failed checks in a row, or lost_after_misses rejected alignments: lost;
+//   relocalize    global localization on its own thread (BackgroundSearch) while the tracker goes on; a fix that
+//                 agrees with the track withdraws the loss, otherwise the tracker restarts at the fix and the
+//                 frames since are tracked again.
+// quasiloc-track is options -> session -> outputs; the unit tests drive the session without the program.
+#include <mrpt/system/CTimeLogger.h>
+
+#include <deque>
+#include <memory>
+#include <optional>
+#include <ostream>
+#include <quasiloc/dataset/calibration.h>
+#include <quasiloc/dataset/frame_source.h>
+#include <quasiloc/estimation/estimator_options.h>
+#include <quasiloc/estimation/map_refinement.h>
+#include <quasiloc/estimation/reweighting.h>
+#include <quasiloc/frontend/frontend.h>
+#include <quasiloc/reloc/geometric_localizer.h>
+#include <quasiloc/tracking/background_search.h>
+#include <quasiloc/tracking/global_start.h>
+#include <quasiloc/tracking/map_context.h>
+#include <quasiloc/tracking/run_log.h>
+#include <quasiloc/tracking/tracker.h>
+#include <quasiloc/tracking/tracking_options.h>
+
+namespace quasiloc::tracking
+{
+/** Every option of a session, one INI section each (quasi-image options belong to the MapContext). */
+struct SessionOptions
+{
+    TrackingRunOptions tracker;                       ///< [Tracking] + [Initialization] + [MapFactors]
+    RelocalizationOptions relocalization;             ///< [Relocalization]
+    KidnapOptions kidnap;                             ///< [Kidnap] (test hook)
+    reloc::GeometricLocalizationOptions localization;  ///< [GeometricLocalization]
+    estimation::MapRefinementOptions refinement;      ///< [MapRefinement] + [DirectAlignment]
+    estimation::EstimatorOptions estimator;           ///< [Estimator]
+    estimation::ReweightingOptions reweighting;       ///< [Reweighting]
+    frontend::FrontendOptions frontend;               ///< [Features] [PointMatching] [Lines] [Stereo]
+
+    /** Loads and checks every section (unknown keys are errors naming `config_name`). */
+    void load(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name);
+    /** The sections for core::writeEffectiveConfig. */
+    std::vector<core::OptionsSection> sections() const;
+};
+
+class TrackingSession
+{
+   public:
+    /** `context`, `source` and `console` must outlive the session. InputError for bad options or calibration. */
+    TrackingSession(const SessionOptions& options, MapContext& context, dataset::FrameSource& source,
+                    const dataset::ImuCalibration& imu, std::ostream& console);
+    ~TrackingSession();
+
+    /** Starts and tracks to the end of the frames (or max_frames). InputError naming `input` when no start is found
+     *  or the frames end right after it. */
+    SessionSummary run(const std::string& input);
+
+    const RunLog& log() const { return log_; }
+    /** initialization.txt: every attempt of global localization (empty without a starter). */
+    std::string initializationRecord() const { return starter_ ? starter_->record() : std::string(); }
+    bool hasStarter() const { return bool(starter_); }
+    const Tracker& tracker() const { return *tracker_; }
+    /** Per-stage wall time over the run (one timer, mrpt's CTimeLogger): what --print-timing prints. */
+    std::string timing() const;
+
+   private:
+    bool nextFrame(dataset::StereoFrame& out);
+    void startFromGroundTruth(const std::string& input);
+    void startGlobally(const std::string& input);
+    void trackFrame(dataset::StereoFrame& f);
+    /** The geometry check of the tracked pose; returns its explained share (NaN when not checked). */
+    double checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
+    void kidnapIfDue(const FrameReport& r);
+    /** A loss begins a relocalization search; a search under way gets the frame. True when it restarted the track. */
+    bool relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
+    /** A fix: the loss is withdrawn when it agrees with the track, else the tracker restarts there. */
+    bool settle(const GlobalInitialState& found, double t_now);
+    void finishSearch(dataset::StereoFrame& f, bool& have_frame);
+    void recordTiming(const FrameReport& r, double ms_check, double ms_search);
+
+    SessionOptions options_;
+    MapContext& context_;
+    dataset::FrameSource& source_;
+    dataset::ImuCalibration imu_;
+    std::ostream& out_;
+    Eigen::Isometry3d T_body_cam_;
+    std::unique_ptr<frontend::Frontend> frontend_;
+    std::unique_ptr<reloc::StereoCloud> stereo_cloud_;  ///< stereo_map_points = dense
+    std::unique_ptr<Tracker> tracker_;
+    std::unique_ptr<GlobalStarter> starter_;
+    std::optional<BackgroundSearch> search_;
+    RunLog log_;
+    mutable mrpt::system::CTimeLogger timer_{true, "quasiloc-track"};
+    SessionSummary summary_;
+    std::deque<dataset::StereoFrame> queued_;  ///< read but not yet tracked (the start's, or to track again)
+    /** Frames tracked since the search began, with the track's state at each (a restart tracks the later ones
+     *  again, from the biases the track had at the fix). */
+    std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
+    ImuBiasPrior start_biases_;
+    double t_start_ = 0, last_verified_t_ = 0;
+    int failed_checks_ = 0;  ///< consecutive failed geometry checks
+    bool kidnapped_ = false;
+    size_t n_ = 0;  ///< frames tracked (and started from)
+};
+
+}  // namespace quasiloc::tracking

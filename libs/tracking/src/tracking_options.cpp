@@ -1,0 +1,139 @@
+#include <quasiloc/core/error.h>
+#include <quasiloc/tracking/tracking_options.h>
+
+namespace quasiloc::tracking
+{
+using core::Range;
+
+void InitializationOptions::declare(core::OptionTable& t)
+{
+    t.addEnum("init", init, {{"groundtruth", InitMode::GroundTruth}, {"global", InitMode::Global}},
+              "the start: the first frames' ground truth, or global localization by geometry (no initial guess)");
+    t.add("init_sigma_m", init_sigma_m, "m", Range::above(0), "uncertainty of a given start (groundtruth)");
+    t.add("init_sigma_deg", init_sigma_deg, "deg", Range::above(0), "");
+    t.add("init_sigma_v", init_sigma_v, "m/s", Range::above(0), "");
+    t.add("init_velocity_interval_s", init_velocity_interval_s, "s", Range::above(0),
+          "global: time between the two fixes that give the velocity");
+    t.add("init_max_disagreement_deg", init_max_disagreement_deg, "deg", Range::above(0),
+          "global: the fixes' relative rotation must agree with the bias-corrected gyroscope's");
+    t.add("init_max_speed_m_s", init_max_speed_m_s, "m/s", Range::above(0), "global: faster pairs are rejected");
+    t.add("init_global_sigma_m", init_global_sigma_m, "m", Range::above(0),
+          "uncertainty of a start (or restart) by global localization");
+    t.add("init_global_sigma_deg", init_global_sigma_deg, "deg", Range::above(0), "");
+    t.add("init_global_sigma_v", init_global_sigma_v, "m/s", Range::above(0), "");
+    t.add("static_initialization", static_initialization,
+          "a platform standing still from the first IMU sample measures its gyroscope bias (static_initialization.h)");
+}
+
+void MapFactorOptions::declare(core::OptionTable& t)
+{
+    t.add("direct_factor_sigma_px", direct_factor_sigma_px, "px", Range::above(0),
+          "pixel sigma of the map-edge residuals in the window (direct_factor.h)");
+    t.add("direct_factor_effective_points", direct_factor_effective_points, "", Range::above(0),
+          "all edge residuals together count as this many independent observations");
+    t.add("stereo_map_factor", stereo_map_factor,
+          "the stereo points' distance to the map's surfaces as a factor (map_distance_factor.h)");
+    t.add("stereo_map_sigma_m", stereo_map_sigma_m, "m", Range::above(0), "per point: the map's and the field's noise");
+    t.add("stereo_disparity_sigma_px", stereo_disparity_sigma_px, "px", Range::atLeast(0),
+          "per point: disparity noise, z^2 / (f b) times this in depth");
+    t.add("stereo_map_effective_points", stereo_map_effective_points, "", Range::above(0),
+          "all stereo points together count as this many independent observations");
+    t.add("stereo_map_truncation_m", stereo_map_truncation_m, "m", Range::above(0),
+          "points farther than this from the map do not pull (occluders, clutter)");
+    t.add("stereo_map_max_depth_m", stereo_map_max_depth_m, "m", Range::above(0), "farther stereo points are left out");
+    t.addEnum("stereo_map_points", stereo_map_points, {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
+              "dense: the frame's SGBM cloud ([GeometricLocalization] stereo keys); sparse: the ORB stereo matches");
+    t.add("map_lines", map_lines, "point-to-line map factors on keyframes (map_lines.h), reweighted by [Reweighting]");
+    t.add("line_sigma_px", line_sigma_px, "px", Range::above(0), "a camera segment's offset sigma");
+    t.add("line_window_sigmas", line_window_sigmas, "", Range::above(0),
+          "association window: this many predicted pixel sigmas at the median map depth ...");
+    t.add("line_window_min_px", line_window_min_px, "px", Range::above(0), "... clamped to [min, max]");
+    t.add("line_window_max_px", line_window_max_px, "px", Range::above(0), "");
+    t.add("line_max_angle_deg", line_max_angle_deg, "deg", Range::strictlyBetween(0, 90),
+          "a map line and a camera segment associate within this angle");
+    t.add("line_max_candidates", line_max_candidates, "", Range::atLeast(1), "map lines per camera segment at most");
+    t.add("map_points", map_points,
+          "point factors on keyframes: quasi-image keypoints matched by descriptor near their projection (map_points.h)");
+    t.add("point_window_px", point_window_px, "px", Range::above(0),
+          "a match lies within this of the map point's projection at the aligned pose");
+    t.add("point_sigma_px", point_sigma_px, "px", Range::above(0), "");
+    t.add("map_planes", map_planes,
+          "point-to-plane factors with an association distribution on keyframes (map_planes.h)");
+    t.add("plane_effective_points", plane_effective_points, "", Range::above(0),
+          "all plane factors together count as this many independent observations");
+}
+
+void MapFactorOptions::check(const std::string& input) const
+{
+    core::require(line_window_max_px >= line_window_min_px, input + ": [MapFactors] line_window_max_px",
+                  "must be >= line_window_min_px");
+}
+
+void TrackerOptions::declare(core::OptionTable& t)
+{
+    t.add("map_updates", map_updates, "false: no map at all, the visual-inertial (or IMU-only) baselines");
+    t.add("keyframe_every", keyframe_every, "frames", Range::atLeast(1), "a map alignment every N frames");
+    t.addEnum("map_term", map_term, {{"auto", MapTerm::Auto}, {"factor", MapTerm::Factor}, {"none", MapTerm::None}},
+              "map edges in the window: factor; none; auto = factor when the map's reflectivity varies, else none");
+    t.add("min_prior_sigma_m", min_prior_sigma_m, "m", Range::above(0),
+          "the alignment's prior: the predicted sigma, at least this");
+    t.add("min_prior_sigma_deg", min_prior_sigma_deg, "deg", Range::above(0), "");
+    t.add("max_correction_m", max_correction_m, "m", Range::above(0),
+          "larger map corrections are rejected (the gate is 3 predicted sigmas when wider)");
+    t.add("max_correction_deg", max_correction_deg, "deg", Range::above(0), "");
+    t.add("lost_after_misses", lost_after_misses, "frames", Range::atLeast(1),
+          "this many rejected alignments in a row mark the track lost");
+    t.add("temporal_landmarks", temporal_landmarks, "stereo landmarks between consecutive frames (odometry)");
+    t.add("temporal_window_px", temporal_window_px, "px", Range::above(0),
+          "a current keypoint's match lies within this of the previous one");
+    t.add("max_landmarks", max_landmarks, "", Range::atLeast(0), "temporal landmarks per frame at most");
+    t.add("concurrent_stages", concurrent_stages, "stereo extraction on a worker thread beside the map alignment");
+}
+
+void TrackingRunOptions::declare(core::OptionTable& t)
+{
+    t.add("input_rawlog", input_rawlog, "the stereo + IMU rawlog to track (required)");
+    t.add("calibration_ini", calibration_ini, "the rig and [imu] (dataset/calibration.h; required)");
+    t.add("map_file", map_file, "the LiDAR map (map-import's or sim-rawlog's; required)");
+    t.add("groundtruth", groundtruth, "TUM of T_world_cam0: the start for init = groundtruth, and the error table");
+    t.add("output_dir", output_dir, "trajectory.tum, diagnostics.csv, summary.json, ... are written here");
+    t.add("max_frames", max_frames, "frames", Range::atLeast(0), "stop after this many frames (0: all)");
+    t.add("write_scene", write_scene, "also scene.3Dscene (map, ground truth, estimate) for SceneViewer3D");
+    TrackerOptions::declare(t);
+}
+
+void RelocalizationOptions::declare(core::OptionTable& t)
+{
+    t.add("relocalize", relocalize, "check the track against the stereo geometry and relocalize when lost");
+    t.add("relocalize_latest_only", relocalize_latest_only,
+          "the search attempts the newest waiting frame (real time); false: every frame in order (reproducible)");
+    t.add("relocalize_near_m", relocalize_near_m, "m", Range::atLeast(0),
+          "search within this of the last confirmed pose (plus the speed below); 0: the whole map");
+    t.add("relocalize_speed_m_s", relocalize_speed_m_s, "m/s", Range::atLeast(0),
+          "the search sphere grows by this per second since the last confirmed pose");
+    t.add("relocalize_single_fix", relocalize_single_fix,
+          "restart at the first fix with the track's velocity; false: wait for a pair checked by the gyroscope");
+    t.add("check_every", check_every, "frames", Range::atLeast(1), "the geometry check of the tracked pose");
+    t.add("lost_explained_ratio", lost_explained_ratio, "", Range::fromUpTo(0, 1),
+          "a check that explains this share of the stereo points confirms the pose");
+    t.add("lost_min_gain", lost_min_gain, "", Range::above(0),
+          "below it, the check fails when aligning the points to the map explains this much more ...");
+    t.add("lost_explained_floor", lost_explained_floor, "", Range::between(0, 1),
+          "... or when the share is below this; two failed checks in a row: lost");
+}
+
+void RelocalizationOptions::check(const std::string& input) const
+{
+    core::require(lost_explained_floor <= lost_explained_ratio, input + ": [Relocalization] lost_explained_floor",
+                  "must be <= lost_explained_ratio");
+}
+
+void KidnapOptions::declare(core::OptionTable& t)
+{
+    t.add("kidnap_at_s", kidnap_at_s, "s", Range::any(),
+          "a test of loss recovery: this long after the start the tracker is restarted off its pose (< 0: never)");
+    t.add("kidnap_m", kidnap_m, "m", Range::any(), "to its side by this");
+    t.add("kidnap_deg", kidnap_deg, "deg", Range::any(), "turned by this about the camera's y axis");
+}
+
+}  // namespace quasiloc::tracking

@@ -1,0 +1,360 @@
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/core/program_options.h>
+#include <quasiloc/tracking/tracking_session.h>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace quasiloc::tracking
+{
+namespace
+{
+/** The tracker's IMU model from the calibration's [imu] (dataset/calibration.h). */
+estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c)
+{
+    estimation::ImuNoise n;
+    n.gyro_noise_density = c.gyroscope_noise_density;
+    n.acc_noise_density = c.accelerometer_noise_density;
+    n.gyro_random_walk = c.gyroscope_random_walk;
+    n.acc_random_walk = c.accelerometer_random_walk;
+    n.gravity_m_s2 = c.gravity_m_s2;
+    return n;
+}
+
+ImuBiasPrior calibrationBiasPrior(const dataset::ImuCalibration& c)
+{
+    ImuBiasPrior p;
+    p.gyro_bias = c.gyroscope_bias;
+    p.acc_bias = c.accelerometer_bias;
+    p.gyro_sigma = c.gyroscope_bias_sigma;
+    p.acc_sigma = c.accelerometer_bias_sigma;
+    p.source = "calibration";
+    return p;
+}
+
+std::string describe(const ImuBiasPrior& p)
+{
+    std::ostringstream s;
+    s.precision(4);
+    s << "gyroscope bias [" << p.gyro_bias.transpose() << "] +- " << p.gyro_sigma << " rad/s, accelerometer bias ["
+      << p.acc_bias.transpose() << "] +- " << p.acc_sigma << " m/s^2 (" << p.source << ")";
+    return s.str();
+}
+
+double msSince(std::chrono::steady_clock::time_point t0)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+const char* mapTermName(MapTerm t) { return t == MapTerm::Factor ? "factor" : t == MapTerm::None ? "none" : "auto"; }
+}  // namespace
+
+void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::string& name)
+{
+    core::loadOptionsChecked(tracker, cfg, "Tracking", name);
+    core::loadOptionsChecked(tracker.initialization, cfg, "Initialization", name);
+    core::loadOptionsChecked(tracker.factors, cfg, "MapFactors", name);
+    tracker.factors.check(name);
+    core::loadOptionsChecked(relocalization, cfg, "Relocalization", name);
+    relocalization.check(name);
+    core::loadOptionsChecked(kidnap, cfg, "Kidnap", name);
+    core::loadOptionsChecked(localization, cfg, "GeometricLocalization", name);
+    localization.check(name);
+    core::loadOptionsChecked(refinement.direct, cfg, "DirectAlignment", name);
+    core::loadOptionsChecked(refinement, cfg, "MapRefinement", name);
+    refinement.check(name);
+    core::loadOptionsChecked(estimator, cfg, "Estimator", name);
+    estimator.check(name);
+    core::loadOptionsChecked(reweighting, cfg, "Reweighting", name);
+    reweighting.check(name);
+    frontend.load(cfg, name);
+}
+
+std::vector<core::OptionsSection> SessionOptions::sections() const
+{
+    std::vector<core::OptionsSection> s = frontend.sections();
+    s.insert(s.end(), {{"Tracking", &tracker},
+                       {"Initialization", &tracker.initialization},
+                       {"MapFactors", &tracker.factors},
+                       {"Relocalization", &relocalization},
+                       {"Kidnap", &kidnap},
+                       {"GeometricLocalization", &localization},
+                       {"MapRefinement", &refinement},
+                       {"Estimator", &estimator},
+                       {"Reweighting", &reweighting}});
+    return s;
+}
+
+TrackingSession::TrackingSession(const SessionOptions& options, MapContext& context, dataset::FrameSource& source,
+                                 const dataset::ImuCalibration& imu, std::ostream& console)
+    : options_(options),
+      context_(context),
+      source_(source),
+      imu_(imu),
+      out_(console),
+      T_body_cam_(core::toIsometry(source.rig().T_body_left)),
+      frontend_(std::make_unique<frontend::Frontend>(options.frontend))
+{
+    const TrackerOptions& o = options_.tracker;
+    const estimation::ImuNoise noise = imuNoise(imu_);
+    tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting,
+                                         source.rig(), noise, context.renderer(), *frontend_);
+    out_ << "map term: " << mapTermName(tracker_->mapTerm())
+         << (o.map_term != MapTerm::Auto ? ""
+             : context.hasReflectivity() ? " (auto: the map's reflectivity varies)"
+                                         : " (auto: the map's reflectivity is constant)")
+         << std::endl;
+    // Relocalization is a use of the map: the no-map baselines (map_updates = false) stay pure.
+    const bool relocalize = options_.relocalization.relocalize && o.map_updates;
+    if (o.initialization.init == InitMode::Global || relocalize)
+    {
+        starter_ = std::make_unique<GlobalStarter>(context, source.rig(), o.initialization, options_.localization,
+                                                   options_.refinement, *frontend_, noise, out_);
+        starter_->setBiasPrior(calibrationBiasPrior(imu_));
+    }
+    if (o.factors.stereo_map_factor && o.map_updates)
+    {
+        tracker_->setMapDistanceField(context.distanceField(options_.localization).get());
+        if (o.factors.stereo_map_points == StereoMapPoints::Dense)
+        {
+            stereo_cloud_ = std::make_unique<reloc::StereoCloud>(source.rig(), options_.localization.stereo);
+            tracker_->setStereoCloud(stereo_cloud_.get());
+        }
+    }
+    if (starter_ && relocalize) search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
+}
+
+TrackingSession::~TrackingSession() { timer_.clear(true); }  // CTimeLogger dumps what it holds at destruction
+
+std::string TrackingSession::timing() const { return timer_.getStatsAsText(); }
+
+void TrackingSession::recordTiming(const FrameReport& r, double ms_check, double ms_search)
+{
+    const std::pair<const char*, double> stages[] = {
+        {"frame.predict", r.ms_predict}, {"frame.edge_field", r.ms_image}, {"frame.align", r.ms_align},
+        {"frame.visual", r.ms_visual},   {"frame.window", r.ms_window},    {"frame.tracker_total", r.ms_total},
+        {"frame.check", ms_check},       {"frame.search_handover", ms_search}};
+    for (const auto& [name, ms] : stages)
+        if (ms > 0) timer_.registerUserMeasure(name, ms * 1e-3);
+}
+
+bool TrackingSession::nextFrame(dataset::StereoFrame& out)
+{
+    if (queued_.empty()) return source_.next(out);
+    out = std::move(queued_.front());
+    queued_.pop_front();
+    return true;
+}
+
+void TrackingSession::startFromGroundTruth(const std::string& input)
+{
+    // The first two frames with ground truth give the initial pose and velocity; the IMU samples up to the first
+    // of them, if the platform stood still over them, its gyroscope bias.
+    dataset::StereoFrame f0, f1;
+    StaticInitializer still(imu_.gyroscope_noise_density);
+    while (source_.next(f0))
+    {
+        still.add(f0.imu);
+        if (f0.T_world_cam0) break;
+    }
+    core::require(bool(f0.T_world_cam0), input, "no frame with a ground-truth pose");
+    core::require(source_.next(f1) && f1.T_world_cam0, input, "the second frame has no ground-truth pose");
+    const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam_.inverse()).translation();
+    const Eigen::Vector3d p1 = (core::toIsometry(*f1.T_world_cam0) * T_body_cam_.inverse()).translation();
+    const Eigen::Isometry3d T_world_cam = core::toIsometry(*f0.T_world_cam0);
+    const ImuBiasPrior biases = options_.tracker.initialization.static_initialization
+                                    ? withStaticEstimate(calibrationBiasPrior(imu_), still.estimate())
+                                    : calibrationBiasPrior(imu_);
+    tracker_->initialize(f0.timestamp, T_world_cam, (p1 - p0) / (f1.timestamp - f0.timestamp), biases, &f0);
+    start_biases_ = biases;
+    queued_.push_back(std::move(f1));
+    summary_.T_world_cam0_start = T_world_cam;
+    log_.addStart(f0, T_world_cam);
+    t_start_ = f0.timestamp;
+}
+
+void TrackingSession::startGlobally(const std::string& input)
+{
+    auto found = starter_->find([this](dataset::StereoFrame& out) { return source_.next(out); }, "init");
+    core::require(found.has_value(), input,
+                  "global initialisation found no start: no two frames localized by geometry and agreed with the "
+                  "IMU (see the printed attempts)");
+    GlobalInitialState& start = *found;
+    tracker_->initializeFromGlobal(start.anchor.timestamp, start.T_world_cam0, *start.v_world, start.biases,
+                                   &start.anchor);  // a pair: always has a velocity
+    start_biases_ = start.biases;
+    for (auto& p : start.pending) queued_.push_back(std::move(p));
+    summary_.T_world_cam0_start = start.T_world_cam0;
+    log_.addStart(start.anchor, start.T_world_cam0);
+    t_start_ = start.anchor.timestamp;
+    if (start.anchor.T_world_cam0) summary_.T_world_cam0_start_truth = core::toIsometry(*start.anchor.T_world_cam0);
+}
+
+SessionSummary TrackingSession::run(const std::string& input)
+{
+    if (options_.tracker.initialization.init == InitMode::GroundTruth)
+    {
+        startFromGroundTruth(input);
+        summary_.T_world_cam0_start_truth = summary_.T_world_cam0_start;
+    }
+    else
+        startGlobally(input);
+    last_verified_t_ = t_start_;
+    dataset::StereoFrame f;
+    core::require(nextFrame(f), input, "no frame after the initial one");
+    out_ << "IMU biases at the start: " << describe(start_biases_) << std::endl;
+    n_ = 1;
+    bool have_frame = true;
+    while (have_frame)
+    {
+        trackFrame(f);
+        const int max_frames = options_.tracker.max_frames;
+        have_frame = (max_frames <= 0 || int(n_) < max_frames) && nextFrame(f);
+        if (!have_frame) finishSearch(f, have_frame);
+    }
+    if (search_ && search_->searching())
+    {
+        summary_.longest_unverified_s = std::max(summary_.longest_unverified_s, f.timestamp - last_verified_t_);
+        summary_.longest_wait_s = std::max(summary_.longest_wait_s, f.timestamp - last_verified_t_);
+        out_ << "the frames ended during a relocalization search (unverified since t " << std::fixed
+             << std::setprecision(3) << last_verified_t_ << ")" << std::endl;
+    }
+    summary_.frames = n_;
+    return summary_;
+}
+
+void TrackingSession::finishSearch(dataset::StereoFrame& f, bool& have_frame)
+{
+    if (!search_ || !search_->searching()) return;
+    // The frames ended with the search behind: let it finish them (a restart then tracks them again).
+    if (const auto found = search_->finish()) settle(*found, f.timestamp);
+    have_frame = nextFrame(f);
+}
+
+void TrackingSession::trackFrame(dataset::StereoFrame& f)
+{
+    const FrameReport r = tracker_->track(f);
+    ++n_;
+    double ms_check = 0, ms_search = 0;
+    const double explained = checkTrack(f, r, ms_check);
+    kidnapIfDue(r);
+    if (relocalize(f, r, ms_search)) return;  // this frame is among those tracked again
+    log_.addFrame(f, r, explained, ms_check, ms_search);
+    recordTiming(r, ms_check, ms_search);
+    if (n_ % 50 == 0)
+        out_ << "frame " << n_ << ": error " << std::fixed << std::setprecision(3) << log_.lastErrorM() << " m"
+             << std::endl;
+}
+
+double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms)
+{
+    const RelocalizationOptions& o = options_.relocalization;
+    const bool due = n_ % size_t(o.check_every) == 0 || failed_checks_ > 0;
+    if (!search_ || !due || search_->searching()) return NAN;
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto c = starter_->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio, tracker_->lastDenseCloud());
+    ms = msSince(t0);
+    const bool failed =
+        c.refined && (c.refined_explained - c.explained >= o.lost_min_gain || c.explained < o.lost_explained_floor);
+    failed_checks_ = failed ? failed_checks_ + 1 : 0;
+    if (!failed) last_verified_t_ = r.t;
+    if (c.refined)
+        out_ << "check at t " << std::fixed << std::setprecision(3) << r.t << ": explained " << c.explained << ", "
+             << c.refined_explained << " after aligning (moved " << c.moved_m << " m, " << c.moved_deg
+             << " deg): " << (failed ? "failed" : "passed") << std::endl;
+    return c.explained;
+}
+
+void TrackingSession::kidnapIfDue(const FrameReport& r)
+{
+    const KidnapOptions& k = options_.kidnap;
+    if (k.kidnap_at_s < 0 || kidnapped_ || r.t < t_start_ + k.kidnap_at_s) return;
+    kidnapped_ = true;
+    Eigen::Isometry3d T_wrong = r.T_world_cam0;
+    T_wrong.translation() += r.T_world_cam0.linear() * Eigen::Vector3d(k.kidnap_m, 0, 0);
+    T_wrong.linear() = T_wrong.linear() *
+                       Eigen::AngleAxisd(k.kidnap_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    out_ << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted " << k.kidnap_m
+         << " m to the side, " << k.kidnap_deg << " deg turned" << std::endl;
+    tracker_->initialize(r.t, T_wrong, tracker_->state().v_map, tracker_->biasPrior(), nullptr);
+}
+
+bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms)
+{
+    if (!search_) return false;
+    const RelocalizationOptions& o = options_.relocalization;
+    if ((r.lost || failed_checks_ >= 2) && !search_->searching())
+    {
+        // Lost (lost_after_misses rejected alignments, or the stereo geometry fits the map better elsewhere):
+        // global localization looks for a start in the next frames on its own thread while the tracker tracks
+        // on, so a loss that was a false alarm (the view merely poorly explained) costs nothing.
+        failed_checks_ = 0;
+        ++summary_.losses;
+        out_ << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
+        std::optional<SearchPrior> prior;
+        if (o.relocalize_near_m > 0)
+            if (const auto known = log_.poseAt(last_verified_t_))
+                prior = SearchPrior{known->translation(), last_verified_t_, o.relocalize_near_m,
+                                    o.relocalize_speed_m_s};
+        starter_->setBiasPrior(tracker_->biasPrior());
+        search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix);
+    }
+    if (!search_->searching()) return false;
+    // Only the hand-over counts in the frame's time: the search itself runs beside the tracker.
+    const auto t0 = std::chrono::steady_clock::now();
+    since_loss_.emplace_back(f, tracker_->state());
+    search_->push(f);
+    const auto found = search_->poll();
+    ms = msSince(t0);
+    return found && settle(*found, r.t);
+}
+
+bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
+{
+    const double t_fix = found.anchor.timestamp;
+    summary_.longest_unverified_s = std::max(summary_.longest_unverified_s, t_fix - last_verified_t_);
+    summary_.longest_wait_s = std::max(summary_.longest_wait_s, t_now - last_verified_t_);
+    const auto tracked = log_.poseAt(t_fix);
+    const TrackerOptions& o = options_.tracker;
+    const bool agrees = tracked &&
+                        core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
+                        core::rotationDistanceRad(*tracked, found.T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
+    out_ << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
+         << last_verified_t_ << ", found at t " << t_now << "; "
+         << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted") << std::endl;
+    last_verified_t_ = t_fix;
+    if (agrees)
+    {
+        ++summary_.withdrawn;
+        since_loss_.clear();
+        return false;
+    }
+    ++summary_.relocalizations;
+    estimation::FrameState track_at_fix = tracker_->state();
+    for (const auto& [frame, state] : since_loss_)
+        if (frame.timestamp <= t_fix) track_at_fix = state;
+    // A single fix brings no velocity: the track's, turned into the fix's frame.
+    const Eigen::Vector3d v_world =
+        found.v_world ? *found.v_world
+                      : velocityAtFix(found.T_world_cam0, T_body_cam_, track_at_fix.T_map_body, track_at_fix.v_map);
+    // The biases the track had at the fix, with its present uncertainty about them.
+    ImuBiasPrior biases = tracker_->biasPrior();
+    biases.gyro_bias = track_at_fix.gyro_bias;
+    biases.acc_bias = track_at_fix.acc_bias;
+    tracker_->initializeFromGlobal(t_fix, found.T_world_cam0, v_world, biases, &found.anchor);
+    log_.rewindTo(t_fix);
+    log_.addStart(found.anchor, found.T_world_cam0);
+    for (auto it = since_loss_.rbegin(); it != since_loss_.rend(); ++it)
+        if (it->first.timestamp > t_fix)
+        {
+            queued_.push_front(std::move(it->first));
+            --n_;  // tracked again
+        }
+    since_loss_.clear();
+    return true;
+}
+
+}  // namespace quasiloc::tracking
