@@ -70,22 +70,30 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     estimator.check(name);
     core::loadOptionsChecked(reweighting, cfg, "Reweighting", name);
     reweighting.check(name);
-    frontend.load(cfg, name);
+    // The front-end sections the tracker uses ([LineMatching] and [Association] serve the database programs).
+    core::loadOptionsChecked(frontend.features, cfg, "Features", name);
+    core::loadOptionsChecked(frontend.point_matching, cfg, "PointMatching", name);
+    core::loadOptionsChecked(frontend.lines, cfg, "Lines", name);
+    core::loadOptionsChecked(frontend.stereo, cfg, "Stereo", name);
+    frontend.check(name);
 }
 
 std::vector<core::OptionsSection> SessionOptions::sections() const
 {
-    std::vector<core::OptionsSection> s = frontend.sections();
-    s.insert(s.end(), {{"Tracking", &tracker},
-                       {"Initialization", &tracker.initialization},
-                       {"MapFactors", &tracker.factors},
-                       {"Relocalization", &relocalization},
-                       {"Kidnap", &kidnap},
-                       {"GeometricLocalization", &localization},
-                       {"MapRefinement", &refinement},
-                       {"Estimator", &estimator},
-                       {"Reweighting", &reweighting}});
-    return s;
+    return {{"Tracking", &tracker},
+            {"Initialization", &tracker.initialization},
+            {"MapFactors", &tracker.factors},
+            {"Relocalization", &relocalization},
+            {"Kidnap", &kidnap},
+            {"GeometricLocalization", &localization},
+            {"MapRefinement", &refinement},
+            {"DirectAlignment", &refinement.direct},
+            {"Estimator", &estimator},
+            {"Reweighting", &reweighting},
+            {"Features", &frontend.features},
+            {"PointMatching", &frontend.point_matching},
+            {"Lines", &frontend.lines},
+            {"Stereo", &frontend.stereo}};
 }
 
 TrackingSession::TrackingSession(const SessionOptions& options, MapContext& context, dataset::FrameSource& source,
