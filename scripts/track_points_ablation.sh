@@ -18,8 +18,9 @@ ablation_setup out/points_ablation "$@"
 for seq in "${SEQS[@]}"; do
   mkdir -p "$OUT/$seq"
   set -- $(run "$seq" full) \
-    $(run "$seq" points --set MapFactors.map_points=true) \
-    $(run "$seq" points_matched --set MapFactors.map_points=true --set MapRefinement.quasi_gray=matched_reflectivity) \
+    $(run "$seq" points --set MapFactors.map_points=true --set Reweighting.mode=full) \
+    $(run "$seq" points_matched --set MapFactors.map_points=true --set MapRefinement.quasi_gray=matched_reflectivity \
+        --set Reweighting.mode=full) \
     $(run "$seq" points_lines_uniform --set MapFactors.map_points=true --set MapFactors.map_lines=true \
         --set Reweighting.mode=uniform)
   printf "| %s | %s / %s | %s / %s | %s / %s | %s / %s |\n" "$seq" "$1" "$2" "$3" "$4" "$5" "$6" "$7" "$8" \

@@ -23,7 +23,7 @@ PLANE=(--set MapFactors.map_planes=true)
 for seq in "${SEQS[@]}"; do
   mkdir -p "$OUT/$seq"
   set -- $(run "$seq" none) \
-    $(run "$seq" P "${P[@]}") \
+    $(run "$seq" P "${P[@]}" --set Reweighting.mode=full) \
     $(run "$seq" L_full "${L[@]}" --set Reweighting.mode=full) \
     $(run "$seq" PL_full "${P[@]}" "${L[@]}" --set Reweighting.mode=full) \
     $(run "$seq" PLplane_full "${P[@]}" "${L[@]}" "${PLANE[@]}" --set Reweighting.mode=full) \
