@@ -171,6 +171,15 @@ void OptionTable::add(const std::string& key, std::vector<double>& value, const 
     emit(key, "numbers", unit, range.text(), "[" + joined(texts, " ") + "]", doc);
 }
 
+void OptionTable::add(const std::string& key, Eigen::Vector3d& value, const std::string& unit, Range range,
+                      const std::string& doc)
+{
+    std::vector<double> v{value.x(), value.y(), value.z()};
+    add(key, v, unit, range, doc);
+    require(v.size() == 3, iniKeyName(section_, key), "expected 3 numbers like [0 0 0], got " + std::to_string(v.size()));
+    value = Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
 void OptionTable::addChoice(const std::string& key, const std::vector<std::string>& names, int current,
                             const std::function<void(size_t)>& set, const std::string& doc)
 {

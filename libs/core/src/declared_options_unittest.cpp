@@ -115,12 +115,14 @@ struct SeedOptions : public DeclaredOptions
     size_t seed = 1;
     std::string path;  // empty by default: saved without a comment
     std::vector<double> bias{0.1, 1.0 / 3};
+    Eigen::Vector3d gyro{1e-17, -0.0023, 2.0 / 3};
     Budget budget = Budget::Full;
     void declare(OptionTable& t) override
     {
         t.add("seed", seed, "", Range::any(), "generator seed");
         t.add("path", path, "an optional file");
         t.add("bias", bias, "m", Range::between(-1, 1), "a bias");
+        t.add("gyro", gyro, "rad/s", Range::any(), "a 3-vector");
         t.addEnum("budget", budget, {{"fast", Budget::Fast}, {"full", Budget::Full}, {"complete", Budget::Full}},
                   "the search budget (complete: an old name of full)");
     }
@@ -139,9 +141,11 @@ TEST(DeclaredOptions, EmptyTextSeedsAbove2To53FullPrecisionVectorsAndAliasesLoad
     EXPECT_EQ(b.seed, a.seed);
     EXPECT_EQ(b.path, "");
     EXPECT_EQ(b.bias, a.bias);
+    EXPECT_EQ(b.gyro, a.gyro);
     EXPECT_NE(mem.getContent().find("full"), std::string::npos);  // the first name of a value is saved
     loadOptionsChecked(b, ini("[S]\nbudget = complete\n"), "S", "old.ini");
     EXPECT_EQ(b.budget, Budget::Full);
+    EXPECT_THROW(loadOptionsChecked(b, ini("[S]\ngyro = [1 2]\n"), "S", "t"), InputError);
     for (const char* bad : {"-1", "1.5", "x", "18446744073709551616"})
         EXPECT_THROW(loadOptionsChecked(b, ini(std::string("[S]\nseed = ") + bad + "\n"), "S", "t"), InputError)
             << bad;

@@ -16,6 +16,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <Eigen/Core>
 #include <functional>
 #include <limits>
 #include <string>
@@ -64,6 +65,9 @@ class OptionTable
     void add(const std::string& key, std::string& value, const std::string& doc);
     /** "[a b c]" of numbers, each in `range`. */
     void add(const std::string& key, std::vector<double>& value, const std::string& unit, Range range,
+             const std::string& doc);
+    /** "[x y z]": exactly three numbers, each in `range`. */
+    void add(const std::string& key, Eigen::Vector3d& value, const std::string& unit, Range range,
              const std::string& doc);
     /** One of the named values; an other name is an InputError listing them. A value may have several names (an
      *  alias kept so that old INI files stay valid): the first one is the name saved. */
