@@ -15,6 +15,11 @@ namespace
 std::string numberText(double v)
 {
     char buf[40];
+    if (v == std::floor(v) && std::abs(v) < 1e15)  // an integer as one: 20, not 2e+01
+    {
+        std::snprintf(buf, sizeof buf, "%.0f", v);
+        return buf;
+    }
     for (int precision = 1; precision <= 17; ++precision)
     {
         std::snprintf(buf, sizeof buf, "%.*g", precision, v);
@@ -75,9 +80,10 @@ void OptionTable::requireInRange(const std::string& key, double v, Range range) 
 void OptionTable::emit(const std::string& key, const std::string& type, const std::string& unit,
                        const std::string& range, const std::string& value, const std::string& doc)
 {
-    // No comment after an empty value: MRPT would read "// comment" back as the value.
+    // No comment after an empty value: MRPT would read "// comment" back as the value. No padding of the key: MRPT
+    // would keep it in the key, and the same CConfigFileMemory could not read the value back.
     if (action_ == Action::Save)
-        out_->write(section_, key, value, 28, 10, value.empty() ? "" : unit.empty() ? doc : "[" + unit + "] " + doc);
+        out_->write(section_, key, value, -1, 10, value.empty() ? "" : unit.empty() ? doc : "[" + unit + "] " + doc);
     if (action_ == Action::Describe) descriptions_.push_back({key, type, unit, range, value, doc});
 }
 

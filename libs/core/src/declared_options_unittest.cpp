@@ -106,6 +106,11 @@ TEST(DeclaredOptions, DescribesEachKeyWithTypeUnitRangeDefaultAndDoc)
     EXPECT_EQ(d[5].range, "fast, full");
     EXPECT_EQ(d[5].default_value, "fast");
     EXPECT_EQ(Range::fromUpTo(0, 1).text(), "[0, 1)");
+    DemoOptions round;
+    round.max_depth_m = 20;
+    round.keyframe_every = 200;
+    EXPECT_EQ(round.describe()[0].default_value, "20");  // not 2e+01
+    EXPECT_EQ(round.describe()[1].default_value, "200");
 }
 
 namespace
@@ -142,6 +147,9 @@ TEST(DeclaredOptions, EmptyTextSeedsAbove2To53FullPrecisionVectorsAndAliasesLoad
     EXPECT_EQ(b.path, "");
     EXPECT_EQ(b.bias, a.bias);
     EXPECT_EQ(b.gyro, a.gyro);
+    SeedOptions c;
+    loadOptionsChecked(c, mem, "S", "the same object");  // not re-parsed from text
+    EXPECT_EQ(c.seed, a.seed);
     EXPECT_NE(mem.getContent().find("full"), std::string::npos);  // the first name of a value is saved
     loadOptionsChecked(b, ini("[S]\nbudget = complete\n"), "S", "old.ini");
     EXPECT_EQ(b.budget, Budget::Full);
