@@ -70,7 +70,8 @@ TEST(DeclaredOptions, LoadsEveryDeclaredTypeAndKeepsDefaultsOfAbsentKeys)
 
 TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTheKey)
 {
-    EXPECT_NE(loadError("[Demo]\nmax_depth_m = 0\n").find("[Demo] max_depth_m: '0' is out of range (must be > 0)"),
+    EXPECT_NE(loadError("[Demo]\nmax_depth_m = 0\n")
+                  .find("demo.ini [Demo] max_depth_m: '0' is out of range (must be > 0)"),
               std::string::npos);
     EXPECT_NE(loadError("[Demo]\nkeyframe_every = 1.5\n").find("is not an integer"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nbudget = quick\n").find("'quick' is not one of fast, full"), std::string::npos);
