@@ -197,8 +197,9 @@ void OptionTable::addChoice(const std::string& key, const std::vector<std::strin
             if (names[i] == text) return set(i);
         throw InputError(iniKeyName(section_, key), "'" + text + "' is not one of " + joined(names, ", "));
     }
+    if (action_ == Action::Check)
+        return require(current >= 0, section_ + " " + key, "the present value is not one of " + joined(names, ", "));
     require(current >= 0, iniKeyName(section_, key), "the present value has no name (declaration incomplete)");
-    if (action_ == Action::Check) return;
     emit(key, "one of", "", joined(names, ", "), names[size_t(current)], doc);
 }
 

@@ -206,7 +206,18 @@ TEST(QuasiOptions, IniRoundTripAndRejections)
     EXPECT_THROW(wrong.check("test.ini"), core::InputError);
     wrong = quasi::QuasiOptions{};
     wrong.reflectivity_scope = "world";
-    EXPECT_THROW(wrong.check("test.ini"), core::InputError);
+    try
+    {
+        wrong.check("test.ini");
+        ADD_FAILURE() << "reflectivity_scope = world accepted";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("test.ini [QuasiImage] reflectivity_scope: the present value is not one "
+                                             "of image, map"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(Splatting, NearPointsCoverTheirFootprintAndStripesAgree)
