@@ -5,6 +5,6 @@
 
 int main(int argc, char** argv)
 {
-    return quasiloc::core::runProgram(argc, argv, quasiloc::map_import::kUsage, quasiloc::map_import::run,
+    return quasiloc::core::runProgram(argc, argv, quasiloc::map_import::usage(), quasiloc::map_import::run,
                                       /*config_required=*/false);
 }

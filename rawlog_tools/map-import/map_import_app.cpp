@@ -2,14 +2,12 @@
 
 #include <mrpt/system/CTimeLogger.h>
 
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/map/cloud_export.h>
 #include <quasiloc/map/map_import.h>
@@ -17,7 +15,7 @@
 
 namespace quasiloc::map_import
 {
-const char* const kUsage = R"(map-import: imports a point cloud with intensities, or a GMMLoc Gaussian-mixture map
+const char* const kUsageText = R"(map-import: imports a point cloud with intensities, or a GMMLoc Gaussian-mixture map
 (sampled on its components' surfaces), into a quasiloc LidarMap file.
 
 Usage:
@@ -29,26 +27,7 @@ Usage:
              [--gmm-reflectivity 0.5] [--gmm-seed 1]
   (an .ini given first may be combined with flags; flags override --set, which overrides the file)
 
-Options, section [MapImport]:
-  input            the cloud: .ply (ascii / binary little or big endian), .pcd (ascii / binary /
-                   binary_compressed), .bin (KITTI velodyne float32 x y z r), .txt .xyz .xyzi .csv .asc
-                   ("x y z i" per line, blanks or commas, '#' comments), or .gmm (a GMMLoc
-                   Gaussian-mixture map, e.g. data/euroc/maps/gmm/v1.gmm; see below)
-  output           the map file: MRPT's binary serialization (gz) of an mrpt::maps::CPointsMapXYZI whose
-                   intensity is the reflectivity in [0, 1]
-  format           auto (from the extension) | ply | pcd | kitti | xyzi | gmm                 [auto]
-  voxel_size_m     > 0: one point per occupied voxel (mean position and reflectivity); 0 = off  [0]
-  intensity_scale  > 0: reflectivity = raw / intensity_scale (the raw value meaning full
-                   reflectivity, e.g. 255); 0 = automatic rule; must be 0 for .gmm input         [0]
-  export_cloud     optional: also write the imported map as a cloud (.ply .pcd .bin .txt)       []
-  export_encoding  encoding of export_cloud                                               [binary]
-  gmm_density_per_m2    .gmm: surface points per square metre (2500 = 2 cm spacing)        [2500]
-  gmm_truncation_sigma  .gmm: ellipse semi-axes in standard deviations                        [2]
-  gmm_max_flatness      .gmm: skip components with sigma_min / sigma_mid above this
-                        (blobs, not surfaces); 1 = sample every component                    [0.5]
-  gmm_reflectivity      .gmm: the constant reflectivity of every point, in [0, 1]            [0.5]
-  gmm_seed              .gmm: seed of the sampling jitter (same seed, same map)                [1]
-
+OPTIONS
 GMM input: each component is taken as a flat patch. Its covariance's two largest principal axes span
 an ellipse on the mean with semi-axes gmm_truncation_sigma standard deviations (2 sigma = the extent of
 a uniformly filled disc); the ellipse is sampled on a stratified-jittered grid with spacing
@@ -66,104 +45,10 @@ scalar_intensity, scalar_reflectivity/reflectance, a "scalar field" variant, any
 Outputs: the map file, and the effective configuration beside it as <output>.ini (and export_cloud if
 set); all appear only when the import succeeded (nothing is left behind on an error).)";
 
-namespace
+std::string usage()
 {
-std::string lowerCase(std::string s)
-{
-    for (char& ch : s) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    return s;
-}
-}  // namespace
-
-void MapImportOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section)
-{
-    MRPT_LOAD_CONFIG_VAR(input, string, cfg, section);
-    MRPT_LOAD_CONFIG_VAR(output, string, cfg, section);
-    MRPT_LOAD_CONFIG_VAR(format, string, cfg, section);
-    // Numbers strictly: MRPT's readers turn "0.1x" into 0.1 and "abc" into 0.
-    voxel_size_m = core::readIniDouble(cfg, section, "voxel_size_m", voxel_size_m);
-    intensity_scale = core::readIniDouble(cfg, section, "intensity_scale", intensity_scale);
-    MRPT_LOAD_CONFIG_VAR(export_cloud, string, cfg, section);
-    MRPT_LOAD_CONFIG_VAR(export_encoding, string, cfg, section);
-    gmm_density_per_m2 = core::readIniDouble(cfg, section, "gmm_density_per_m2", gmm_density_per_m2);
-    gmm_truncation_sigma = core::readIniDouble(cfg, section, "gmm_truncation_sigma", gmm_truncation_sigma);
-    gmm_max_flatness = core::readIniDouble(cfg, section, "gmm_max_flatness", gmm_max_flatness);
-    gmm_reflectivity = core::readIniDouble(cfg, section, "gmm_reflectivity", gmm_reflectivity);
-    const int seed = core::readIniInt(cfg, section, "gmm_seed", static_cast<int>(gmm_seed));
-    core::require(seed >= 0, core::iniKeyName(section, "gmm_seed"), "must be >= 0, got " + std::to_string(seed));
-    gmm_seed = static_cast<uint64_t>(seed);
-}
-
-void MapImportOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    // No name padding (MRPT_SAVE_CONFIG_VAR_COMMENT pads the key, which core::knownKeys would not match),
-    // and no comment after an empty value (MRPT would read the comment back as the value).
-    auto text = [&](const char* key, const std::string& value, const char* comment) {
-        if (value.empty())
-            c.write(s, key, value);
-        else
-            c.write(s, key, value, -1, -1, comment);
-    };
-    text("input", input, "point cloud to import (.ply .pcd .bin .txt/.xyz/.xyzi/.csv/.asc) or .gmm");
-    text("output", output, "LidarMap file to write");
-    text("format", format, "auto | ply | pcd | kitti | xyzi | gmm");
-    c.write(s, "voxel_size_m", voxel_size_m, -1, -1, "voxel downsampling, 0 = off");
-    c.write(s, "intensity_scale", intensity_scale, -1, -1, "reflectivity = raw / intensity_scale; 0 = automatic");
-    text("export_cloud", export_cloud, "optional cloud copy of the map (.ply .pcd .bin .txt)");
-    text("export_encoding", export_encoding, "ascii | binary | binary_big_endian | binary_compressed");
-    c.write(s, "gmm_density_per_m2", gmm_density_per_m2, -1, -1, ".gmm: surface points per m2");
-    c.write(s, "gmm_truncation_sigma", gmm_truncation_sigma, -1, -1, ".gmm: ellipse semi-axes in sigmas");
-    c.write(s, "gmm_max_flatness", gmm_max_flatness, -1, -1, ".gmm: skip sigma_min/sigma_mid above; 1 = keep all");
-    c.write(s, "gmm_reflectivity", gmm_reflectivity, -1, -1, ".gmm: constant reflectivity");
-    c.write(s, "gmm_seed", std::to_string(gmm_seed), -1, -1, ".gmm: jitter seed");
-}
-
-bool MapImportOptions::gmmInput() const
-{
-    const std::string f = lowerCase(format);
-    return f == "gmm" || (f == "auto" && lowerCase(std::filesystem::path(input).extension().string()) == ".gmm");
-}
-
-map::GmmSurfaceOptions MapImportOptions::gmmOptions() const
-{
-    map::GmmSurfaceOptions g;
-    g.density_per_m2 = gmm_density_per_m2;
-    g.truncation_sigma = gmm_truncation_sigma;
-    g.max_flatness = gmm_max_flatness;
-    g.reflectivity = gmm_reflectivity;
-    g.seed = gmm_seed;
-    return g;
-}
-
-void MapImportOptions::check(const std::string& config_name) const
-{
-    const std::string at = config_name + " [MapImport] ";
-    core::require(!input.empty(), at + "input", "is required (or --input FILE)");
-    core::require(!output.empty(), at + "output", "is required (or --output FILE.map)");
-    core::require(std::filesystem::absolute(input).lexically_normal() !=
-                      std::filesystem::absolute(output).lexically_normal(),
-                  at + "output", "must differ from the input");
-    if (lowerCase(format) != "gmm")
-    {
-        try
-        {
-            map::cloudFormatFromString(format, at + "format");
-        }
-        catch (const core::InputError&)
-        {
-            throw core::InputError(at + "format", "unknown format '" + format +
-                                                      "' (expected auto, ply, pcd, kitti, xyzi or gmm)");
-        }
-    }
-    gmmOptions().check(at + "gmm_");
-    core::require(std::isfinite(voxel_size_m) && voxel_size_m >= 0, at + "voxel_size_m", "must be >= 0 (0 = off)");
-    core::require(std::isfinite(intensity_scale) && intensity_scale >= 0, at + "intensity_scale",
-                  "must be >= 0 (0 = automatic rule)");
-    core::require(!gmmInput() || intensity_scale == 0, at + "intensity_scale",
-                  "does not apply to .gmm input (a GMM has no intensities; set gmm_reflectivity)");
-    const auto encoding = map::cloudEncodingFromString(export_encoding, at + "export_encoding");
-    if (!export_cloud.empty())
-        map::requireEncodingSupported(map::detectCloudFormat(export_cloud), encoding, at + "export_encoding");
+    std::string text = kUsageText;
+    return text.replace(text.find("OPTIONS"), 7, "Options, section [MapImport]:\n" + optionsHelp());
 }
 
 namespace
@@ -234,10 +119,10 @@ void printVoxel(const MapImportOptions& opt, size_t before, size_t after)
         std::cout << "voxel       " << opt.voxel_size_m << " m: " << before << " -> " << after << " points\n";
 }
 
-ImportedMap importCloud(const MapImportOptions& opt, const std::string& config_name, mrpt::system::CTimeLogger& timer)
+ImportedMap importCloud(const MapImportOptions& opt, mrpt::system::CTimeLogger& timer)
 {
     map::ImportOptions io;
-    io.format = map::cloudFormatFromString(opt.format, config_name + " [MapImport] format");
+    io.format = opt.cloudFormat();
     io.voxel_size_m = opt.voxel_size_m;
     io.intensity_scale = opt.intensity_scale;
     map::ImportResult r = map::importCloud(opt.input, io, &timer);
@@ -287,7 +172,7 @@ int run(const core::CommandLine& cmd_in)
     opt.check(config_name);
 
     QuietTimeLogger timer;
-    const ImportedMap r = opt.gmmInput() ? importGmm(opt, timer) : importCloud(opt, config_name, timer);
+    const ImportedMap r = opt.gmmInput() ? importGmm(opt, timer) : importCloud(opt, timer);
 
     // Every output is staged: they all appear together, or none does.
     core::StagedOutputs staged;
@@ -298,7 +183,7 @@ int run(const core::CommandLine& cmd_in)
     r.map.save(map_tmp);
     if (!opt.export_cloud.empty())
         map::exportCloud(r.map, staged.addFile(opt.export_cloud), map::detectCloudFormat(opt.export_cloud),
-                         map::cloudEncodingFromString(opt.export_encoding, "export_encoding"));
+                         opt.export_encoding);
     core::writeEffectiveConfig(ini_tmp, {{"MapImport", &opt}}, "map-import effective configuration");
     staged.commit();
     timer.leave("save");
@@ -307,7 +192,7 @@ int run(const core::CommandLine& cmd_in)
     std::cout << "wrote       " << r.map.size() << " points to " << opt.output << " (" << fileSizeText(opt.output)
               << "), effective config " << ini_path << "\n";
     if (!opt.export_cloud.empty())
-        std::cout << "exported    " << opt.export_cloud << " (" << opt.export_encoding << ", "
+        std::cout << "exported    " << opt.export_cloud << " (" << map::toString(opt.export_encoding) << ", "
                   << fileSizeText(opt.export_cloud) << ")\n";
     std::cout << "map         " << r.map.summary() << "\n" << std::fixed << std::setprecision(3)
               << "time        read " << timer.getLastTime("import.read") << " s, " << r.second_stage << " "

@@ -15,5 +15,11 @@ sed -i '101{h;d};102{G}' "$WORK/bad_imu/mav0/imu0/data.csv"
 expect_failure "$WORK/log3.txt" "$BIN/euroc2rawlog" --input "$WORK/bad_imu" --output "$WORK/out3/x.rawlog"
 expect_contains "$WORK/log3.txt" "imu0/data.csv"
 [ ! -e "$WORK/out3/x.rawlog" ] || fail "a rawlog was left behind"
-cat "$WORK/log2.txt" "$WORK/log3.txt"
+# A typo'd key in the INI: the error names the file, the section and the key; nothing is written.
+printf '[Euroc2Rawlog]\ninput = %s\noutput = %s\nmax_frame = 3\n' "$SHARED/data/euroc/V1_01_easy_micro" \
+  "$WORK/out4/x.rawlog" > "$WORK/typo.ini"
+expect_failure "$WORK/log4.txt" "$BIN/euroc2rawlog" "$WORK/typo.ini"
+expect_contains "$WORK/log4.txt" "typo.ini [Euroc2Rawlog] max_frame: unknown key"
+[ ! -e "$WORK/out4/x.rawlog" ] || fail "a rawlog was left behind"
+cat "$WORK/log2.txt" "$WORK/log3.txt" "$WORK/log4.txt"
 echo "OK"

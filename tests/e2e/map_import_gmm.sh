@@ -7,7 +7,7 @@ GMM="$SHARED/data/euroc/maps/gmm/v1.gmm"
 expect_contains "$WORK/gmm.txt" "3299 Gaussian components"
 expect_contains "$WORK/gmm.txt" "3205 sampled, 94 skipped as not flat"
 expect_contains "$WORK/gmm.txt" "reflectivity constant 0.5"
-expect_contains "$WORK/v1.map.ini" "gmm_density_per_m2 = 2500"
+grep -Eq '^gmm_density_per_m2 *= *2500 ' "$WORK/v1.map.ini" || { cat "$WORK/v1.map.ini"; fail "gmm_density_per_m2 not 2500"; }
 points=$(sed -n 's/^sampled *\([0-9]*\) points.*/\1/p' "$WORK/gmm.txt")
 [ "$points" -gt 850000 ] && [ "$points" -lt 920000 ] || fail "unexpected point count $points"
 # Same seed, same map; format=gmm works whatever the extension; the density option is honoured.
@@ -40,6 +40,8 @@ check_rejected "$WORK/empty.gmm" "empty" "empty GMM file" "empty.gmm"
 check_rejected "$WORK/missing.gmm" "missing" "cannot open GMM file" "missing.gmm"
 check_rejected "$GMM" "intensity_scale with a GMM" "does not apply to .gmm input" "[MapImport] intensity_scale" \
   --intensity-scale 255
-check_rejected "$GMM" "bad density" "must be within" "[MapImport] gmm_density_per_m2" --gmm-density 0
-check_rejected "$GMM" "a seed that is not a number" "is not a finite number" "[MapImport] gmm_seed" --gmm-seed 12abc
+check_rejected "$GMM" "bad density" "is out of range (must be [1, 1000000])" "[MapImport] gmm_density_per_m2" \
+  --gmm-density 0
+check_rejected "$GMM" "a seed that is not a number" "is not a non-negative integer" "[MapImport] gmm_seed" \
+  --gmm-seed 12abc
 echo "OK"

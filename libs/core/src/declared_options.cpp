@@ -1,4 +1,7 @@
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/error.h>
@@ -12,12 +15,29 @@ namespace
 std::string numberText(double v)
 {
     char buf[40];
+    if (v == std::floor(v) && std::abs(v) < 1e15)  // an integer as one: 20, not 2e+01
+    {
+        std::snprintf(buf, sizeof buf, "%.0f", v);
+        return buf;
+    }
     for (int precision = 1; precision <= 17; ++precision)
     {
         std::snprintf(buf, sizeof buf, "%.*g", precision, v);
         if (std::strtod(buf, nullptr) == v) break;
     }
     return buf;
+}
+
+/** The whole of `text` as an unsigned 64-bit integer (blanks after it allowed). */
+bool parseUnsigned(const std::string& text, size_t& v)
+{
+    if (text.empty() || !std::isdigit(static_cast<unsigned char>(text[0]))) return false;
+    char* end = nullptr;
+    errno = 0;
+    const unsigned long long u = std::strtoull(text.c_str(), &end, 10);
+    while (*end == ' ' || *end == '\t') ++end;
+    v = static_cast<size_t>(u);
+    return errno == 0 && *end == '\0';
 }
 
 std::string joined(const std::vector<std::string>& names, const std::string& separator)
@@ -52,10 +72,18 @@ OptionTable::OptionTable(Action action, const mrpt::config::CConfigFileBase* in,
 
 std::string OptionTable::readText(const std::string& key) const { return in_->read_string(section_, key, "", false); }
 
+void OptionTable::requireInRange(const std::string& key, double v, Range range) const
+{
+    require(range.contains(v), section_ + " " + key, numberText(v) + " is out of range (must be " + range.text() + ")");
+}
+
 void OptionTable::emit(const std::string& key, const std::string& type, const std::string& unit,
                        const std::string& range, const std::string& value, const std::string& doc)
 {
-    if (action_ == Action::Save) out_->write(section_, key, value, 28, 10, unit.empty() ? doc : "[" + unit + "] " + doc);
+    // No comment after an empty value: MRPT would read "// comment" back as the value. No padding of the key: MRPT
+    // would keep it in the key, and the same CConfigFileMemory could not read the value back.
+    if (action_ == Action::Save)
+        out_->write(section_, key, value, -1, 10, value.empty() ? "" : unit.empty() ? doc : "[" + unit + "] " + doc);
     if (action_ == Action::Describe) descriptions_.push_back({key, type, unit, range, value, doc});
 }
 
@@ -73,6 +101,7 @@ void OptionTable::addNumber(const std::string& key, double current, bool integer
         set(v);
         return;
     }
+    if (action_ == Action::Check) return requireInRange(key, current, range);
     emit(key, integer ? "integer" : "number", unit, range.text(), numberText(current), doc);
 }
 
@@ -91,7 +120,19 @@ void OptionTable::add(const std::string& key, size_t& value, const std::string& 
                       const std::string& doc)
 {
     if (range.min < 0) range = Range{0, range.max, false, range.max_open};
-    addNumber(key, double(value), true, unit, range, doc, [&value](double v) { value = size_t(v); });
+    if (action_ == Action::Load)
+    {
+        const std::string text = readText(key);
+        if (text.empty()) return;
+        const std::string where = iniKeyName(section_, key);
+        size_t v = 0;
+        require(parseUnsigned(text, v), where, "'" + text + "' is not a non-negative integer");
+        require(range.contains(double(v)), where, "'" + text + "' is out of range (must be " + range.text() + ")");
+        value = v;
+        return;
+    }
+    if (action_ == Action::Check) return requireInRange(key, double(value), range);
+    emit(key, "integer", unit, range.text(), std::to_string(value), doc);
 }
 
 void OptionTable::add(const std::string& key, bool& value, const std::string& doc)
@@ -126,7 +167,23 @@ void OptionTable::add(const std::string& key, std::vector<double>& value, const 
         value = v;
         return;
     }
-    emit(key, "numbers", unit, range.text(), "[" + iniVectorText(value) + "]", doc);
+    if (action_ == Action::Check)
+    {
+        for (double x : value) requireInRange(key, x, range);
+        return;
+    }
+    std::vector<std::string> texts;
+    for (double x : value) texts.push_back(numberText(x));
+    emit(key, "numbers", unit, range.text(), "[" + joined(texts, " ") + "]", doc);
+}
+
+void OptionTable::add(const std::string& key, Eigen::Vector3d& value, const std::string& unit, Range range,
+                      const std::string& doc)
+{
+    std::vector<double> v{value.x(), value.y(), value.z()};
+    add(key, v, unit, range, doc);
+    require(v.size() == 3, iniKeyName(section_, key), "expected 3 numbers like [0 0 0], got " + std::to_string(v.size()));
+    value = Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
 void OptionTable::addChoice(const std::string& key, const std::vector<std::string>& names, int current,
@@ -140,6 +197,8 @@ void OptionTable::addChoice(const std::string& key, const std::vector<std::strin
             if (names[i] == text) return set(i);
         throw InputError(iniKeyName(section_, key), "'" + text + "' is not one of " + joined(names, ", "));
     }
+    if (action_ == Action::Check)
+        return require(current >= 0, section_ + " " + key, "the present value is not one of " + joined(names, ", "));
     require(current >= 0, iniKeyName(section_, key), "the present value has no name (declaration incomplete)");
     emit(key, "one of", "", joined(names, ", "), names[size_t(current)], doc);
 }
@@ -154,6 +213,12 @@ void DeclaredOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const
 {
     OptionTable t(OptionTable::Action::Save, nullptr, &cfg, section);
     // declare() takes the members by reference for loading; saving only reads them.
+    const_cast<DeclaredOptions*>(this)->declare(t);
+}
+
+void DeclaredOptions::checkDeclaredRanges(const std::string& input) const
+{
+    OptionTable t(OptionTable::Action::Check, nullptr, nullptr, input);
     const_cast<DeclaredOptions*>(this)->declare(t);
 }
 

@@ -70,7 +70,8 @@ TEST(DeclaredOptions, LoadsEveryDeclaredTypeAndKeepsDefaultsOfAbsentKeys)
 
 TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTheKey)
 {
-    EXPECT_NE(loadError("[Demo]\nmax_depth_m = 0\n").find("[Demo] max_depth_m: '0' is out of range (must be > 0)"),
+    EXPECT_NE(loadError("[Demo]\nmax_depth_m = 0\n")
+                  .find("demo.ini [Demo] max_depth_m: '0' is out of range (must be > 0)"),
               std::string::npos);
     EXPECT_NE(loadError("[Demo]\nkeyframe_every = 1.5\n").find("is not an integer"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nbudget = quick\n").find("'quick' is not one of fast, full"), std::string::npos);
@@ -106,4 +107,72 @@ TEST(DeclaredOptions, DescribesEachKeyWithTypeUnitRangeDefaultAndDoc)
     EXPECT_EQ(d[5].range, "fast, full");
     EXPECT_EQ(d[5].default_value, "fast");
     EXPECT_EQ(Range::fromUpTo(0, 1).text(), "[0, 1)");
+    DemoOptions round;
+    round.max_depth_m = 20;
+    round.keyframe_every = 200;
+    EXPECT_EQ(round.describe()[0].default_value, "20");  // not 2e+01
+    EXPECT_EQ(round.describe()[1].default_value, "200");
+}
+
+namespace
+{
+struct SeedOptions : public DeclaredOptions
+{
+    size_t seed = 1;
+    std::string path;  // empty by default: saved without a comment
+    std::vector<double> bias{0.1, 1.0 / 3};
+    Eigen::Vector3d gyro{1e-17, -0.0023, 2.0 / 3};
+    Budget budget = Budget::Full;
+    void declare(OptionTable& t) override
+    {
+        t.add("seed", seed, "", Range::any(), "generator seed");
+        t.add("path", path, "an optional file");
+        t.add("bias", bias, "m", Range::between(-1, 1), "a bias");
+        t.add("gyro", gyro, "rad/s", Range::any(), "a 3-vector");
+        t.addEnum("budget", budget, {{"fast", Budget::Fast}, {"full", Budget::Full}, {"complete", Budget::Full}},
+                  "the search budget (complete: an old name of full)");
+    }
+};
+}  // namespace
+
+TEST(DeclaredOptions, EmptyTextSeedsAbove2To53FullPrecisionVectorsAndAliasesLoadBack)
+{
+    SeedOptions a;
+    a.seed = 18446744073709551557ull;
+    mrpt::config::CConfigFileMemory mem;
+    a.saveToConfigFile(mem, "S");
+    SeedOptions b;
+    b.path = "x";
+    loadOptionsChecked(b, ini(mem.getContent()), "S", "saved");
+    EXPECT_EQ(b.seed, a.seed);
+    EXPECT_EQ(b.path, "");
+    EXPECT_EQ(b.bias, a.bias);
+    EXPECT_EQ(b.gyro, a.gyro);
+    SeedOptions c;
+    loadOptionsChecked(c, mem, "S", "the same object");  // not re-parsed from text
+    EXPECT_EQ(c.seed, a.seed);
+    EXPECT_NE(mem.getContent().find("full"), std::string::npos);  // the first name of a value is saved
+    loadOptionsChecked(b, ini("[S]\nbudget = complete\n"), "S", "old.ini");
+    EXPECT_EQ(b.budget, Budget::Full);
+    EXPECT_THROW(loadOptionsChecked(b, ini("[S]\ngyro = [1 2]\n"), "S", "t"), InputError);
+    for (const char* bad : {"-1", "1.5", "x", "18446744073709551616"})
+        EXPECT_THROW(loadOptionsChecked(b, ini(std::string("[S]\nseed = ") + bad + "\n"), "S", "t"), InputError)
+            << bad;
+}
+
+TEST(DeclaredOptions, CheckDeclaredRangesNamesTheKeyOfAValueSetInCode)
+{
+    SeedOptions o;
+    EXPECT_NO_THROW(o.checkDeclaredRanges("test [S]"));
+    o.bias = {0, 2};
+    try
+    {
+        o.checkDeclaredRanges("test [S]");
+        ADD_FAILURE() << "out of range accepted";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("test [S] bias: 2 is out of range (must be [-1, 1])"), std::string::npos)
+            << e.what();
+    }
 }

@@ -113,8 +113,10 @@ void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::con
     {
         options.loadFromConfigFile(cfg, section);
     }
-    catch (const InputError&)
+    catch (const InputError& e)
     {
+        // A value error names "[section] key" (DeclaredOptions, ini_read.h): say which file too.
+        if (e.input().rfind("[", 0) == 0) throw InputError(config_name + " " + e.input(), e.problem());
         throw;
     }
     catch (const std::exception& e)

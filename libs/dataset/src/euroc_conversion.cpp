@@ -1,6 +1,3 @@
-#include <mrpt/config/CConfigFileBase.h>
-#include <mrpt/config/CConfigFileMemory.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <optional>
@@ -20,7 +17,7 @@ namespace quasiloc::dataset
 {
 namespace
 {
-const char* kSection = "[Euroc2Rawlog] ";
+const char* kSection = "[Euroc2Rawlog]";
 
 std::string besideOutput(const std::string& output, const std::string& suffix)
 {
@@ -84,47 +81,34 @@ void writeInterleaved(RawlogWriter& writer, const EurocSequence& seq, size_t num
 }
 }  // namespace
 
-void Euroc2RawlogOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void Euroc2RawlogOptions::declare(core::OptionTable& t)
 {
-    input = cfg.read_string(s, "input", input);
-    output = cfg.read_string(s, "output", output);
-    groundtruth = cfg.read_string(s, "groundtruth", groundtruth);
-    calib_out = cfg.read_string(s, "calib_out", calib_out);
-    gt_out = cfg.read_string(s, "gt_out", gt_out);
-    imu_yaml = cfg.read_string(s, "imu_yaml", imu_yaml);
-    stereo_sensor_label = cfg.read_string(s, "stereo_sensor_label", stereo_sensor_label);
-    imu_sensor_label = cfg.read_string(s, "imu_sensor_label", imu_sensor_label);
-    max_frames = cfg.read_int(s, "max_frames", max_frames);
-    gt_margin_s = cfg.read_double(s, "gt_margin_s", gt_margin_s);
-    gz_compression_level = cfg.read_int(s, "gz_compression_level", gz_compression_level);
-}
-
-void Euroc2RawlogOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
-{
-    cfg.write(s, "input", input);
-    cfg.write(s, "output", output);
-    cfg.write(s, "groundtruth", groundtruth);
-    cfg.write(s, "calib_out", calib_out);
-    cfg.write(s, "gt_out", gt_out);
-    cfg.write(s, "imu_yaml", imu_yaml);
-    cfg.write(s, "stereo_sensor_label", stereo_sensor_label);
-    cfg.write(s, "imu_sensor_label", imu_sensor_label);
-    cfg.write(s, "max_frames", max_frames);
-    cfg.write(s, "gt_margin_s", gt_margin_s);
-    cfg.write(s, "gz_compression_level", gz_compression_level);
+    using core::Range;
+    t.add("input", input, "the EuRoC ASL folder (holding mav0/, or mav0/ itself)");
+    t.add("output", output, "the rawlog to write; images go to <name>_Images/ beside it");
+    t.add("groundtruth", groundtruth, "optional: TUM file of T_world_cam0 or EuRoC body csv (decided by content)");
+    t.add("calib_out", calib_out, "calibration INI; empty = <output dir>/<name>_calib.ini");
+    t.add("gt_out", gt_out, "ground truth TUM of T_world_cam0; empty = <output dir>/<name>_gt_cam0.tum");
+    t.add("imu_yaml", imu_yaml,
+          "the IMU's noise model (Kalibr / EuRoC sensor.yaml) for the calibration's [imu]; "
+          "empty = <mav0>/imu0/sensor.yaml");
+    t.add("stereo_sensor_label", stereo_sensor_label, "sensorLabel of the stereo observations");
+    t.add("imu_sensor_label", imu_sensor_label, "sensorLabel of the IMU observations");
+    t.add("max_frames", max_frames, "", Range::atLeast(0),
+          "0 = every stereo pair; N = the first N pairs and the IMU samples up to the last of them (tests, previews)");
+    t.add("gt_margin_s", gt_margin_s, "s", Range::atLeast(0),
+          "ground truth is kept within the sequence's time span widened by this margin");
+    t.add("gz_compression_level", gz_compression_level, "", Range::between(0, 9), "gzip level of the rawlog");
 }
 
 void Euroc2RawlogOptions::check() const
 {
-    require(!input.empty(), std::string(kSection) + "input", "is empty: give the EuRoC ASL folder");
-    require(!output.empty(), std::string(kSection) + "output", "is empty: give the rawlog to write");
-    require(!fs::is_directory(output), std::string(kSection) + "output", "'" + output + "' is a folder");
-    require(!stereo_sensor_label.empty(), std::string(kSection) + "stereo_sensor_label", "is empty");
-    require(!imu_sensor_label.empty(), std::string(kSection) + "imu_sensor_label", "is empty");
-    require(max_frames >= 0, std::string(kSection) + "max_frames", "must be >= 0 (0 = all)");
-    require(gt_margin_s >= 0, std::string(kSection) + "gt_margin_s", "must be >= 0");
-    require(gz_compression_level >= 0 && gz_compression_level <= 9, std::string(kSection) + "gz_compression_level",
-            "must be 0..9");
+    checkDeclaredRanges(kSection);
+    require(!input.empty(), std::string(kSection) + " input", "is empty: give the EuRoC ASL folder");
+    require(!output.empty(), std::string(kSection) + " output", "is empty: give the rawlog to write");
+    require(!fs::is_directory(output), std::string(kSection) + " output", "'" + output + "' is a folder");
+    require(!stereo_sensor_label.empty(), std::string(kSection) + " stereo_sensor_label", "is empty");
+    require(!imu_sensor_label.empty(), std::string(kSection) + " imu_sensor_label", "is empty");
 }
 
 std::string Euroc2RawlogOptions::calibOutPath() const

@@ -3,7 +3,9 @@
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/core/program_options.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/euroc.h>
 #include <quasiloc/dataset/calibration.h>
@@ -251,4 +253,28 @@ TEST(RawlogSource, CorruptRawlogOrImagesNameTheFile)
     StereoFrame f;
     EXPECT_TRUE(src->next(f));
     test::expectInputErrorMentioning([&] { src->next(f); }, second_right);
+}
+
+TEST(EurocConversion, OptionsLoadStrictlyAndTheSavedOnesLoadBack)
+{
+    Euroc2RawlogOptions o;
+    o.input = "/data/mav0";
+    o.max_frames = 7;
+    o.gt_margin_s = 0.25;
+    mrpt::config::CConfigFileMemory saved;
+    o.saveToConfigFile(saved, "Euroc2Rawlog");
+    Euroc2RawlogOptions back;
+    core::loadOptionsChecked(back, saved, "Euroc2Rawlog", "x_euroc2rawlog.ini");
+    EXPECT_EQ(back.input, o.input);
+    EXPECT_EQ(back.groundtruth, "");  // empty stays empty
+    EXPECT_EQ(back.max_frames, 7);
+    EXPECT_EQ(back.gt_margin_s, 0.25);
+    mrpt::config::CConfigFileMemory typo;
+    typo.setContent("[Euroc2Rawlog]\ninput = a\nmax_frame = 3\n");
+    test::expectInputErrorMentioning([&] { core::loadOptionsChecked(back, typo, "Euroc2Rawlog", "my.ini"); },
+                                     "my.ini [Euroc2Rawlog] max_frame");
+    mrpt::config::CConfigFileMemory bad;
+    bad.setContent("[Euroc2Rawlog]\ngz_compression_level = 10\n");
+    test::expectInputErrorMentioning([&] { core::loadOptionsChecked(back, bad, "Euroc2Rawlog", "my.ini"); },
+                                     "my.ini [Euroc2Rawlog] gz_compression_level");
 }

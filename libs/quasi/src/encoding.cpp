@@ -184,8 +184,8 @@ void encodeRows(QuasiImage& q, int y0, int y1, float refl_lo, float refl_hi, con
                 const QuasiOptions& o)
 {
     const int width = q.depth.cols, height = q.depth.rows;
-    const bool laplacian = o.edgeOperator() == EdgeOperator::Laplacian;
-    const GrayMode gray_mode = o.grayMode();
+    const bool laplacian = o.edge_operator == EdgeOperator::Laplacian;
+    const GrayMode gray_mode = o.gray_mode;
     const EncodeParams p{refl_lo, 1.0f / (refl_hi - refl_lo), float(1.0 / o.edge_scale_rel), float(o.value_base),
                          float(o.value_gain)};
     // Row scratch (image-width, per call): levels, scales, h(I), and an all-invalid row for the borders.

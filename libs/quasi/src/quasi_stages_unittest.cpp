@@ -163,29 +163,61 @@ TEST(QuasiOptions, IniRoundTripAndRejections)
 {
     quasi::QuasiOptions o;
     o.completion_radius_px = 4;
-    o.gray_mode = "value";
+    o.gray_mode = quasi::GrayMode::Value;
+    o.reflectivity_scope = "map";
     mrpt::config::CConfigFileMemory written;
     o.saveToConfigFile(written, "QuasiImage");
-    // Re-parsed from text, as a program reads it (MRPT reads padded keys back only from text).
-    const mrpt::config::CConfigFileMemory cfg(written.getContent());
+    const mrpt::config::CConfigFileMemory cfg(written.getContent());  // re-parsed from text, as a program reads it
     quasi::QuasiOptions back;
     core::loadOptionsChecked(back, cfg, "QuasiImage", "test.ini");
     EXPECT_EQ(back.completion_radius_px, 4);
-    EXPECT_EQ(back.gray_mode, "value");
+    EXPECT_EQ(back.gray_mode, quasi::GrayMode::Value);
+    EXPECT_EQ(back.reflectivityScope(), quasi::ReflectivityScope::Map);
     EXPECT_NO_THROW(back.check("test.ini"));
 
-    mrpt::config::CConfigFileMemory bad;
-    bad.write("QuasiImage", "completion_radius", 3);  // unknown key
-    EXPECT_THROW(core::loadOptionsChecked(back, bad, "QuasiImage", "test.ini"), core::InputError);
-    mrpt::config::CConfigFileMemory typo;
-    typo.write("QuasiImage", "completion_depth_rel", std::string("abc"));
-    EXPECT_THROW(core::loadOptionsChecked(back, typo, "QuasiImage", "test.ini"), core::InputError);
+    auto loadError = [](const std::string& text) {
+        quasi::QuasiOptions q;
+        try
+        {
+            core::loadOptionsChecked(q, mrpt::config::CConfigFileMemory(text), "QuasiImage", "test.ini");
+        }
+        catch (const core::InputError& e)
+        {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    // A typo'd key, a value that is not a number, a mode name, a value out of range: each names the key.
+    EXPECT_NE(loadError("[QuasiImage]\ncompletion_radius = 3\n")
+                  .find("test.ini [QuasiImage] completion_radius: unknown key"),
+              std::string::npos);
+    EXPECT_NE(loadError("[QuasiImage]\ncompletion_depth_rel = abc\n").find("[QuasiImage] completion_depth_rel"),
+              std::string::npos);
+    EXPECT_NE(loadError("[QuasiImage]\nedge_operator = sobel\n").find("'sobel' is not one of gradient, laplacian"),
+              std::string::npos);
+    EXPECT_NE(loadError("[QuasiImage]\nreflectivity_scope = world\n").find("'world' is not one of image, map"),
+              std::string::npos);
+    EXPECT_NE(loadError("[QuasiImage]\nocclusion_max_gap_deg = 180\n").find("must be (0, 180)"), std::string::npos);
     quasi::QuasiOptions wrong;
-    wrong.edge_operator = "sobel";
-    EXPECT_THROW(wrong.check("test.ini"), core::InputError);
-    wrong = quasi::QuasiOptions{};
     wrong.value_gain = 0.9;  // b1 + b2 > 1
     EXPECT_THROW(wrong.check("test.ini"), core::InputError);
+    wrong = quasi::QuasiOptions{};
+    wrong.completion_radius_px = 16;  // set in code: the declared range still holds
+    EXPECT_THROW(wrong.check("test.ini"), core::InputError);
+    wrong = quasi::QuasiOptions{};
+    wrong.reflectivity_scope = "world";
+    try
+    {
+        wrong.check("test.ini");
+        ADD_FAILURE() << "reflectivity_scope = world accepted";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("test.ini [QuasiImage] reflectivity_scope: the present value is not one "
+                                             "of image, map"),
+                  std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(Splatting, NearPointsCoverTheirFootprintAndStripesAgree)

@@ -24,7 +24,7 @@ namespace quasiloc::quasi
 {
 namespace
 {
-constexpr const char* kSection = "[RawlogQuasi] ";
+constexpr const char* kSection = "[RawlogQuasi]";
 
 /** The output being written: rawlog stream, images folder, optional PNG folder, all staged. */
 struct Output
@@ -148,35 +148,25 @@ void handle(Context& c, const mrpt::obs::CObservation::Ptr& obs)
 }
 }  // namespace
 
-void RawlogQuasiOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void RawlogQuasiOptions::declare(core::OptionTable& t)
 {
-    input_rawlog = cfg.read_string(s, "input_rawlog", input_rawlog);
-    map_file = cfg.read_string(s, "map_file", map_file);
-    groundtruth = cfg.read_string(s, "groundtruth", groundtruth);
-    output_rawlog = cfg.read_string(s, "output_rawlog", output_rawlog);
-    max_gt_dt_s = cfg.read_double(s, "max_gt_dt_s", max_gt_dt_s);
-    sensor_label = cfg.read_string(s, "sensor_label", sensor_label);
-    png_dir = cfg.read_string(s, "png_dir", png_dir);
-    png_every = cfg.read_int(s, "png_every", png_every);
-    max_frames = cfg.read_int(s, "max_frames", max_frames);
-}
-
-void RawlogQuasiOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "input_rawlog", input_rawlog, 25, 40, "rawlog with CObservationStereoImages");
-    c.write(s, "map_file", map_file, 25, 40, "LidarMap file");
-    c.write(s, "groundtruth", groundtruth, 25, 40, "TUM of T_world_cam0 (or EuRoC body csv): render poses");
-    c.write(s, "output_rawlog", output_rawlog, 25, 40, "images go to <name>_Images/ beside it");
-    c.write(s, "max_gt_dt_s", max_gt_dt_s, 25, 40, "largest time gap to a ground-truth pose");
-    c.write(s, "sensor_label", sensor_label, 25, 40, "label of the CObservationImage quasi-images");
-    c.write(s, "png_dir", png_dir, 25, 40, "optional folder for PNGs (quasi, gray, triple)");
-    c.write(s, "png_every", png_every, 25, 40, "PNGs every n-th quasi-image");
-    c.write(s, "max_frames", max_frames, 25, 40, "0: all stereo frames");
+    using core::Range;
+    t.add("input_rawlog", input_rawlog, "rawlog with CObservationStereoImages; its images in <name>_Images/ beside it");
+    t.add("map_file", map_file, "LidarMap file");
+    t.add("groundtruth", groundtruth, "TUM of T_world_cam0 (or EuRoC body csv): the render poses");
+    t.add("output_rawlog", output_rawlog, "the rawlog written; its images go to <name>_Images/ beside it");
+    t.add("max_gt_dt_s", max_gt_dt_s, "s", Range::atLeast(0),
+          "a frame without a ground-truth pose this close gets no quasi-image");
+    t.add("sensor_label", sensor_label, "sensorLabel of the CObservationImage quasi-images");
+    t.add("png_dir", png_dir, "optional: <t_ns>_quasi.png, _quasi_gray.png and _triple.png per frame in this folder");
+    t.add("png_every", png_every, "", Range::atLeast(1), "PNGs for every n-th frame with a quasi-image");
+    t.add("max_frames", max_frames, "", Range::atLeast(0), "0 = all stereo frames; N = stop after N");
 }
 
 void RawlogQuasiOptions::check(const std::string& input) const
 {
-    auto key = [&](const char* k) { return input + " " + kSection + k; };
+    checkDeclaredRanges(input + " " + kSection);
+    auto key = [&](const char* k) { return input + " " + kSection + " " + k; };
     core::require(!input_rawlog.empty(), key("input_rawlog"), "is empty");
     core::require(fs::is_regular_file(input_rawlog), key("input_rawlog"), "'" + input_rawlog + "' does not exist");
     core::require(!map_file.empty(), key("map_file"), "is empty");
@@ -186,10 +176,7 @@ void RawlogQuasiOptions::check(const std::string& input) const
     core::require(!output_rawlog.empty(), key("output_rawlog"), "is empty");
     core::require(fs::absolute(output_rawlog) != fs::absolute(input_rawlog), key("output_rawlog"),
                   "is the input rawlog");
-    core::require(max_gt_dt_s >= 0, key("max_gt_dt_s"), "must be >= 0");
     core::require(!sensor_label.empty(), key("sensor_label"), "is empty");
-    core::require(png_every >= 1, key("png_every"), "must be >= 1");
-    core::require(max_frames >= 0, key("max_frames"), "must be >= 0");
 }
 
 RawlogQuasiResult runRawlogQuasi(const RawlogQuasiOptions& o, const QuasiOptions& qo,

@@ -1,5 +1,5 @@
-// INI loading, saving and checking of the sim library's option structs (one place for all key names).
-#include <cmath>
+// The keys of the sim library's option structs, each declared once (name, member, unit, range, meaning), and the
+// checks that a range cannot say.
 #include <quasiloc/core/error.h>
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/stereo_renderer.h>
@@ -7,198 +7,115 @@
 
 namespace quasiloc::sim
 {
-namespace
-{
-void requireRange(double v, double lo, double hi, const std::string& input)
-{
-    core::require(std::isfinite(v) && v >= lo && v <= hi, input,
-                  "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(v));
-}
-}  // namespace
+using core::Range;
 
-void WorldOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+void WorldOptions::declare(core::OptionTable& t)
 {
-    MRPT_LOAD_CONFIG_VAR(world, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(gmm_patches, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(gmm_sigma_scale, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(gmm_min_semi_axis_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(gmm_max_semi_axis_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(shell_margin_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_boxes, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_slabs, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_poles, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_wall_posters, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(clearance_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(max_cell_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_lights, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(light_intensity, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(ambient, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(texture_size_px, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(shadow_map_px, int, c, s);
-}
-
-void WorldOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    MRPT_SAVE_CONFIG_VAR(world, c, s);
-    MRPT_SAVE_CONFIG_VAR(gmm_patches, c, s);
-    MRPT_SAVE_CONFIG_VAR(gmm_sigma_scale, c, s);
-    MRPT_SAVE_CONFIG_VAR(gmm_min_semi_axis_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(gmm_max_semi_axis_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(shell_margin_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(num_boxes, c, s);
-    MRPT_SAVE_CONFIG_VAR(num_slabs, c, s);
-    MRPT_SAVE_CONFIG_VAR(num_poles, c, s);
-    MRPT_SAVE_CONFIG_VAR(num_wall_posters, c, s);
-    MRPT_SAVE_CONFIG_VAR(clearance_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(max_cell_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(num_lights, c, s);
-    MRPT_SAVE_CONFIG_VAR(light_intensity, c, s);
-    MRPT_SAVE_CONFIG_VAR(ambient, c, s);
-    MRPT_SAVE_CONFIG_VAR(texture_size_px, c, s);
-    MRPT_SAVE_CONFIG_VAR(shadow_map_px, c, s);
+    t.addEnum("world", world, {{"v1", ViconRoom::v1}, {"v2", ViconRoom::v2}},
+              "the EuRoC Vicon room (1 or 2): shell and clutter from its GMM and line maps");
+    t.add("gmm_patches", gmm_patches, "interior GMM components as elliptical patches");
+    t.add("gmm_sigma_scale", gmm_sigma_scale, "", Range::between(0.1, 5), "patch semi-axis = scale * sigma");
+    t.add("gmm_min_semi_axis_m", gmm_min_semi_axis_m, "m", Range::between(0.001, 1),
+          "smaller components are skipped (noise-sized)");
+    t.add("gmm_max_semi_axis_m", gmm_max_semi_axis_m, "m", Range::between(0.001, 5),
+          "larger patch semi-axes are cut to this (>= gmm_min_semi_axis_m)");
+    t.add("shell_margin_m", shell_margin_m, "m", Range::between(0, 1),
+          "components closer than this to the shell belong to it");
+    t.add("num_boxes", num_boxes, "", Range::between(0, 200), "cardboard boxes, sometimes stacked two high");
+    t.add("num_slabs", num_slabs, "", Range::between(0, 200), "mattresses lying flat or leaning against something");
+    t.add("num_poles", num_poles, "", Range::between(0, 200), "floor-to-ceiling poles with reflective tape");
+    t.add("num_wall_posters", num_wall_posters, "", Range::between(0, 200),
+          "posters and calibration boards 1 cm off a wall");
+    t.add("clearance_m", clearance_m, "m", Range::between(0, 2),
+          "every triangle keeps this far from the room's ground-truth trajectories (patches shrink, objects move)");
+    t.add("max_cell_m", max_cell_m, "m", Range::between(0.05, 5), "triangle size (lighting resolution)");
+    t.add("num_lights", num_lights, "", Range::between(1, 32), "point lights below the ceiling, in one or two rows");
+    t.add("light_intensity", light_intensity, "", Range::between(0, 1e4), "intensity of each light");
+    t.add("ambient", ambient, "", Range::between(0, 10), "irradiance without any light");
+    t.add("texture_size_px", texture_size_px, "px", Range::between(32, 2048),
+          "side of the procedural albedo textures (a power of two)");
+    t.add("shadow_map_px", shadow_map_px, "px", Range::between(0, 4096),
+          "cube-map size for light shadows; 0 = no shadows, else >= 64");
 }
 
 void WorldOptions::check(const std::string& in) const
 {
-    core::require(world == "v1" || world == "v2", in + " world", "must be v1 or v2, got '" + world + "'");
-    requireRange(gmm_sigma_scale, 0.1, 5, in + " gmm_sigma_scale");
-    requireRange(gmm_min_semi_axis_m, 0.001, 1, in + " gmm_min_semi_axis_m");
-    requireRange(gmm_max_semi_axis_m, gmm_min_semi_axis_m, 5, in + " gmm_max_semi_axis_m");
-    requireRange(shell_margin_m, 0, 1, in + " shell_margin_m");
-    for (auto [v, k] : {std::pair{num_boxes, "num_boxes"}, {num_slabs, "num_slabs"}, {num_poles, "num_poles"},
-                        {num_wall_posters, "num_wall_posters"}})
-        requireRange(v, 0, 200, in + " " + k);
-    requireRange(clearance_m, 0, 2, in + " clearance_m");
-    requireRange(max_cell_m, 0.05, 5, in + " max_cell_m");
-    requireRange(num_lights, 1, 32, in + " num_lights");
-    requireRange(light_intensity, 0, 1e4, in + " light_intensity");
-    requireRange(ambient, 0, 10, in + " ambient");
-    requireRange(texture_size_px, 32, 2048, in + " texture_size_px");
+    checkDeclaredRanges(in);
+    core::require(gmm_max_semi_axis_m >= gmm_min_semi_axis_m, in + " gmm_max_semi_axis_m",
+                  "must be >= gmm_min_semi_axis_m");
     core::require((texture_size_px & (texture_size_px - 1)) == 0, in + " texture_size_px", "must be a power of two");
-    core::require(shadow_map_px == 0 || (shadow_map_px >= 64 && shadow_map_px <= 4096), in + " shadow_map_px",
+    core::require(shadow_map_px == 0 || shadow_map_px >= 64, in + " shadow_map_px",
                   "must be 0 (no shadows) or in [64, 4096]");
 }
 
-void AppearanceOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+void AppearanceOptions::declare(core::OptionTable& t)
 {
-    MRPT_LOAD_CONFIG_VAR(render_scale, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(exposure, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(exposure_variation, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(exposure_period_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(vignetting, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(gamma, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(read_noise, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(shot_noise, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(motion_blur_samples, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(exposure_time_ms, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(illumination_change, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(illumination_change_start_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(illumination_change_duration_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(illumination_change_factor, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(auto_exposure_compensation, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(auto_exposure_lag_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(occluder, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(occluder_speed_m_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(occluder_path_fraction, double, c, s);
+    t.add("render_scale", render_scale, "", Range::between(0.25, 2),
+          "focal length of the internal pinhole relative to the camera's");
+    t.add("exposure", exposure, "", Range::between(1e-3, 1e3), "linear gain from radiance to sensor signal [0,1]");
+    t.add("exposure_variation", exposure_variation, "", Range::between(0, 0.9),
+          "relative amplitude of the slow (sine) exposure drift");
+    t.add("exposure_period_s", exposure_period_s, "s", Range::between(0.1, 1e4), "period of the exposure drift");
+    t.add("vignetting", vignetting, "", Range::between(0, 0.95), "relative darkening in the image corners");
+    t.add("gamma", gamma, "", Range::between(0.2, 5), "sensor gamma before 8-bit quantisation");
+    t.add("read_noise", read_noise, "", Range::between(0, 50), "std of the read noise in 8-bit units");
+    t.add("shot_noise", shot_noise, "", Range::between(0, 10),
+          "shot noise std in 8-bit units at full scale is shot_noise*sqrt(255)");
+    t.add("motion_blur_samples", motion_blur_samples, "", Range::between(1, 16),
+          "poses averaged across the exposure time; 1 = no blur");
+    t.add("exposure_time_ms", exposure_time_ms, "ms", Range::between(0, 50), "spread of the blur samples");
+    t.add("illumination_change", illumination_change,
+          "an episode where the lights dim and every other light turns off");
+    t.add("illumination_change_start_s", illumination_change_start_s, "s", Range::between(0, 1e5),
+          "start of the episode, since the start of the trajectory");
+    t.add("illumination_change_duration_s", illumination_change_duration_s, "s", Range::between(2, 1e5),
+          "length of the episode");
+    t.add("illumination_change_factor", illumination_change_factor, "", Range::between(0, 1),
+          "intensity of the lights that stay on");
+    t.add("auto_exposure_compensation", auto_exposure_compensation, "", Range::between(0, 1),
+          "exponent of the auto-exposure's answer to the dimming: 0 = none, 1 = full compensation");
+    t.add("auto_exposure_lag_s", auto_exposure_lag_s, "s", Range::between(0, 10),
+          "delay of the auto-exposure behind the lights");
+    t.add("occluder", occluder, "a person-sized box walking an ellipse in the room");
+    t.add("occluder_speed_m_s", occluder_speed_m_s, "m/s", Range::between(0, 5), "walking speed of the occluder");
+    t.add("occluder_path_fraction", occluder_path_fraction, "", Range::between(0.05, 0.5),
+          "ellipse semi-axes as fraction of the room extent");
 }
 
-void AppearanceOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    MRPT_SAVE_CONFIG_VAR(render_scale, c, s);
-    MRPT_SAVE_CONFIG_VAR(exposure, c, s);
-    MRPT_SAVE_CONFIG_VAR(exposure_variation, c, s);
-    MRPT_SAVE_CONFIG_VAR(exposure_period_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(vignetting, c, s);
-    MRPT_SAVE_CONFIG_VAR(gamma, c, s);
-    MRPT_SAVE_CONFIG_VAR(read_noise, c, s);
-    MRPT_SAVE_CONFIG_VAR(shot_noise, c, s);
-    MRPT_SAVE_CONFIG_VAR(motion_blur_samples, c, s);
-    MRPT_SAVE_CONFIG_VAR(exposure_time_ms, c, s);
-    MRPT_SAVE_CONFIG_VAR(illumination_change, c, s);
-    MRPT_SAVE_CONFIG_VAR(illumination_change_start_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(illumination_change_duration_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(illumination_change_factor, c, s);
-    MRPT_SAVE_CONFIG_VAR(auto_exposure_compensation, c, s);
-    MRPT_SAVE_CONFIG_VAR(auto_exposure_lag_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(occluder, c, s);
-    MRPT_SAVE_CONFIG_VAR(occluder_speed_m_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(occluder_path_fraction, c, s);
-}
+void AppearanceOptions::check(const std::string& in) const { checkDeclaredRanges(in); }
 
-void AppearanceOptions::check(const std::string& in) const
+void LidarOptions::declare(core::OptionTable& t)
 {
-    requireRange(render_scale, 0.25, 2, in + " render_scale");
-    requireRange(exposure, 1e-3, 1e3, in + " exposure");
-    requireRange(exposure_variation, 0, 0.9, in + " exposure_variation");
-    requireRange(exposure_period_s, 0.1, 1e4, in + " exposure_period_s");
-    requireRange(vignetting, 0, 0.95, in + " vignetting");
-    requireRange(gamma, 0.2, 5, in + " gamma");
-    requireRange(read_noise, 0, 50, in + " read_noise");
-    requireRange(shot_noise, 0, 10, in + " shot_noise");
-    requireRange(motion_blur_samples, 1, 16, in + " motion_blur_samples");
-    requireRange(exposure_time_ms, 0, 50, in + " exposure_time_ms");
-    requireRange(illumination_change_start_s, 0, 1e5, in + " illumination_change_start_s");
-    requireRange(illumination_change_duration_s, 2, 1e5, in + " illumination_change_duration_s");
-    requireRange(illumination_change_factor, 0, 1, in + " illumination_change_factor");
-    requireRange(auto_exposure_compensation, 0, 1, in + " auto_exposure_compensation");
-    requireRange(auto_exposure_lag_s, 0, 10, in + " auto_exposure_lag_s");
-    requireRange(occluder_speed_m_s, 0, 5, in + " occluder_speed_m_s");
-    requireRange(occluder_path_fraction, 0.05, 0.5, in + " occluder_path_fraction");
-}
-
-void LidarOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-    MRPT_LOAD_CONFIG_VAR(density_per_m2, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(range_noise_mm, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(num_stations, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(station_height_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(visibility_from_stations, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(cubemap_size_px, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(reflectivity_noise, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(incidence_weight, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(range_falloff_m, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(beam_map, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(beam_num_scans, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(beam_azimuth_steps, int, c, s);
-    MRPT_LOAD_CONFIG_VAR(beam_min_elevation_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(beam_max_elevation_deg, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(beam_range_noise_mm, double, c, s);
-}
-
-void LidarOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    MRPT_SAVE_CONFIG_VAR(density_per_m2, c, s);
-    MRPT_SAVE_CONFIG_VAR(range_noise_mm, c, s);
-    MRPT_SAVE_CONFIG_VAR(num_stations, c, s);
-    MRPT_SAVE_CONFIG_VAR(station_height_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(visibility_from_stations, c, s);
-    MRPT_SAVE_CONFIG_VAR(cubemap_size_px, c, s);
-    MRPT_SAVE_CONFIG_VAR(reflectivity_noise, c, s);
-    MRPT_SAVE_CONFIG_VAR(incidence_weight, c, s);
-    MRPT_SAVE_CONFIG_VAR(range_falloff_m, c, s);
-    MRPT_SAVE_CONFIG_VAR(beam_map, c, s);
-    MRPT_SAVE_CONFIG_VAR(beam_num_scans, c, s);
-    MRPT_SAVE_CONFIG_VAR(beam_azimuth_steps, c, s);
-    MRPT_SAVE_CONFIG_VAR(beam_min_elevation_deg, c, s);
-    MRPT_SAVE_CONFIG_VAR(beam_max_elevation_deg, c, s);
-    MRPT_SAVE_CONFIG_VAR(beam_range_noise_mm, c, s);
+    t.add("density_per_m2", density_per_m2, "1/m^2", Range::between(1, 1e6), "points sampled per square metre");
+    t.add("range_noise_mm", range_noise_mm, "mm", Range::between(0, 1000),
+          "survey-grade range noise along the ray from the station that sees the point");
+    t.add("num_stations", num_stations, "", Range::between(1, 64), "scanner stations (farthest-point sampling)");
+    t.add("station_height_m", station_height_m, "m", Range::between(0.1, 3), "height of the stations");
+    t.add("visibility_from_stations", visibility_from_stations,
+          "keep only points some station sees (scan shadows)");
+    t.add("cubemap_size_px", cubemap_size_px, "px", Range::between(64, 4096),
+          "side of a station's visibility cube map");
+    t.add("reflectivity_noise", reflectivity_noise, "", Range::between(0, 1), "std of the reflectivity noise");
+    t.add("incidence_weight", incidence_weight, "", Range::between(0, 1),
+          "reflectivity x (1 - w + w * cos(incidence))");
+    t.add("range_falloff_m", range_falloff_m, "m", Range::between(0.1, 1e4),
+          "reflectivity x 1 / (1 + (range / range_falloff_m)^2)");
+    t.add("beam_map", beam_map, "also produce the sparse 32-beam-like map");
+    t.add("beam_num_scans", beam_num_scans, "", Range::between(1, 1000), "32-beam map: scan stations");
+    t.add("beam_azimuth_steps", beam_azimuth_steps, "", Range::between(16, 100000), "32-beam map: beams per turn");
+    t.add("beam_min_elevation_deg", beam_min_elevation_deg, "deg", Range::between(-89, 89),
+          "32-beam map: lowest beam");
+    t.add("beam_max_elevation_deg", beam_max_elevation_deg, "deg", Range::between(-89, 89),
+          "32-beam map: highest beam (>= beam_min_elevation_deg)");
+    t.add("beam_range_noise_mm", beam_range_noise_mm, "mm", Range::between(0, 1000),
+          "32-beam map: the beam sensor's range noise");
 }
 
 void LidarOptions::check(const std::string& in) const
 {
-    requireRange(density_per_m2, 1, 1e6, in + " density_per_m2");
-    requireRange(range_noise_mm, 0, 1000, in + " range_noise_mm");
-    requireRange(num_stations, 1, 64, in + " num_stations");
-    requireRange(station_height_m, 0.1, 3, in + " station_height_m");
-    requireRange(cubemap_size_px, 64, 4096, in + " cubemap_size_px");
-    requireRange(reflectivity_noise, 0, 1, in + " reflectivity_noise");
-    requireRange(incidence_weight, 0, 1, in + " incidence_weight");
-    requireRange(range_falloff_m, 0.1, 1e4, in + " range_falloff_m");
-    requireRange(beam_num_scans, 1, 1000, in + " beam_num_scans");
-    requireRange(beam_azimuth_steps, 16, 100000, in + " beam_azimuth_steps");
-    requireRange(beam_min_elevation_deg, -89, 89, in + " beam_min_elevation_deg");
-    requireRange(beam_max_elevation_deg, beam_min_elevation_deg, 89, in + " beam_max_elevation_deg");
-    requireRange(beam_range_noise_mm, 0, 1000, in + " beam_range_noise_mm");
+    checkDeclaredRanges(in);
+    core::require(beam_max_elevation_deg >= beam_min_elevation_deg, in + " beam_max_elevation_deg",
+                  "must be >= beam_min_elevation_deg");
 }
 
 }  // namespace quasiloc::sim

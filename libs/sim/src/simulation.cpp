@@ -20,54 +20,6 @@ namespace quasiloc::sim
 {
 namespace fs = std::filesystem;
 
-void SimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-    MRPT_LOAD_CONFIG_VAR(output_dir, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(sequence, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(shared_dir, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(trajectory, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(duration_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(start_offset_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(camera_rate_hz, double, c, s);
-    seed = c.read_uint64_t(s, "seed", seed);
-    MRPT_LOAD_CONFIG_VAR(cam0_yaml, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(cam1_yaml, string, c, s);
-    MRPT_LOAD_CONFIG_VAR(spline_knot_spacing_s, double, c, s);
-    MRPT_LOAD_CONFIG_VAR(write_map, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(inspection_png, bool, c, s);
-    MRPT_LOAD_CONFIG_VAR(verbose, bool, c, s);
-}
-
-void SimulationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    MRPT_SAVE_CONFIG_VAR(output_dir, c, s);
-    MRPT_SAVE_CONFIG_VAR(sequence, c, s);
-    MRPT_SAVE_CONFIG_VAR(shared_dir, c, s);
-    MRPT_SAVE_CONFIG_VAR(trajectory, c, s);
-    MRPT_SAVE_CONFIG_VAR(duration_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(start_offset_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(camera_rate_hz, c, s);
-    c.write(s, "seed", std::to_string(seed));
-    MRPT_SAVE_CONFIG_VAR(cam0_yaml, c, s);
-    MRPT_SAVE_CONFIG_VAR(cam1_yaml, c, s);
-    MRPT_SAVE_CONFIG_VAR(spline_knot_spacing_s, c, s);
-    MRPT_SAVE_CONFIG_VAR(write_map, c, s);
-    MRPT_SAVE_CONFIG_VAR(inspection_png, c, s);
-    MRPT_SAVE_CONFIG_VAR(verbose, c, s);
-}
-
-void SimulationOptions::check(const std::string& in) const
-{
-    core::require(!output_dir.empty(), in + " output_dir", "is required");
-    core::require(!sequence.empty() && sequence.find('/') == std::string::npos, in + " sequence",
-                  "must be a plain name (it names the rawlog)");
-    core::require(std::isfinite(duration_s) && duration_s >= 0, in + " duration_s", "must be >= 0 (0 = all)");
-    core::require(std::isfinite(start_offset_s) && start_offset_s >= 0, in + " start_offset_s", "must be >= 0");
-    core::require(camera_rate_hz > 0 && camera_rate_hz <= 1000, in + " camera_rate_hz", "must be in (0, 1000]");
-    core::require(spline_knot_spacing_s >= 0.005 && spline_knot_spacing_s <= 2, in + " spline_knot_spacing_s",
-                  "must be in [0.005, 2]");
-}
-
 namespace
 {
 double seconds(std::chrono::steady_clock::time_point a)
@@ -137,7 +89,7 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
 {
     std::ostringstream s;
     s << "Simulated EuRoC-like sequence written by sim-rawlog (quasiloc sim library).\n\n"
-      << "World: EuRoC Vicon room " << wo.world << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
+      << "World: EuRoC Vicon room " << roomName(wo.world) << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
       << "procedural objects), trajectory: " << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory)
       << ", seed " << o.seed << ".\n" << r.frames << " stereo frames at " << o.camera_rate_hz << " Hz, " << r.imu_samples
       << " IMU samples.\nIMU: " << r.imu_description << ".\nMap: " << r.map_points << " points. Minimum clearance between the room's trajectories\n"
@@ -219,7 +171,7 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
 
     // World: clear of every trajectory of the room and of the simulated one.
     auto clock = std::chrono::steady_clock::now();
-    std::vector<Eigen::Vector3f> keep_clear = loadRoomTrajectoryPositions(so.shared_dir, wo.world);
+    std::vector<Eigen::Vector3f> keep_clear = loadRoomTrajectoryPositions(so.shared_dir, roomName(wo.world));
     for (int64_t t : frame_ns)
     {
         const mrpt::poses::CPose3D T = T_world_cam0(t * 1e-9);
@@ -229,7 +181,7 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     const World world = buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
     timer.leave("world");
     r.world_time_s = seconds(clock);
-    log("world " + wo.world + ": " + std::to_string(r.world.triangles) + " triangles, " + std::to_string(r.world.gmm_patches) +
+    log("world " + roomName(wo.world) + ": " + std::to_string(r.world.triangles) + " triangles, " + std::to_string(r.world.gmm_patches) +
         " GMM patches, " + std::to_string(r.world.objects_placed) + " objects, min clearance " +
         std::to_string(r.world.min_clearance_m) + " m (" + std::to_string(r.world_time_s) + " s)");
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/program_options.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/dataset/calibration.h>
@@ -39,6 +40,30 @@ std::vector<std::vector<double>> csvRows(const std::string& path)
         rows.push_back(row);
     }
     return rows;
+}
+
+/** Every section of sim-rawlog.ini loads strictly (as scripts re-read it), with the run's values. */
+void expectEffectiveConfigLoadsBack(const mrpt::config::CConfigFileBase& eff, const std::string& out)
+{
+    sim::SimulationOptions so;
+    sim::WorldOptions wo;
+    sim::AppearanceOptions ao;
+    sim::LidarOptions lo;
+    sim::ImuNoiseOptions io;
+    core::loadOptionsChecked(so, eff, "Simulation", "sim-rawlog.ini");
+    core::loadOptionsChecked(wo, eff, "World", "sim-rawlog.ini");
+    core::loadOptionsChecked(ao, eff, "Appearance", "sim-rawlog.ini");
+    core::loadOptionsChecked(lo, eff, "Lidar", "sim-rawlog.ini");
+    core::loadOptionsChecked(io, eff, "IMU", "sim-rawlog.ini");
+    EXPECT_EQ(so.output_dir, out);
+    EXPECT_EQ(so.trajectory, "");  // empty values are written without a comment
+    EXPECT_EQ(so.start_offset_s, 10.0);
+    EXPECT_EQ(wo.world, sim::ViconRoom::v2);
+    EXPECT_EQ(wo.texture_size_px, 128);
+    EXPECT_TRUE(lo.beam_map);
+    EXPECT_EQ(io.bias_file, "");
+    EXPECT_EQ(io.initial_gyro_bias, sim::ImuNoiseOptions().initial_gyro_bias);
+    EXPECT_EQ(io.gyroscope_noise_density, 1.6968e-04);
 }
 
 mrpt::config::CConfigFileMemory shortRun(const std::string& out)
@@ -91,6 +116,7 @@ TEST(Simulation, ShortRunWritesEveryOutput)
     EXPECT_EQ(eff.read_string("World", "world", ""), "v2");
     EXPECT_EQ(eff.read_double("Simulation", "duration_s", 0), 1.0);
     EXPECT_EQ(eff.read_string("IMU", "bias", ""), "euroc_groundtruth");
+    expectEffectiveConfigLoadsBack(eff, out.string());
     // The true biases: V2_01_easy's ground truth (bias = euroc_groundtruth by default), one row per IMU sample
     // at the gt_body.tum times.
     const auto bias_rows = csvRows((out / "gt_imu_bias.csv").string());
@@ -156,9 +182,24 @@ TEST(Simulation, BadInputLeavesNoOutput)
     auto cfg = shortRun(out.string());
     cfg.write("Simulation", "trajectory", "/nonexistent/trajectory.tum");
     EXPECT_THROW(sim::runSimulation(cfg, "test"), core::InputError);
-    auto cfg2 = shortRun(out.string());
-    cfg2.write("World", "no_such_key", 1);
-    EXPECT_THROW(sim::runSimulation(cfg2, "test"), core::InputError);
+    for (const char* section : {"Simulation", "World", "Appearance", "Lidar", "IMU"})
+    {
+        auto typo = shortRun(out.string());
+        typo.write(section, "no_such_key", 1);
+        try
+        {
+            sim::runSimulation(typo, "test.ini");
+            ADD_FAILURE() << "a typo in [" << section << "] was accepted";
+        }
+        catch (const core::InputError& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("test.ini [" + std::string(section) + "] no_such_key"),
+                      std::string::npos) << e.what();
+        }
+    }
+    auto range = shortRun(out.string());
+    range.write("Appearance", "gamma", 0.1);
+    EXPECT_THROW(sim::runSimulation(range, "test"), core::InputError);
     auto cfg3 = shortRun(out.string());
     cfg3.write("Simulation", "start_offset_s", 1e4);  // past the end of the trajectory
     EXPECT_THROW(sim::runSimulation(cfg3, "test"), core::InputError);

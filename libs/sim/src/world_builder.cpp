@@ -227,6 +227,8 @@ void addLights(const Eigen::AlignedBox3f& room, const WorldOptions& o, World& w)
 }
 }  // namespace
 
+std::string roomName(ViconRoom room) { return room == ViconRoom::v1 ? "v1" : "v2"; }
+
 std::string gmmPath(const std::string& shared_dir, const std::string& world)
 {
     return shared_dir + "/data/euroc/maps/gmm/" + world + ".gmm";
@@ -260,13 +262,13 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
                  const std::vector<Eigen::Vector3f>& keep_clear, WorldStats* stats_out)
 {
     o.check("[World]");
-    roomSequences(o.world);  // validates the name
-    const std::vector<map::GmmComponent> gmm = map::readGmmFile(gmmPath(shared_dir, o.world));
-    const std::vector<LineSegment3D> lines = readLineSegments(linesPath(shared_dir, o.world));
+    const std::string room = roomName(o.world);
+    const std::vector<map::GmmComponent> gmm = map::readGmmFile(gmmPath(shared_dir, room));
+    const std::vector<LineSegment3D> lines = readLineSegments(linesPath(shared_dir, room));
     Rng rng(seed * 6364136223846793005ull + 1442695040888963407ull);
     World w;
     WorldStats st;
-    w.name = o.world;
+    w.name = room;
     w.room = roomExtent(gmm, lines);
     w.materials = makeProceduralMaterials(seed, o.texture_size_px);
     w.ambient = static_cast<float>(o.ambient);

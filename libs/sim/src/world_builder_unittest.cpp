@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/program_options.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/sim/world_builder.h>
 
@@ -13,10 +15,11 @@ const std::string kShared = QUASILOC_SHARED_DIR;
 
 TEST(WorldBuilder, AllSixTrajectoriesKeepClearanceFromGeometry)
 {
-    for (const std::string world : {"v1", "v2"})
+    for (const sim::ViconRoom room : {sim::ViconRoom::v1, sim::ViconRoom::v2})
     {
+        const std::string world = sim::roomName(room);
         sim::WorldOptions o;
-        o.world = world;
+        o.world = room;
         const auto keep_clear = sim::loadRoomTrajectoryPositions(kShared, world);
         sim::WorldStats st;
         const sim::World w = sim::buildWorld(o, kShared, 1, keep_clear, &st);
@@ -55,8 +58,14 @@ TEST(WorldBuilder, DeterministicForASeed)
 TEST(WorldBuilder, RejectsBadOptions)
 {
     sim::WorldOptions o;
-    o.world = "v3";
+    mrpt::config::CConfigFileMemory cfg;
+    cfg.setContent("[World]\nworld = v3\n");
+    EXPECT_THROW(core::loadOptionsChecked(o, cfg, "World", "test.ini"), core::InputError);
+    o.texture_size_px = 100;  // in range, not a power of two
     EXPECT_THROW(sim::buildWorld(o, kShared, 1, {}), core::InputError);
-    o.world = "v1";
+    o.texture_size_px = 128;
+    o.num_lights = 0;  // set in code: the declared range still holds
+    EXPECT_THROW(sim::buildWorld(o, kShared, 1, {}), core::InputError);
+    o.num_lights = 6;
     EXPECT_THROW(sim::buildWorld(o, "/nonexistent", 1, {}), core::InputError);
 }

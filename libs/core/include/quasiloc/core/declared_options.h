@@ -16,6 +16,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 #include <mrpt/config/CLoadableOptions.h>
 
+#include <Eigen/Core>
 #include <functional>
 #include <limits>
 #include <string>
@@ -57,6 +58,7 @@ class OptionTable
    public:
     void add(const std::string& key, double& value, const std::string& unit, Range range, const std::string& doc);
     void add(const std::string& key, int& value, const std::string& unit, Range range, const std::string& doc);
+    /** Read exactly, all 64 bits (seeds); the range is compared as a double. */
     void add(const std::string& key, size_t& value, const std::string& unit, Range range, const std::string& doc);
     void add(const std::string& key, bool& value, const std::string& doc);
     /** Free text: a path, a name. */
@@ -64,7 +66,11 @@ class OptionTable
     /** "[a b c]" of numbers, each in `range`. */
     void add(const std::string& key, std::vector<double>& value, const std::string& unit, Range range,
              const std::string& doc);
-    /** One of the named values; an other name is an InputError listing them. */
+    /** "[x y z]": exactly three numbers, each in `range`. */
+    void add(const std::string& key, Eigen::Vector3d& value, const std::string& unit, Range range,
+             const std::string& doc);
+    /** One of the named values; an other name is an InputError listing them. A value may have several names (an
+     *  alias kept so that old INI files stay valid): the first one is the name saved. */
     template <class E>
     void addEnum(const std::string& key, E& value, const std::vector<std::pair<std::string, E>>& names,
                  const std::string& doc)
@@ -74,7 +80,7 @@ class OptionTable
         for (size_t i = 0; i < names.size(); ++i)
         {
             texts.push_back(names[i].first);
-            if (names[i].second == value) current = int(i);
+            if (current < 0 && names[i].second == value) current = int(i);
         }
         addChoice(key, texts, current, [&value, names](size_t i) { value = names[i].second; }, doc);
     }
@@ -83,7 +89,8 @@ class OptionTable
     {
         Load,
         Save,
-        Describe
+        Describe,
+        Check  ///< the present values against the declared ranges; `section` is then how errors name the struct
     };
     OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
                 const std::string& section);
@@ -94,6 +101,7 @@ class OptionTable
                    const std::function<void(size_t)>& set, const std::string& doc);
     void addNumber(const std::string& key, double current, bool integer, const std::string& unit, Range range,
                    const std::string& doc, const std::function<void(double)>& set);
+    void requireInRange(const std::string& key, double v, Range range) const;
     void emit(const std::string& key, const std::string& type, const std::string& unit, const std::string& range,
               const std::string& value, const std::string& doc);
     std::string readText(const std::string& key) const;
@@ -115,6 +123,10 @@ struct DeclaredOptions : public mrpt::config::CLoadableOptions
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
     /** The declared keys with their defaults (the struct's present values), for the reference. */
     std::vector<OptionDescription> describe() const;
+    /** The present values against the declared ranges, for options set in code rather than loaded: InputError
+     *  "<input> <key>: ..." for the first value out of range. check() functions call it before their checks
+     *  that relate two keys. */
+    void checkDeclaredRanges(const std::string& input) const;
 };
 
 }  // namespace quasiloc::core

@@ -1,38 +1,32 @@
 #pragma once
 // EuRoC ASL folder -> MRPT rawlog (+ <name>_Images/), calibration INI and ground-truth TUM file.
 // The work of the program euroc2rawlog, in the library so that tests can run it.
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/system/CTimeLogger.h>
 
 #include <cstdint>
+#include <quasiloc/core/declared_options.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::dataset
 {
-/** INI section [Euroc2Rawlog]. */
-struct Euroc2RawlogOptions : public mrpt::config::CLoadableOptions
+/** INI section [Euroc2Rawlog]; each key's unit, range and meaning: declare() (euroc_conversion.cpp). */
+struct Euroc2RawlogOptions : public core::DeclaredOptions
 {
-    std::string input;        ///< ASL folder (holding mav0/, or mav0/ itself)
-    std::string output;       ///< the rawlog to write; images go to <name>_Images/ beside it
-    std::string groundtruth;  ///< optional: TUM file of T_world_cam0 or EuRoC body csv (decided by content)
-    std::string calib_out;    ///< calibration INI; empty = <output dir>/<name>_calib.ini
-    std::string gt_out;       ///< ground truth TUM of T_world_cam0; empty = <output dir>/<name>_gt_cam0.tum
-    /** The IMU's noise model (Kalibr / EuRoC sensor.yaml) written into the calibration's [imu]; empty =
-     *  <mav0>/imu0/sensor.yaml. */
+    std::string input;
+    std::string output;
+    std::string groundtruth;
+    std::string calib_out;
+    std::string gt_out;
     std::string imu_yaml;
     std::string stereo_sensor_label = "stereo";
     std::string imu_sensor_label = "imu";
-    /** 0 = every stereo pair and every IMU sample; N > 0 = the first N pairs and the IMU samples up to the
-     *  last of them (for quick tests and previews). */
     int max_frames = 0;
-    /** Ground truth is kept within the sequence's time span widened by this margin. */
     double gt_margin_s = 1.0;
     int gz_compression_level = 1;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming "[Euroc2Rawlog] <key>" for a missing input/output or a bad value. */
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges, then InputError naming "[Euroc2Rawlog] <key>" for a missing input/output or a bad value. */
     void check() const;
 
     std::string calibOutPath() const;  ///< calib_out or its default

@@ -1,18 +1,7 @@
 #pragma once
 // rawlog-quasi: a rawlog with a quasi-image beside every camera frame, so that camera images and quasi-images
-// can be compared in RawLogViewer. INI layout:
-//
-//   [RawlogQuasi]
-//   input_rawlog = out/sim/V1_01_easy.rawlog   ; images in <name>_Images/ beside it
-//   map_file = out/sim/V1_01_easy_map.bin      ; LidarMap file
-//   groundtruth = out/sim/gt.tum               ; TUM of T_world_cam0 (or EuRoC body csv): the render poses
-//   max_gt_dt_s = 0.005                        ; a frame without a pose this close gets no quasi-image
-//   output_rawlog = out/quasi/V1_01_easy_quasi.rawlog
-//   sensor_label = quasi                       ; CObservationImage::sensorLabel of the quasi-images
-//   png_dir =                                  ; optional: <t_ns>_quasi.png and <t_ns>_triple.png per frame
-//   png_every = 1                              ; PNGs for every n-th frame with a quasi-image
-//   max_frames = 0                             ; 0: all stereo frames; N: stop after N
-//   [QuasiImage]                               ; renderer options (quasi_options.h)
+// can be compared in RawLogViewer. Sections [RawlogQuasi] (RawlogQuasiOptions::declare, rawlog_quasi.cpp) and
+// [QuasiImage] (renderer options, quasi_options.h).
 //
 // Output: every observation of the input is copied in order (external image files copied into the output's
 // _Images folder); after each CObservationStereoImages comes a CObservationImage (label sensor_label,
@@ -20,15 +9,13 @@
 // PNG). Geometry: the quasi-image is rendered with the RAW (distorted) left camera model at T_world_cam0, i.e.
 // in exactly the pixel geometry of the stored left image, so both overlay pixel for pixel.
 // Nothing is written at the final paths unless the whole run succeeds (staged outputs).
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <quasiloc/quasi/quasi_options.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::quasi
 {
-struct RawlogQuasiOptions : public mrpt::config::CLoadableOptions
+struct RawlogQuasiOptions : public core::DeclaredOptions
 {
     std::string input_rawlog, map_file, groundtruth, output_rawlog;
     double max_gt_dt_s = 0.005;
@@ -37,9 +24,8 @@ struct RawlogQuasiOptions : public mrpt::config::CLoadableOptions
     int png_every = 1;
     int max_frames = 0;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming the key for a missing or unusable value (files must exist). */
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges, then InputError naming the key for a missing or unusable value (files must exist). */
     void check(const std::string& input) const;
 };
 

@@ -13,35 +13,21 @@
 // With noise_enabled = false the samples are exact plus the biases: those of the trajectory, or the constant
 // initial biases (no random walk).
 //
-// [IMU] keys (ImuNoiseOptions), the sensor and how the simulation (simulation.h) uses it:
-//   source = synthetic | real   synthetic (default): samples synthesized on the spline as above.
-//                               real: the samples of a real EuRoC imu0/data.csv (real_imu_csv) replayed
-//                               unchanged in the span of the simulated frames, on the ground-truth clock
-//                               (semi-real sequence: real IMU, rendered images; frame times within 1 us of an
-//                               IMU tick move onto it, snapToImuTicks). Only V1_01_easy's IMU file
-//                               is available: the file must cover the frames, else an InputError. The biases
-//                               of such a sequence are unknown (V1_01 has no ground-truth body csv; EuRoC's
-//                               biases are about the same in every sequence, see initial_*_bias). rate_hz is
-//                               the file's nominal rate (gap check); noise, bias and seed keys are not used.
-//   real_imu_csv =              source = real only; empty = <shared_dir>/data/euroc/V1_01_easy_micro/mav0/imu0/data.csv
-//   bias = euroc_groundtruth | random_walk
-//                               euroc_groundtruth (default): the biases follow the EuRoC ground-truth bias
-//                               trajectory (b_w, b_a columns of state_groundtruth_estimate0/data.csv):
-//                               bias_file, or when bias_file is empty
-//                               <shared_dir>/data/euroc/groundtruth/body/<sequence>.csv when it exists (V1_02,
-//                               V1_03, V2_01, V2_02, V2_03), else (V1_01_easy, own trajectories) the random walk.
-//                               The file's clock must overlap the simulated one (EuRoC timestamps).
-//                               random_walk: the random walk from initial_gyro_bias / initial_acc_bias.
-//   bias_file =                 bias = euroc_groundtruth only; an explicit file must exist
-//   initial_gyro_bias, initial_acc_bias   start of the random walk. Defaults (-0.0023 0.0249 0.0817) rad/s and
-//                               (-0.021 0.122 0.079) m/s^2: EuRoC's real biases (V2_01_easy's ground truth; the
-//                               means of the five ground-truth files lie within 0.006 rad/s and 0.15 m/s^2 of
-//                               them, and each file's biases vary by < 0.0002 rad/s and < 0.013 m/s^2).
+// How the simulation (simulation.h) uses [IMU] (keys: ImuNoiseOptions::declare, sim_options.cpp):
+//  - source = real replays a real EuRoC imu0/data.csv unchanged in the span of the simulated frames, on the
+//    ground-truth clock (a semi-real sequence: real IMU, rendered images; frame times within 1 us of an IMU tick
+//    move onto it, snapToImuTicks). Only V1_01_easy's IMU file is available, and the file must cover the frames.
+//    The biases of such a sequence are unknown (V1_01 has no ground-truth body csv), so no noise, bias or seed
+//    key is used.
+//  - bias = euroc_groundtruth follows the b_w, b_a columns of a state_groundtruth_estimate0/data.csv: bias_file,
+//    else <shared_dir>/data/euroc/groundtruth/body/<sequence>.csv where it exists (V1_02, V1_03, V2_01, V2_02,
+//    V2_03), else (V1_01_easy, own trajectories) the random walk. The file's clock must overlap the simulated one.
+//  - the initial biases default to EuRoC's real ones (V2_01_easy's ground truth), about the same in every
+//    sequence (docs/experiments_io.md).
 // ImuSynthesizer itself reads neither source nor bias/bias_file: the simulation resolves them
 // (resolveImuBias, selectRealImu) and hands the synthesizer a bias trajectory or none.
-#include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/typemeta/TEnumType.h>
 #include <optional>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/dataset/euroc_imu_csv.h>
 #include <quasiloc/dataset/frame.h>
 #include <quasiloc/sim/trajectory_spline.h>
@@ -63,25 +49,26 @@ enum class ImuBiasModel
     random_walk
 };
 
-struct ImuNoiseOptions : public mrpt::config::CLoadableOptions
+/** Section [IMU]; each key's unit, range and meaning: declare() (sim_options.cpp). */
+struct ImuNoiseOptions : public core::DeclaredOptions
 {
     ImuSource source = ImuSource::synthetic;
-    std::string real_imu_csv;  ///< source = real; empty = the V1_01_easy imu0/data.csv under shared_dir
+    std::string real_imu_csv;
     double rate_hz = 200;
-    double gyroscope_noise_density = 1.6968e-04;      ///< rad/s/sqrt(Hz)
-    double gyroscope_random_walk = 1.9393e-05;        ///< rad/s^2/sqrt(Hz)
-    double accelerometer_noise_density = 2.0000e-3;   ///< m/s^2/sqrt(Hz)
-    double accelerometer_random_walk = 3.0000e-3;     ///< m/s^3/sqrt(Hz)
+    double gyroscope_noise_density = 1.6968e-04;
+    double gyroscope_random_walk = 1.9393e-05;
+    double accelerometer_noise_density = 2.0000e-3;
+    double accelerometer_random_walk = 3.0000e-3;
     double gravity_m_s2 = 9.81;
     bool noise_enabled = true;
     uint64_t seed = 1;
     ImuBiasModel bias = ImuBiasModel::euroc_groundtruth;
-    std::string bias_file;  ///< bias = euroc_groundtruth; empty = the sequence's ground truth when it exists
-    Eigen::Vector3d initial_gyro_bias{-0.0023, 0.0249, 0.0817};  ///< rad/s, EuRoC's (header comment)
-    Eigen::Vector3d initial_acc_bias{-0.021, 0.122, 0.079};      ///< m/s^2, EuRoC's (header comment)
+    std::string bias_file;
+    Eigen::Vector3d initial_gyro_bias{-0.0023, 0.0249, 0.0817};  ///< EuRoC's (header comment)
+    Eigen::Vector3d initial_acc_bias{-0.021, 0.122, 0.079};      ///< EuRoC's (header comment)
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges; real_imu_csv only with source = real, bias_file only with bias = euroc_groundtruth. */
     void check(const std::string& input) const;
     /** Densities from an EuRoC/Kalibr imu sensor.yaml (rate_hz too). */
     void loadFromEurocYaml(const std::string& path);
@@ -162,13 +149,3 @@ class ImuSynthesizer
 };
 
 }  // namespace quasiloc::sim
-
-MRPT_ENUM_TYPE_BEGIN(quasiloc::sim::ImuSource)
-MRPT_FILL_ENUM_MEMBER(quasiloc::sim::ImuSource, synthetic);
-MRPT_FILL_ENUM_MEMBER(quasiloc::sim::ImuSource, real);
-MRPT_ENUM_TYPE_END()
-
-MRPT_ENUM_TYPE_BEGIN(quasiloc::sim::ImuBiasModel)
-MRPT_FILL_ENUM_MEMBER(quasiloc::sim::ImuBiasModel, euroc_groundtruth);
-MRPT_FILL_ENUM_MEMBER(quasiloc::sim::ImuBiasModel, random_walk);
-MRPT_ENUM_TYPE_END()

@@ -14,16 +14,16 @@
 // Sparse variant ("32-beam"): scans of a 32-beam spinning LiDAR (elevations evenly spread over
 // [beam_min_elevation_deg, beam_max_elevation_deg], beam_azimuth_steps per turn) from beam_num_scans
 // stations, cast through the same cube maps, with the beam sensor's own (cm-level) range noise.
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <Eigen/Core>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/sim/world.h>
 #include <vector>
 
 namespace quasiloc::sim
 {
-struct LidarOptions : public mrpt::config::CLoadableOptions
+/** Section [Lidar]; each key's unit, range and meaning: declare() (sim_options.cpp). */
+struct LidarOptions : public core::DeclaredOptions
 {
     double density_per_m2 = 6000;
     double range_noise_mm = 2.0;
@@ -34,15 +34,15 @@ struct LidarOptions : public mrpt::config::CLoadableOptions
     double reflectivity_noise = 0.02;
     double incidence_weight = 0.5;
     double range_falloff_m = 12.0;
-    bool beam_map = false;              ///< also produce the sparse 32-beam-like map
+    bool beam_map = false;
     int beam_num_scans = 6;
     int beam_azimuth_steps = 1800;
     double beam_min_elevation_deg = -30.67;
     double beam_max_elevation_deg = 10.67;
     double beam_range_noise_mm = 20.0;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges, then beam_max_elevation_deg >= beam_min_elevation_deg (InputError naming `input`). */
     void check(const std::string& input) const;
 };
 

@@ -23,8 +23,8 @@
 // its room and of the simulated one. Seeds: Simulation.seed drives world, textures, LiDAR and image noise;
 // the IMU's seed is [IMU] seed combined with Simulation.seed.
 #include <mrpt/config/CConfigFileBase.h>
-#include <mrpt/config/CLoadableOptions.h>
 
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/sim/imu_synthesizer.h>
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/stereo_renderer.h>
@@ -33,24 +33,25 @@
 
 namespace quasiloc::sim
 {
-struct SimulationOptions : public mrpt::config::CLoadableOptions
+/** Section [Simulation]; each key's unit, range and meaning: declare() (sim_options.cpp). */
+struct SimulationOptions : public core::DeclaredOptions
 {
-    std::string output_dir;              ///< required
-    std::string sequence = "V1_01_easy"; ///< name of the rawlog and of the default trajectory
+    std::string output_dir;
+    std::string sequence = "V1_01_easy";
     std::string shared_dir = "../shared";
-    std::string trajectory;              ///< TUM of T_world_cam0; empty = EuRoC ground truth of `sequence`
-    double duration_s = 0;               ///< 0 = the whole trajectory
+    std::string trajectory;
+    double duration_s = 0;
     double start_offset_s = 0;
     double camera_rate_hz = 20;
     uint64_t seed = 1;
-    std::string cam0_yaml, cam1_yaml;    ///< empty = <shared_dir>/data/euroc/calib/cam{0,1}_sensor.yaml
+    std::string cam0_yaml, cam1_yaml;
     double spline_knot_spacing_s = 0.1;
     bool write_map = true;
     bool inspection_png = true;
     bool verbose = true;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges, output_dir given, sequence a plain name (InputError naming `input` and the key). */
     void check(const std::string& input) const;
 };
 

@@ -13,10 +13,10 @@
 //     shot + read noise (a fixed table of normal deviates indexed by a hash of seed, frame, camera and pixel:
 //     deterministic and fast), gamma, 8-bit quantisation.
 // Left and right cameras render in two threads.
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
 #include <opencv2/core.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/stereo_rig.h>
 #include <quasiloc/sim/rasterizer.h>
 #include <quasiloc/sim/world.h>
@@ -24,30 +24,31 @@
 
 namespace quasiloc::sim
 {
-struct AppearanceOptions : public mrpt::config::CLoadableOptions
+/** Section [Appearance]; each key's unit, range and meaning: declare() (sim_options.cpp). */
+struct AppearanceOptions : public core::DeclaredOptions
 {
-    double render_scale = 1.0;          ///< focal length of the internal pinhole relative to the camera's
-    double exposure = 0.9;              ///< linear gain from radiance to sensor signal [0,1]
-    double exposure_variation = 0.12;   ///< relative amplitude of slow exposure drift
+    double render_scale = 1.0;
+    double exposure = 0.9;
+    double exposure_variation = 0.12;
     double exposure_period_s = 11.0;
-    double vignetting = 0.35;           ///< relative darkening in the image corners
+    double vignetting = 0.35;
     double gamma = 2.2;
-    double read_noise = 0.8;            ///< std of the read noise in 8-bit units
-    double shot_noise = 0.3;            ///< shot noise std in 8-bit units at full scale is shot_noise*sqrt(255)
-    int motion_blur_samples = 1;        ///< 1 = no blur
-    double exposure_time_ms = 6.0;      ///< spread of the blur samples
-    bool illumination_change = false;   ///< an episode where the lights dim and every other light turns off
-    double illumination_change_start_s = 20.0;  ///< seconds since the start of the trajectory
+    double read_noise = 0.8;
+    double shot_noise = 0.3;
+    int motion_blur_samples = 1;
+    double exposure_time_ms = 6.0;
+    bool illumination_change = false;
+    double illumination_change_start_s = 20.0;
     double illumination_change_duration_s = 12.0;
-    double illumination_change_factor = 0.35;   ///< intensity of the lights that stay on
-    double auto_exposure_compensation = 0.6;    ///< exponent: 0 = none, 1 = full compensation
+    double illumination_change_factor = 0.35;
+    double auto_exposure_compensation = 0.6;
     double auto_exposure_lag_s = 1.0;
-    bool occluder = false;              ///< a person-sized box walking an ellipse in the room
+    bool occluder = false;
     double occluder_speed_m_s = 0.8;
-    double occluder_path_fraction = 0.35;  ///< ellipse semi-axes as fraction of the room extent
+    double occluder_path_fraction = 0.35;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges (InputError naming `input` and the key). */
     void check(const std::string& input) const;
 };
 

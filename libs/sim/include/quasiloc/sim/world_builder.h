@@ -12,8 +12,7 @@
 //  - clearance: every trajectory sample given (the ground truth of all sequences of the room) must stay at
 //    least clearance_m from every triangle: a GMM patch too close is shrunk (x0.6, up to 3 times) and then
 //    dropped; a procedural object too close is not placed.
-#include <mrpt/config/CLoadableOptions.h>
-
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/sim/euroc_room_data.h>
 #include <quasiloc/sim/world.h>
 #include <string>
@@ -21,28 +20,38 @@
 
 namespace quasiloc::sim
 {
-struct WorldOptions : public mrpt::config::CLoadableOptions
+/** The EuRoC Vicon room a world is built from. */
+enum class ViconRoom
 {
-    std::string world = "v1";            ///< v1 | v2 (EuRoC Vicon room 1 or 2)
-    bool gmm_patches = true;             ///< interior GMM components as elliptical patches
-    double gmm_sigma_scale = 2.0;        ///< patch semi-axis = scale * sigma
-    double gmm_min_semi_axis_m = 0.04;   ///< smaller components are skipped (noise-sized)
+    v1,
+    v2
+};
+/** "v1", "v2": how the room's data files and sequences are named. */
+std::string roomName(ViconRoom room);
+
+/** Section [World]; each key's unit, range and meaning: declare() (sim_options.cpp). */
+struct WorldOptions : public core::DeclaredOptions
+{
+    ViconRoom world = ViconRoom::v1;
+    bool gmm_patches = true;
+    double gmm_sigma_scale = 2.0;
+    double gmm_min_semi_axis_m = 0.04;
     double gmm_max_semi_axis_m = 1.2;
-    double shell_margin_m = 0.15;        ///< components closer than this to the shell belong to it
+    double shell_margin_m = 0.15;
     int num_boxes = 10;
     int num_slabs = 4;
     int num_poles = 6;
     int num_wall_posters = 10;
     double clearance_m = 0.3;
-    double max_cell_m = 0.3;             ///< triangle size (lighting resolution)
+    double max_cell_m = 0.3;
     int num_lights = 6;
     double light_intensity = 1.2;
     double ambient = 0.05;
     int texture_size_px = 512;
-    int shadow_map_px = 512;             ///< cube-map size for light shadows; 0 = no shadows
+    int shadow_map_px = 512;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** The declared ranges, then the rules a range cannot say (InputError naming `input` and the key). */
     void check(const std::string& input) const;
 };
 
