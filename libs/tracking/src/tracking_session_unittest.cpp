@@ -10,13 +10,15 @@
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/tracking/tracking_session.h>
 #include <sstream>
+#include <unistd.h>
 
 using namespace quasiloc;
 namespace fs = std::filesystem;
 
 namespace
 {
-const fs::path kSimDir = fs::temp_directory_path() / "quasiloc_tracking_session_sim";
+// One folder per process: ctest runs each test in a process of its own, two at a time.
+const fs::path kSimDir = fs::temp_directory_path() / ("quasiloc_tracking_session_sim_" + std::to_string(::getpid()));
 
 mrpt::config::CConfigFileMemory configIni()
 {
