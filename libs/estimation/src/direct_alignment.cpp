@@ -15,7 +15,6 @@ namespace quasiloc::estimation
 namespace
 {
 using detail::bilinear;
-using detail::fineRobustness;
 using detail::projectToLevel;
 using detail::pyramidRobustness;
 using detail::Robustness;
@@ -216,15 +215,6 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
     for (int l = coarsest; l >= 0; --l)
         st.iterations += alignLevel(pyramidRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
                                     model, prior, T_world_cam, any_step);
-    // The fine pass: the wide truncation gives the basin, but near the optimum it lets every map edge with no
-    // camera counterpart within truncation_px (LiDAR noise, reflectivity texture the camera does not show) pull
-    // with the full Huber slope. A second coarse-to-fine pass listens only to edges within fine_truncation_px.
-    // Without the prior: the pass's costs are several times smaller than the pyramid's (tighter kernel), so the
-    // same prior would hold the pose where it started (measured: the pose stayed at the perturbed start).
-    if (o.fine_truncation_px > 0)
-        for (int l = coarsest; l >= 0; --l)
-            st.iterations += alignLevel(fineRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
-                                        model, nullptr, T_world_cam, any_step);
     if (o.nmi_polish && !model.nmi_points_world.empty()) polishNmi(o, field, camera, model, T_world_cam);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     Vector6d gradient;

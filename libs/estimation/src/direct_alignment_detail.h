@@ -41,18 +41,12 @@ inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLeve
     return insideForBilinear(L.edges, float(u_level.x()), float(u_level.y()));
 }
 
-/** The robust kernel of one pass: the distance is truncated at truncation_px (no farther pull), Huber beyond
- *  huber_px. The fields are truncated at options.truncation_px when built; a pass may only truncate lower. */
+/** The robust kernel: the distance is truncated at truncation_px (no farther pull), Huber beyond huber_px. */
 struct Robustness
 {
     double truncation_px, huber_px;
 };
 inline Robustness pyramidRobustness(const DirectAlignmentOptions& o) { return {o.truncation_px, o.huber_px}; }
-/** The fine pass's kernel (used when o.fine_truncation_px > 0). */
-inline Robustness fineRobustness(const DirectAlignmentOptions& o)
-{
-    return {std::min(o.fine_truncation_px, o.truncation_px), o.fine_huber_px};
-}
 
 /** The start both solvers share: st.edge_points set; false (and *stats = st) when there is nothing to align
  *  (no field level, fewer than 20 edge points). */

@@ -15,8 +15,6 @@ void DirectAlignmentOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
     truncation_px = core::readIniDouble(cfg, s, "truncation_px", truncation_px);
     huber_px = core::readIniDouble(cfg, s, "huber_px", huber_px);
     iterations_per_level = core::readIniInt(cfg, s, "iterations_per_level", iterations_per_level);
-    fine_truncation_px = core::readIniDouble(cfg, s, "fine_truncation_px", fine_truncation_px);
-    fine_huber_px = core::readIniDouble(cfg, s, "fine_huber_px", fine_huber_px);
     max_edge_points = core::readIniInt(cfg, s, "max_edge_points", max_edge_points);
     model_block_px = core::readIniInt(cfg, s, "model_block_px", model_block_px);
     model_close_px = core::readIniInt(cfg, s, "model_close_px", model_close_px);
@@ -38,8 +36,6 @@ void DirectAlignmentOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, 
     c.write(s, "truncation_px", truncation_px, 28, 10, "distance transform truncation (level px)");
     c.write(s, "huber_px", huber_px, 28, 10, "Huber threshold (level px)");
     c.write(s, "iterations_per_level", iterations_per_level, 28, 10);
-    c.write(s, "fine_truncation_px", fine_truncation_px, 28, 10, "second pass: truncation (level px, 0: none)");
-    c.write(s, "fine_huber_px", fine_huber_px, 28, 10, "second pass: Huber threshold (level px)");
     c.write(s, "max_edge_points", max_edge_points, 28, 10);
     c.write(s, "model_block_px", model_block_px, 28, 10, "edges on planes reduced by this block size");
     c.write(s, "model_close_px", model_close_px, 28, 10, "inverse-depth closing radius (blocks)");
@@ -62,9 +58,6 @@ void DirectAlignmentOptions::check(const std::string& input) const
     core::require(orientation_bins >= 1 && orientation_bins <= 16, k + "orientation_bins", "must be in [1, 16]");
     core::require(truncation_px >= 1 && truncation_px <= 200, k + "truncation_px", "must be in [1, 200]");
     core::require(huber_px > 0, k + "huber_px", "must be > 0");
-    core::require(fine_truncation_px == 0 || (fine_truncation_px >= 1 && fine_truncation_px <= truncation_px),
-                  k + "fine_truncation_px", "must be 0 (no fine stage) or in [1, truncation_px]");
-    core::require(fine_huber_px > 0, k + "fine_huber_px", "must be > 0");
     core::require(iterations_per_level >= 1 && iterations_per_level <= 200, k + "iterations_per_level",
                   "must be in [1, 200]");
     core::require(max_edge_points >= 20, k + "max_edge_points", "must be >= 20");

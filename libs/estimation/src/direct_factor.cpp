@@ -63,7 +63,7 @@ bool DirectEdgeCostFunction::Evaluate(double const* const* parameters, double* r
         }
         const cv::Mat& D = level_.distance[model_.edge_bin[i]];
         const float x = float(u.x()), y = float(u.y());
-        // The field is truncated where it was built; a pass may truncate lower (the fine pass of alignDirect).
+        // The field is truncated where it was built; the factor may truncate lower.
         const double r = std::min<double>(detail::bilinear(D, x, y), truncation_px_);
         double slope = 0;
         residuals[i] = robust(r * inv_sigma_, &slope);
@@ -103,8 +103,7 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
     poseToParams(T_world_cam, params);
     bool any_step = false;
     const double n = double(model.edge_points_world.size());
-    // One Ceres solve per level and pass, as alignDirect: the pyramid with the prior, then (fine_truncation_px > 0)
-    // the tightly truncated pass without it.
+    // One Ceres solve per level, as alignDirect.
     const auto solveLevel = [&](int l, const detail::Robustness& kernel, const DirectPrior* level_prior) {
         PoseManifold manifold;  // declared before the problem that points to it, so it outlives it
         ceres::Problem::Options po;
@@ -139,8 +138,6 @@ bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& fi
     };
     const int coarsest = int(field.levels.size()) - 1;
     for (int l = coarsest; l >= 0; --l) solveLevel(l, detail::pyramidRobustness(o), prior);
-    if (o.fine_truncation_px > 0)
-        for (int l = coarsest; l >= 0; --l) solveLevel(l, detail::fineRobustness(o), nullptr);
     if (any_step) T_world_cam = paramsToPose(params);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     st.ms = tic.Tac() * 1e3;

@@ -30,11 +30,7 @@
 //                                   ;   (4 bins: ATE 1.09 cm instead of ~0.9 on config.ini's 10 s run: kept at 6)
 //   truncation_px = 12              ; DT truncation at every level (level pixels): farther points do not pull
 //   huber_px = 2                    ; Huber threshold on DT residuals (level pixels)
-//   iterations_per_level = 12       ; LM iterations per pyramid level (and per level of the fine pass)
-//   fine_truncation_px = 0          ; > 0: after the pyramid, a second coarse-to-fine pass, without the prior, whose
-//   fine_huber_px = 1               ;   distances are truncated at this (<= truncation_px, level pixels) with this
-//                                   ;   Huber threshold: only map edges already within a few pixels of a camera
-//                                   ;   edge pull (see alignDirect)
+//   iterations_per_level = 12       ; LM iterations per pyramid level
 //   max_edge_points = 3000          ; map edge points kept (spread over a grid)
 //   model_block_px = 4              ; map edges are found on planes reduced by this (nearest surface per block)
 //   model_close_px = 2              ; closing (in blocks) of the inverse depth before depth edges: fills holes
@@ -65,8 +61,6 @@ struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
     double truncation_px = 12;
     double huber_px = 2;
     int iterations_per_level = 12;
-    double fine_truncation_px = 0;
-    double fine_huber_px = 1;
     int max_edge_points = 3000;
     int model_block_px = 4;
     int model_close_px = 2;

@@ -45,7 +45,7 @@ class DirectEdgeCostFunction final : public ceres::CostFunction
 
 /** alignDirect's problem solved by Ceres with DirectEdgeCostFunction: coarse to fine over the field's levels,
  *  Huber at huber_px, the optional prior as a Gaussian on the pose (weight scaled like alignDirect's, which
- *  averages the edge cost over the points); then, with fine_truncation_px > 0, the fine pass without the prior. T_world_cam: in the initial guess, out the estimate. Returns false
+ *  averages the edge cost over the points). T_world_cam: in the initial guess, out the estimate. Returns false
  *  (pose unchanged) for fewer than 20 edge points or when no level took a successful step. */
 bool alignDirectCeres(const DirectAlignmentOptions& options, const CameraEdgeField& field,
                       const core::CameraModel& camera, const DirectAlignmentModel& model,
