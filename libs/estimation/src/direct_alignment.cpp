@@ -1,5 +1,5 @@
 // Direct alignment: Levenberg-Marquardt on the distance-transform residuals of map edges, coarse to fine,
-// and NMI between camera intensity and map reflectivity.
+// and NMI between camera intensity and map reflectivity (a measure).
 #include <mrpt/system/CTicTac.h>
 
 #include <Eigen/Cholesky>
@@ -131,28 +131,6 @@ int alignLevel(const Robustness& o, int iterations, const CameraEdgeLevel& L, co
     }
     return it;
 }
-
-/** Pattern search maximising NMI: coordinate steps in the 6 tangent directions, halved when none helps. */
-void polishNmi(const DirectAlignmentOptions& o, const CameraEdgeField& field, const core::CameraModel& camera,
-               const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam)
-{
-    double best = normalizedMutualInformation(o, field, camera, model, T_world_cam);
-    double rot_step = 0.2 * M_PI / 180.0, trans_step = 0.04;
-    for (int round = 0; round < 5; ++round, rot_step /= 2, trans_step /= 2)
-        for (bool moved = true; moved;)
-        {
-            moved = false;
-            for (int k = 0; k < 6; ++k)
-                for (double sign : {1.0, -1.0})
-                {
-                    Vector6d d = Vector6d::Zero();
-                    d[k] = sign * (k < 3 ? rot_step : trans_step);
-                    const Eigen::Isometry3d T = boxPlus(T_world_cam, d);
-                    const double v = normalizedMutualInformation(o, field, camera, model, T);
-                    if (v > best + 1e-6) best = v, T_world_cam = T, moved = true;
-                }
-        }
-}
 }  // namespace
 
 double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& field, int level,
@@ -209,17 +187,14 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
     DirectAlignmentStats st;
     if (!detail::canAlign(field, model, st, stats)) return false;
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
-    if (!model.nmi_points_world.empty()) st.initial_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     bool any_step = false;
     const int coarsest = int(field.levels.size()) - 1;
     for (int l = coarsest; l >= 0; --l)
         st.iterations += alignLevel(pyramidRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
                                     model, prior, T_world_cam, any_step);
-    if (o.nmi_polish && !model.nmi_points_world.empty()) polishNmi(o, field, camera, model, T_world_cam);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     Vector6d gradient;
     normalEquations(pyramidRobustness(o), field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
-    if (!model.nmi_points_world.empty()) st.final_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;
     return any_step;

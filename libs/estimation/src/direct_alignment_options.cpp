@@ -23,7 +23,6 @@ void DirectAlignmentOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
     use_reflectivity_edges = core::readIniBool(cfg, s, "use_reflectivity_edges", use_reflectivity_edges);
     nmi_bins = core::readIniInt(cfg, s, "nmi_bins", nmi_bins);
     max_nmi_points = core::readIniInt(cfg, s, "max_nmi_points", max_nmi_points);
-    nmi_polish = core::readIniBool(cfg, s, "nmi_polish", nmi_polish);
 }
 
 void DirectAlignmentOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
@@ -44,7 +43,6 @@ void DirectAlignmentOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, 
     c.write(s, "use_reflectivity_edges", use_reflectivity_edges ? "true" : "false", 28, 10);
     c.write(s, "nmi_bins", nmi_bins, 28, 10);
     c.write(s, "max_nmi_points", max_nmi_points, 28, 10);
-    c.write(s, "nmi_polish", nmi_polish ? "true" : "false", 28, 10, "pattern search on NMI at the end");
 }
 
 void DirectAlignmentOptions::check(const std::string& input) const

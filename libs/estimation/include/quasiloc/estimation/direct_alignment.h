@@ -10,9 +10,10 @@
 //    is why this crosses the gap where descriptors fail. Minimised by Levenberg-Marquardt (Huber weights) on
 //    an image pyramid, coarse to fine: the coarse levels' distance fields are smooth over tens of pixels,
 //    which gives the basin of attraction; the fine level gives the precision.
-//  * NMI (a check and a polish). Normalised mutual information (Studholme) between the camera intensity at the
-//    projection of map points and their reflectivity (Wolcott & Eustice, IROS 2014): it rewards any
-//    consistent (not necessarily linear) relation between the two. Computed from a joint histogram.
+//  * NMI (a measure, not optimised: bench_crossmodal's cost profile). Normalised mutual information (Studholme)
+//    between the camera intensity at the projection of map points and their reflectivity (Wolcott & Eustice,
+//    IROS 2014): it rewards any consistent (not necessarily linear) relation between the two. Computed from a
+//    joint histogram.
 //
 // The model (map side) is built from one quasi-image rendered at the initial pose; the camera side once per
 // image. Poses: T_world_cam maps camera coordinates to world; updates are right perturbations in the camera
@@ -39,7 +40,6 @@
 //   use_reflectivity_edges = true
 //   nmi_bins = 24                   ; joint histogram bins per axis
 //   max_nmi_points = 6000           ; map points used by NMI
-//   nmi_polish = false              ; finish with a pattern search maximising NMI
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
@@ -69,7 +69,6 @@ struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
     bool use_reflectivity_edges = true;
     int nmi_bins = 24;
     int max_nmi_points = 6000;
-    bool nmi_polish = false;
 
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
@@ -131,7 +130,6 @@ struct DirectAlignmentStats
     int edge_points = 0;
     double initial_edge_cost = 0, final_edge_cost = 0;  ///< mean Huber cost at the full-resolution level
     double final_inlier_ratio = 0;  ///< share of edge points with DT < huber_px at full resolution
-    double initial_nmi = 0, final_nmi = 0;
     double ms = 0;
     /** Gauss-Newton Hessian of the mean edge cost at the final pose, full resolution, prior excluded (tangent
      *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. alignDirect
