@@ -16,12 +16,10 @@ namespace
 {
 using detail::bilinear;
 using detail::projectToLevel;
-using detail::pyramidRobustness;
-using detail::Robustness;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
 
-double levelCost(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -49,7 +47,7 @@ double levelCost(const Robustness& o, const CameraEdgeLevel& L, const core::Came
 
 /** Gauss-Newton normal equations of the Huber-weighted edge residuals at one level. Points at the
  *  truncation (flat field) or outside the image carry no gradient and are left out. */
-void normalEquations(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                      const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, Matrix6d& H, Vector6d& b)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -92,13 +90,13 @@ double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d*
 }
 
 /** Levenberg-Marquardt at one level. Returns the iterations taken. */
-int alignLevel(const Robustness& o, int iterations, const CameraEdgeLevel& L, const core::CameraModel& camera,
+int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step)
 {
     double cost = levelCost(o, L, camera, model, T_world_cam, nullptr) + priorCost(prior, T_world_cam, nullptr, nullptr);
     double lambda = 1e-3;
     int it = 0;
-    for (; it < iterations; ++it)
+    for (; it < o.iterations_per_level; ++it)
     {
         Matrix6d H;
         Vector6d b;
@@ -137,7 +135,7 @@ double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& fi
                 const core::CameraModel& camera, const DirectAlignmentModel& model,
                 const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
-    return levelCost(pyramidRobustness(options), field.levels.at(size_t(level)), camera, model, T_world_cam,
+    return levelCost(options, field.levels.at(size_t(level)), camera, model, T_world_cam,
                      inlier_ratio);
 }
 
@@ -185,16 +183,20 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
 {
     mrpt::system::CTicTac tic;
     DirectAlignmentStats st;
-    if (!detail::canAlign(field, model, st, stats)) return false;
+    st.edge_points = int(model.edge_points_world.size());
+    if (field.levels.empty() || model.edge_points_world.size() < 20)
+    {
+        if (stats) *stats = st;
+        return false;
+    }
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
     bool any_step = false;
     const int coarsest = int(field.levels.size()) - 1;
     for (int l = coarsest; l >= 0; --l)
-        st.iterations += alignLevel(pyramidRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
-                                    model, prior, T_world_cam, any_step);
+        st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     Vector6d gradient;
-    normalEquations(pyramidRobustness(o), field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
+    normalEquations(o, field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;
     return any_step;

@@ -6,7 +6,6 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/absolute_pose.h>
-#include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/map_refinement.h>
 #include <quasiloc/quasi/histogram_matching.h>
 #include <quasiloc/frontend/lifting.h>
@@ -51,7 +50,6 @@ void MapRefinementOptions::loadFromConfigFile(const mrpt::config::CConfigFileBas
     direct_prior_weight = core::readIniDouble(cfg, s, "direct_prior_weight", direct_prior_weight);
     lift_radius_px = core::readIniDouble(cfg, s, "lift_radius_px", lift_radius_px);
     pnp_max_error_px = core::readIniDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
-    direct_solver = cfg.read_string(s, "direct_solver", direct_solver);
     quasi_gray = cfg.read_string(s, "quasi_gray", quasi_gray);
     direct.loadFromConfigFile(cfg, "DirectAlignment");
 }
@@ -71,7 +69,6 @@ void MapRefinementOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, co
     c.write(s, "direct_prior_weight", direct_prior_weight, 24, 10, "prediction prior in the direct term (0: none)");
     c.write(s, "lift_radius_px", lift_radius_px, 24, 10);
     c.write(s, "pnp_max_error_px", pnp_max_error_px, 24, 10);
-    c.write(s, "direct_solver", direct_solver, 24, 10, "lm | ceres (direct_factor.h)");
     c.write(s, "quasi_gray", quasi_gray, 24, 10, "encoding | matched_reflectivity (features of Q)");
     direct.saveToConfigFile(c, "DirectAlignment");
 }
@@ -88,8 +85,6 @@ void MapRefinementOptions::check(const std::string& input) const
     core::require(agree_m > 0 && agree_deg > 0, k + "agree_m/agree_deg", "must be > 0");
     core::require(gate_sigmas > 0, k + "gate_sigmas", "must be > 0");
     core::require(direct_prior_weight >= 0, k + "direct_prior_weight", "must be >= 0");
-    core::require(direct_solver == "lm" || direct_solver == "ceres", k + "direct_solver",
-                  "'" + direct_solver + "' is not lm or ceres");
     core::require(quasi_gray == "encoding" || quasi_gray == "matched_reflectivity", k + "quasi_gray",
                   "'" + quasi_gray + "' is not encoding or matched_reflectivity");
     core::require(lift_radius_px >= 0 && lift_radius_px <= 20, k + "lift_radius_px", "must be in [0, 20]");
@@ -259,9 +254,7 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
         DirectAlignmentStats ds;
         DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, prior_weight};
         const DirectPrior* p = prior_weight > 0 ? &prior : nullptr;
-        const bool ok = options_.direct_solver == "ceres"
-                            ? alignDirectCeres(options_.direct, edge_field_, camera_, model, T, &ds, p)
-                            : alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);
+        const bool ok = alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);
         const double ms_direct = tic.Tac() * 1e3;
         if (method == RefinementMethod::Direct)
         {

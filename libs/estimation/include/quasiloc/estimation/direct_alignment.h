@@ -132,8 +132,7 @@ struct DirectAlignmentStats
     double final_inlier_ratio = 0;  ///< share of edge points with DT < huber_px at full resolution
     double ms = 0;
     /** Gauss-Newton Hessian of the mean edge cost at the final pose, full resolution, prior excluded (tangent
-     *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. alignDirect
-     *  fills it; alignDirectCeres leaves it zero. */
+     *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. */
     Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
 };
 

@@ -33,8 +33,6 @@
 //   quasi_gray = encoding      ; features/guided/combined: the Q image features are extracted on: encoding (Q's
 //                              ;   gray, [QuasiImage] gray_mode) or matched_reflectivity (the reflectivity remapped to
 //                              ;   the camera image's grey-level histogram, quasi/histogram_matching.h)
-//   direct_solver = lm         ; direct/combined: lm (alignDirect's own Levenberg-Marquardt) | ceres (the same
-//                              ;   problem as a Ceres factor, direct_factor.h: what an estimator window would add)
 #include <Eigen/Geometry>
 #include <mrpt/config/CLoadableOptions.h>
 
@@ -71,7 +69,6 @@ struct MapRefinementOptions : public mrpt::config::CLoadableOptions
     double direct_prior_weight = 0.2;
     double lift_radius_px = 2;
     double pnp_max_error_px = 3;
-    std::string direct_solver = "lm";
     std::string quasi_gray = "encoding";
     DirectAlignmentOptions direct;  ///< section [DirectAlignment]
 
