@@ -1,5 +1,6 @@
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/ini_read.h>
@@ -25,6 +26,17 @@ std::string joined(const std::vector<std::string>& names, const std::string& sep
     std::string s;
     for (const auto& n : names) s += (s.empty() ? "" : separator) + n;
     return s;
+}
+
+/** "[a b, c]" -> {a, b, c}. */
+std::vector<std::string> nameList(std::string text)
+{
+    for (char& ch : text)
+        if (ch == '[' || ch == ']' || ch == ',' || ch == ';' || ch == '\t') ch = ' ';
+    std::istringstream in(text);
+    std::vector<std::string> names;
+    for (std::string n; in >> n;) names.push_back(n);
+    return names;
 }
 }  // namespace
 
@@ -127,6 +139,17 @@ void OptionTable::add(const std::string& key, std::vector<double>& value, const 
         return;
     }
     emit(key, "numbers", unit, range.text(), "[" + iniVectorText(value) + "]", doc);
+}
+
+void OptionTable::add(const std::string& key, std::vector<std::string>& value, const std::string& doc)
+{
+    if (action_ == Action::Load)
+    {
+        const std::string text = readText(key);
+        if (!text.empty()) value = nameList(text);  // absent or empty: the default stays
+        return;
+    }
+    emit(key, "names", "", "", "[" + joined(value, " ") + "]", doc);
 }
 
 void OptionTable::addChoice(const std::string& key, const std::vector<std::string>& names, int current,

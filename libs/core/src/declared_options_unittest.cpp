@@ -107,3 +107,19 @@ TEST(DeclaredOptions, DescribesEachKeyWithTypeUnitRangeDefaultAndDoc)
     EXPECT_EQ(d[5].default_value, "fast");
     EXPECT_EQ(Range::fromUpTo(0, 1).text(), "[0, 1)");
 }
+
+TEST(DeclaredOptions, NameListsLoadAndSaveBack)
+{
+    struct Names : public DeclaredOptions
+    {
+        std::vector<std::string> names{"a"};
+        void declare(OptionTable& t) override { t.add("names", names, "the names"); }
+    } o, back;
+    loadOptionsChecked(o, ini("[N]\nnames = [v101, v102 x]\n"), "N", "n.ini");
+    EXPECT_EQ(o.names, (std::vector<std::string>{"v101", "v102", "x"}));
+    mrpt::config::CConfigFileMemory mem;
+    o.saveToConfigFile(mem, "N");
+    loadOptionsChecked(back, ini(mem.getContent()), "N", "saved");
+    EXPECT_EQ(back.names, o.names);
+    EXPECT_EQ(o.describe()[0].default_value, "[v101 v102 x]");
+}

@@ -64,6 +64,8 @@ class OptionTable
     /** "[a b c]" of numbers, each in `range`. */
     void add(const std::string& key, std::vector<double>& value, const std::string& unit, Range range,
              const std::string& doc);
+    /** "[a b c]" of names (blanks or commas between them, brackets optional). */
+    void add(const std::string& key, std::vector<std::string>& value, const std::string& doc);
     /** One of the named values; an other name is an InputError listing them. */
     template <class E>
     void addEnum(const std::string& key, E& value, const std::vector<std::pair<std::string, E>>& names,
