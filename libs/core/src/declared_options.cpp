@@ -9,10 +9,15 @@ namespace quasiloc::core
 {
 namespace
 {
-/** The shortest text that reads back as exactly `v` (0.05, not 0.050000000000000003). */
+/** The shortest text that reads back as exactly `v` (0.05, not 0.050000000000000003; 3000, not 3e+03). */
 std::string numberText(double v)
 {
     char buf[40];
+    if (v == std::floor(v) && std::abs(v) < 1e15)
+    {
+        std::snprintf(buf, sizeof buf, "%.0f", v);
+        return buf;
+    }
     for (int precision = 1; precision <= 17; ++precision)
     {
         std::snprintf(buf, sizeof buf, "%.*g", precision, v);

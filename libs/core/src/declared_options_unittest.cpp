@@ -106,6 +106,7 @@ TEST(DeclaredOptions, DescribesEachKeyWithTypeUnitRangeDefaultAndDoc)
     EXPECT_EQ(d[5].range, "fast, full");
     EXPECT_EQ(d[5].default_value, "fast");
     EXPECT_EQ(Range::fromUpTo(0, 1).text(), "[0, 1)");
+    EXPECT_EQ(Range::atLeast(3000).text(), ">= 3000");  // integers in full, not 3e+03
 }
 
 TEST(DeclaredOptions, NameListsLoadAndSaveBack)
