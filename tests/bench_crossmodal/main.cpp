@@ -214,7 +214,7 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
     if (b.profile)
     {
         const bench::CostProfile p = bench::profileDirectTerms(seq, renderer, ro.direct, b.profile_step_m, b.profile_step_deg, frontend,
-                                                                   ro.quasi_gray == "matched_reflectivity");
+                                                                   ro.quasi_gray == estimation::QuasiGray::MatchedReflectivity);
         std::cout << "\n## " << seq.name << ": cost profile at the true pose (" << seq.frames.size() << " frames x 12 steps of "
                   << b.profile_step_m << " m / " << b.profile_step_deg << " deg)\n\n"
                   << "| valid pixels | edge points | edge cost lowest at truth | mean edge cost rise | NMI highest at truth | mean NMI drop | feature-metric highest at truth | mean feature-metric drop |\n"

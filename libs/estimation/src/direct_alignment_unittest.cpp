@@ -1,12 +1,14 @@
 // Direct alignment on a synthetic room: the camera image is the map's own quasi-image rendered at the true
 // pose (so the edge and NMI terms have a known optimum), the model is built at a perturbed pose.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/core/program_options.h>
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/tracking_window.h>
@@ -115,8 +117,9 @@ TEST(DirectAlignment, BadInputIsRejected)
     estimation::DirectAlignmentOptions o;
     EXPECT_THROW(estimation::buildCameraEdgeField(o, cv::Mat()), core::InputError);
     EXPECT_THROW(estimation::buildCameraEdgeField(o, cv::Mat(10, 10, CV_32F)), core::InputError);
-    o.truncation_px = 0;
-    EXPECT_THROW(o.check("test"), core::InputError);
+    mrpt::config::CConfigFileMemory ini;
+    ini.setContent("[DirectAlignment]\ntruncation_px = 0\n");
+    EXPECT_THROW(core::loadOptionsChecked(o, ini, "DirectAlignment", "test.ini"), core::InputError);
 }
 
 TEST(DirectAlignment, FusedClassDistancesMatchOpenCvDistanceTransform)

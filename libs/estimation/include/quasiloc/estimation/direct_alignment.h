@@ -19,44 +19,26 @@
 // image. Poses: T_world_cam maps camera coordinates to world; updates are right perturbations in the camera
 // frame, delta = [dtheta; dp] (pose_parametrization.h).
 //
-//   [DirectAlignment]
-//   pyramid_levels = 2              ; 0 = full resolution only; level l has 1/2^l of the resolution
-//   camera_blur_sigma_px = 0        ; Gaussian blur before the camera's Canny, at every level (level pixels)
-//   canny_high_percentile = 85      ; camera Canny high threshold: this percentile of the gradient magnitude
-//   canny_low_ratio = 0.4           ; low threshold = ratio * high
-//   orientation_bins = 6            ; edge orientation classes (1: none): a map edge is attracted only by camera
-//                                   ;   edges within 180/bins deg of its own orientation (directional chamfer);
-//                                   ;   up to 8 classes share one fused distance transform (classDistanceTransforms),
-//                                   ;   so the camera side costs about one transform per level whatever the bins
-//                                   ;   (4 bins: ATE 1.09 cm instead of ~0.9 on config.ini's 10 s run: kept at 6)
-//   truncation_px = 12              ; DT truncation at every level (level pixels): farther points do not pull
-//   huber_px = 2                    ; Huber threshold on DT residuals (level pixels)
-//   iterations_per_level = 12       ; LM iterations per pyramid level
-//   max_edge_points = 3000          ; map edge points kept (spread over a grid)
-//   model_block_px = 4              ; map edges are found on planes reduced by this (nearest surface per block)
-//   model_close_px = 2              ; closing (in blocks) of the inverse depth before depth edges: fills holes
-//   depth_edge_rel = 0.08           ; depth edge: a 4-neighbour farther by more than rel * depth
-//   refl_canny_high = 0.12          ; reflectivity edges: Canny high threshold on reflectivity (map units, [0,1])
-//   use_reflectivity_edges = true
-//   nmi_bins = 24                   ; joint histogram bins per axis
-//   max_nmi_points = 6000           ; map points used by NMI
+// Options: [DirectAlignment], declared in DirectAlignmentOptions::declare (direct_alignment_options.cpp).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <opencv2/core.hpp>
 #include <quasiloc/core/camera_model.h>
+#include <quasiloc/core/declared_options.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::estimation
 {
-struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
+struct DirectAlignmentOptions : public core::DeclaredOptions
 {
     int pyramid_levels = 2;
     double camera_blur_sigma_px = 0;
     double canny_high_percentile = 85;
     double canny_low_ratio = 0.4;
+    /** Directional chamfer: a map edge is attracted only by camera edges within 180/bins deg of its own
+     *  orientation. Up to 8 classes share one fused distance transform (classDistanceTransforms), so the camera
+     *  side costs about one transform per level whatever the bins. Why 6: docs/experiments_estimation.md. */
     int orientation_bins = 6;
     double truncation_px = 12;
     double huber_px = 2;
@@ -70,10 +52,7 @@ struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
     int nmi_bins = 24;
     int max_nmi_points = 6000;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` and the key for a value that cannot be used. */
-    void check(const std::string& input) const;
+    void declare(core::OptionTable& t) override;
 };
 
 /** The map side: 3D points (world frame) on map edges, and points with reflectivity for NMI. */
