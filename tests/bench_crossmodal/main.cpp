@@ -371,7 +371,7 @@ int run(const core::CommandLine& cmd_in)
     core::loadOptionsChecked(ro, cfg, "MapRefinement", name);           // (loads [DirectAlignment] too)
     ro.check(name);
 
-    std::cout << "# bench_crossmodal (features: " << fo.features.type << ")\n" << std::flush;
+    std::cout << "# bench_crossmodal (features: " << frontend::toString(fo.features.type) << ")\n" << std::flush;
     if (b.kitti_frames >= 0)
     {
         quasi::QuasiOptions kq = qo;
