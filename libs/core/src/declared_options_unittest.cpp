@@ -76,6 +76,7 @@ TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTh
     EXPECT_NE(loadError("[Demo]\nbudget = quick\n").find("'quick' is not one of fast, full"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nheights_m = 1 -2\n").find("each value must be >= 0"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nmax_dept_m = 3\n").find("unknown key"), std::string::npos);
+    EXPECT_EQ(loadError("[Demo]\nmax_depth_m = 0\n").rfind("demo.ini: [Demo] max_depth_m", 0), 0u);
 }
 
 TEST(DeclaredOptions, SavedValuesLoadBackToTheSameOptions)

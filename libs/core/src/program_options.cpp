@@ -113,9 +113,11 @@ void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::con
     {
         options.loadFromConfigFile(cfg, section);
     }
-    catch (const InputError&)
+    catch (const InputError& e)
     {
-        throw;
+        // A value the declaration rejects ("[section] key: ...") is named with the file, as check() names it.
+        if (e.input().rfind(config_name, 0) == 0) throw;
+        throw InputError(config_name + ": " + e.input(), e.problem());
     }
     catch (const std::exception& e)
     {
