@@ -62,9 +62,14 @@ std::string Range::text() const
 }
 
 OptionTable::OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
-                         const std::string& section)
-    : action_(action), in_(in), out_(out), section_(section)
+                         const std::string& section, const std::string& input)
+    : action_(action), in_(in), out_(out), section_(section), input_(input)
 {
+}
+
+std::string OptionTable::where(const std::string& key) const
+{
+    return (input_.empty() ? "" : input_ + ": ") + iniKeyName(section_, key);
 }
 
 std::string OptionTable::readText(const std::string& key) const { return in_->read_string(section_, key, "", false); }
@@ -90,6 +95,9 @@ void OptionTable::addNumber(const std::string& key, double current, bool integer
         set(v);
         return;
     }
+    if (action_ == Action::Check)
+        require(range.contains(current), where(key),
+                numberText(current) + " is out of range (must be " + range.text() + ")");
     emit(key, integer ? "integer" : "number", unit, range.text(), numberText(current), doc);
 }
 
@@ -143,6 +151,10 @@ void OptionTable::add(const std::string& key, std::vector<double>& value, const 
         value = v;
         return;
     }
+    if (action_ == Action::Check)
+        for (double x : value)
+            require(range.contains(x), where(key),
+                    numberText(x) + " is out of range (each value must be " + range.text() + ")");
     emit(key, "numbers", unit, range.text(), "[" + iniVectorText(value) + "]", doc);
 }
 
@@ -168,7 +180,7 @@ void OptionTable::addChoice(const std::string& key, const std::vector<std::strin
             if (names[i] == text) return set(i);
         throw InputError(iniKeyName(section_, key), "'" + text + "' is not one of " + joined(names, ", "));
     }
-    require(current >= 0, iniKeyName(section_, key), "the present value has no name (declaration incomplete)");
+    require(current >= 0, where(key), "the present value has no name (declaration incomplete)");
     emit(key, "one of", "", joined(names, ", "), names[size_t(current)], doc);
 }
 
@@ -190,6 +202,12 @@ std::vector<OptionDescription> DeclaredOptions::describe() const
     OptionTable t(OptionTable::Action::Describe, nullptr, nullptr, "");
     const_cast<DeclaredOptions*>(this)->declare(t);
     return t.descriptions();
+}
+
+void DeclaredOptions::checkRanges(const std::string& input, const std::string& section) const
+{
+    OptionTable t(OptionTable::Action::Check, nullptr, nullptr, section, input);
+    const_cast<DeclaredOptions*>(this)->declare(t);
 }
 
 }  // namespace quasiloc::core

@@ -125,3 +125,22 @@ TEST(DeclaredOptions, NameListsLoadAndSaveBack)
     EXPECT_EQ(back.names, o.names);
     EXPECT_EQ(o.describe()[0].default_value, "[v101 v102 x]");
 }
+
+TEST(DeclaredOptions, CheckRangesTestsValuesSetInCode)
+{
+    DemoOptions o;
+    EXPECT_NO_THROW(o.checkRanges("code", "Demo"));
+    o.max_depth_m = -1;
+    try
+    {
+        o.checkRanges("code", "Demo");
+        FAIL() << "no error for max_depth_m = -1";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_EQ(std::string(e.what()), "code: [Demo] max_depth_m: -1 is out of range (must be > 0)");
+    }
+    o = DemoOptions();
+    o.heights_m = {1, -1};
+    EXPECT_THROW(o.checkRanges("code", "Demo"), InputError);
+}

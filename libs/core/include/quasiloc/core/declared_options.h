@@ -3,7 +3,8 @@
 // name, the member it fills, its unit, its valid range and one line of documentation. Loading (strict: a value out
 // of range or not of the key's type is an InputError naming the key), saving, the known-key list that rejects
 // unknown keys (program_options.h: loadOptionsChecked) and the generated reference docs/options.md all come from
-// that declaration. Checks that relate two keys stay in the struct's own check().
+// that declaration, and so does checkRanges(), which tests values set in code (not loaded) against the declared
+// ranges. Checks that relate two keys stay in the struct's own check().
 //
 //     struct FooOptions : core::DeclaredOptions {
 //         double max_depth_m = 6;
@@ -85,10 +86,11 @@ class OptionTable
     {
         Load,
         Save,
-        Describe
+        Describe,
+        Check  ///< the present values against the declared ranges; errors name `input` and the key
     };
     OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
-                const std::string& section);
+                const std::string& section, const std::string& input = "");
     const std::vector<OptionDescription>& descriptions() const { return descriptions_; }
 
    private:
@@ -99,11 +101,13 @@ class OptionTable
     void emit(const std::string& key, const std::string& type, const std::string& unit, const std::string& range,
               const std::string& value, const std::string& doc);
     std::string readText(const std::string& key) const;
+    /** "[section] key", after "<input>: " when checking. */
+    std::string where(const std::string& key) const;
 
     Action action_;
     const mrpt::config::CConfigFileBase* in_;
     mrpt::config::CConfigFileBase* out_;
-    std::string section_;
+    std::string section_, input_;
     std::vector<OptionDescription> descriptions_;
 };
 
@@ -117,6 +121,9 @@ struct DeclaredOptions : public mrpt::config::CLoadableOptions
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
     /** The declared keys with their defaults (the struct's present values), for the reference. */
     std::vector<OptionDescription> describe() const;
+    /** InputError "<input>: [section] key: ..." for a present value outside its declared range (options set in
+     *  code rather than loaded, e.g. before a library uses them). */
+    void checkRanges(const std::string& input, const std::string& section) const;
 };
 
 }  // namespace quasiloc::core
