@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -31,6 +33,13 @@ std::string joined(const std::vector<std::string>& names, const std::string& sep
     std::string s;
     for (const auto& n : names) s += (s.empty() ? "" : separator) + n;
     return s;
+}
+
+bool sameIgnoringCase(const std::string& a, const std::string& b)
+{
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y) {
+               return std::tolower(x) == std::tolower(y);
+           });
 }
 
 /** "[a b, c]" -> {a, b, c}. */
@@ -177,7 +186,7 @@ void OptionTable::addChoice(const std::string& key, const std::vector<std::strin
         const std::string text = readText(key);
         if (text.empty()) return;
         for (size_t i = 0; i < names.size(); ++i)
-            if (names[i] == text) return set(i);
+            if (sameIgnoringCase(names[i], text)) return set(i);
         throw InputError(iniKeyName(section_, key), "'" + text + "' is not one of " + joined(names, ", "));
     }
     require(current >= 0, where(key), "the present value has no name (declaration incomplete)");

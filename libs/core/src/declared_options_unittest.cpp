@@ -66,6 +66,8 @@ TEST(DeclaredOptions, LoadsEveryDeclaredTypeAndKeepsDefaultsOfAbsentKeys)
     EXPECT_EQ(o.heights_m, (std::vector<double>{1, 2}));
     EXPECT_EQ(o.budget, Budget::Full);
     EXPECT_EQ(o.keyframe_every, 1);
+    loadOptionsChecked(o, ini("[Demo]\nbudget = Fast\n"), "Demo", "demo.ini");
+    EXPECT_EQ(o.budget, Budget::Fast);
 }
 
 TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTheKey)

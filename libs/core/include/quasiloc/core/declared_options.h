@@ -67,7 +67,8 @@ class OptionTable
              const std::string& doc);
     /** "[a b c]" of names (blanks or commas between them, brackets optional). */
     void add(const std::string& key, std::vector<std::string>& value, const std::string& doc);
-    /** One of the named values; an other name is an InputError listing them. */
+    /** One of the named values (matched without regard to case: "SE3" is "se3"); an other name is an InputError
+     *  listing them. */
     template <class E>
     void addEnum(const std::string& key, E& value, const std::vector<std::pair<std::string, E>>& names,
                  const std::string& doc)
