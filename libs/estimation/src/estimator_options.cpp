@@ -26,6 +26,6 @@ void EstimatorOptions::declare(core::OptionTable& t)
           "added to the diagonal of the marginalised block (gauge, unseen landmarks)");
 }
 
-void EstimatorOptions::check(const std::string&) const {}
+void EstimatorOptions::check(const std::string& input) const { checkRanges(input, "Estimator"); }
 
 }  // namespace quasiloc::estimation

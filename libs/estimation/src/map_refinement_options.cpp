@@ -44,6 +44,8 @@ void MapRefinementOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, 
 
 void MapRefinementOptions::check(const std::string& input) const
 {
+    checkRanges(input, "MapRefinement");
+    direct.checkRanges(input, "DirectAlignment");
     core::require(min_window_px <= max_window_px, input + ": [MapRefinement] min_window_px/max_window_px",
                   "need min_window_px <= max_window_px");
 }

@@ -20,7 +20,7 @@ void ReweightingOptions::declare(core::OptionTable& t)
     t.add("epsilon", epsilon, "", Range::above(0), "regulariser of q's denominator");
 }
 
-void ReweightingOptions::check(const std::string&) const {}
+void ReweightingOptions::check(const std::string& input) const { checkRanges(input, "Reweighting"); }
 
 ObservabilityAnalysis analyzeObservability(const Matrix6d& H0, double L, double tau)
 {

@@ -48,6 +48,7 @@ void FeatureOptions::declare(core::OptionTable& t)
 
 void FeatureOptions::check(const std::string& input) const
 {
+    checkRanges(input, "Features");
     if (type != FeatureType::XFeat) return;
     const std::string key = input + ": " + core::iniKeyName("Features", "xfeat_model_path");
     struct stat st;

@@ -24,6 +24,8 @@ void FrontendOptions::check(const std::string& input) const
     features.check(input);
     point_matching.check(input);
     lines.check(input);
+    line_matching.checkRanges(input, "LineMatching");
+    association.checkRanges(input, "Association");
     stereo.check(input);
     if (point_matching.useLighterGlue())
         core::require(features.type == FeatureType::XFeat, input + ": [PointMatching] method",

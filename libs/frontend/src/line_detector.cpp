@@ -48,6 +48,7 @@ void LineOptions::declare(core::OptionTable& t)
 
 void LineOptions::check(const std::string& input) const
 {
+    checkRanges(input, "Lines");
     core::require(line_branch_weight + point_branch_weight > 0,
                   input + ": " + core::iniKeyName("Lines", "line_branch_weight"),
                   "line_branch_weight and point_branch_weight cannot both be 0");

@@ -34,6 +34,7 @@ void PointMatchingOptions::declare(core::OptionTable& t)
 
 void PointMatchingOptions::check(const std::string& input) const
 {
+    checkRanges(input, "PointMatching");
     if (!useLighterGlue()) return;
     const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("PointMatching", k); };
     core::require(lighterGlueAvailable(), key("method"),

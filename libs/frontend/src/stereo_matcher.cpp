@@ -20,6 +20,7 @@ void StereoOptions::declare(core::OptionTable& t)
 
 void StereoOptions::check(const std::string& input) const
 {
+    checkRanges(input, "Stereo");
     core::require(max_disparity_px > min_disparity_px, input + ": " + core::iniKeyName("Stereo", "max_disparity_px"),
                   "must be > min_disparity_px");
 }

@@ -36,7 +36,7 @@ struct EstimatorOptions : public core::DeclaredOptions
     double marginal_damping = 1e-9;
 
     void declare(core::OptionTable& t) override;
-    /** No two keys constrain each other: nothing to check beyond the declared ranges (kept for its callers). */
+    /** InputError naming `input` and the key for a value out of its declared range (no two keys relate). */
     void check(const std::string& input) const;
 
     bool usePoints() const { return primitives != Primitives::L; }

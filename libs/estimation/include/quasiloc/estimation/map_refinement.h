@@ -65,7 +65,8 @@ struct MapRefinementOptions : public core::DeclaredOptions
     /** [MapRefinement] from `section`, and `direct` from [DirectAlignment]. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` for min_window_px > max_window_px. */
+    /** InputError naming `input` and the key for a value out of its declared range (here or in `direct`) or
+     *  min_window_px > max_window_px. */
     void check(const std::string& input) const;
 };
 

@@ -45,7 +45,7 @@ struct ReweightingOptions : public core::DeclaredOptions
     double epsilon = 1e-9; ///< regulariser of q's denominator
 
     void declare(core::OptionTable& t) override;
-    /** No two keys constrain each other: nothing to check beyond the declared ranges (kept for its callers). */
+    /** InputError naming `input` and the key for a value out of its declared range (no two keys relate). */
     void check(const std::string& input) const;
 };
 

@@ -81,7 +81,8 @@ struct FeatureOptions : public core::DeclaredOptions
     bool dense_map = true;
 
     void declare(core::OptionTable& t) override;
-    /** InputError naming `input` and the key when type = xfeat has no readable model file. */
+    /** InputError naming `input` and the key for a value out of its declared range, or type = xfeat without a
+     *  readable model file. */
     void check(const std::string& input) const;
 };
 

@@ -52,7 +52,7 @@ struct LineOptions : public core::DeclaredOptions
     double point_branch_weight = 1.0;
 
     void declare(core::OptionTable& t) override;
-    /** InputError naming `input` when both branch weights are 0. */
+    /** InputError naming `input` and the key for a value out of its declared range, or both branch weights 0. */
     void check(const std::string& input) const;
 };
 

@@ -37,8 +37,8 @@ struct PointMatchingOptions : public core::DeclaredOptions
     double lighterglue_min_score = 0.1;
 
     void declare(core::OptionTable& t) override;
-    /** InputError naming `input` and the key for method = lighterglue in a build without libtorch ([PointMatching]
-     *  method) or without a readable model file (lighterglue_model). */
+    /** InputError naming `input` and the key for a value out of its declared range, or method = lighterglue in a
+     *  build without libtorch ([PointMatching] method) or without a readable model file (lighterglue_model). */
     void check(const std::string& input) const;
     bool useLighterGlue() const { return method == MatchingMethod::LighterGlue; }
     /** The distance limit for these descriptors. */

@@ -25,7 +25,8 @@ struct StereoOptions : public core::DeclaredOptions
     double max_depth_m = 30;
 
     void declare(core::OptionTable& t) override;
-    /** InputError naming `input` unless max_disparity_px > min_disparity_px. */
+    /** InputError naming `input` and the key for a value out of its declared range, or unless max_disparity_px >
+     *  min_disparity_px. */
     void check(const std::string& input) const;
 };
 
