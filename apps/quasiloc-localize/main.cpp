@@ -5,7 +5,7 @@
 //
 // [Localize]: LocalizeRunOptions::declare below. query_image = quasi localizes the quasi-image of the map rendered at
 // the ground-truth pose instead of the camera image: a check of the localization machinery without the
-// camera-to-map modality gap. Other sections: [Localization] [PointMatching] (and [QuasiImage] for query_image = quasi).
+// camera-to-map modality gap. Other sections: [Localization] [PointMatching] (and [QuasiImage] for quasi queries).
 //
 // Outputs in output_dir, all or nothing: queries.txt (every query timestamp), and per mode <mode>.tum (the
 // localized queries' T_world_cam0), <mode>.csv (per query: status, reason, inliers, errors, time per stage),
@@ -272,9 +272,10 @@ int run(const core::CommandLine& cmd)
     }
     core::require(count > 0, o.input_rawlog, "no query frame (check every_n, and ground truth for query_image = quasi)");
 
+    const std::string image =
+        o.query_image == QueryImage::Camera ? "camera image" : "quasi-image at the ground-truth pose";
     const std::string what = "database " + o.database + " (" + db.summary() + "); queries: every " +
-                             std::to_string(o.every_n) + "th left " + (o.query_image == QueryImage::Camera ? "camera image" : "quasi-image at the ground-truth pose") +
-                             " of " + o.input_rawlog;
+                             std::to_string(o.every_n) + "th left " + image + " of " + o.input_rawlog;
     core::StagedOutputs out;
     core::writeTextFileAtomically(out.addFile(o.output_dir + "/queries.txt"), query_times.str());
     std::vector<ModeSummary> summaries;

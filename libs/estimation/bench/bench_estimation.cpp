@@ -214,8 +214,8 @@ void runReweightTiming(const ReweightingOptions& rw)
     }
     int upweighted = 0;
     for (double w : res.weight) upweighted += w > 1.01;
-    std::printf("\n## Reweighting time (mode %s): %zu structural factors x 3 candidates\n", valueText(rw, "mode").c_str(),
-                rc.factors.size());
+    std::printf("\n## Reweighting time (mode %s): %zu structural factors x 3 candidates\n",
+                valueText(rw, "mode").c_str(), rc.factors.size());
     std::printf("reweighting per frame: median %.4f ms, mean %.4f ms (bound %.3f ms): %s; factors with w > 1.01: %d\n",
                 median(ms), mean(ms), kReweightBoundMs, median(ms) <= kReweightBoundMs ? "OK" : "EXCEEDED", upweighted);
 }
@@ -260,7 +260,8 @@ int run(int argc, char** argv)
     eo.loadFromConfigFile(cfg, "Estimator");
     ro.loadFromConfigFile(cfg, "Reweighting");
     std::printf("# bench_estimation: tau=%g beta=%g kappa=%g, outer=%d inner=%d, loss=%s(%g)\n", ro.tau, ro.beta,
-                ro.kappa, eo.outer_iterations, eo.inner_iterations, valueText(eo, "robust_loss").c_str(), eo.robust_threshold);
+                ro.kappa, eo.outer_iterations, eo.inner_iterations, valueText(eo, "robust_loss").c_str(),
+                eo.robust_threshold);
     runAccuracy(trials, seed, eo, ro, false);
     runAccuracy(trials, seed, eo, ro, true);
     runReweightTiming(ro);

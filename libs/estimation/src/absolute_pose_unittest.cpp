@@ -68,7 +68,10 @@ void checkMethod(PnpMethod method, const quasiloc::core::CameraModel& cam)
 }  // namespace
 
 TEST(AbsolutePose, MagsacRecoversPoseAndInliers) { checkMethod(PnpMethod::Magsac, test::pinholeCamera().model); }
-TEST(AbsolutePose, UsacDefaultRecoversPoseAndInliers) { checkMethod(PnpMethod::UsacDefault, test::pinholeCamera().model); }
+TEST(AbsolutePose, UsacDefaultRecoversPoseAndInliers)
+{
+    checkMethod(PnpMethod::UsacDefault, test::pinholeCamera().model);
+}
 TEST(AbsolutePose, ClassicRansacRecoversPoseAndInliers) { checkMethod(PnpMethod::Ransac, test::pinholeCamera().model); }
 
 TEST(AbsolutePose, WorksWithEquidistantCamera)

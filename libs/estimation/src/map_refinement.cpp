@@ -59,7 +59,8 @@ void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera,
 
 cv::Mat MapRefiner::quasiFeatureImage() const
 {
-    return options_.quasi_gray == QuasiGray::MatchedReflectivity ? quasi::reflectivityMatchedToImage(q_, gray_) : q_.gray;
+    if (options_.quasi_gray == QuasiGray::MatchedReflectivity) return quasi::reflectivityMatchedToImage(q_, gray_);
+    return q_.gray;
 }
 
 double MapRefiner::windowFor(double sigma_m, double sigma_rad, double median_depth_m) const

@@ -28,7 +28,7 @@ void EvalOptions::declare(core::OptionTable& t)
     using core::Range;
     t.add("output_dir", output_dir, "receives report.md, report.json, eval_effective.ini, <sequence>_errors.csv");
     t.add("max_dt_s", max_dt_s, "s", Range::atLeast(0), "an associated pair has |t_est - t_gt| <= this");
-    t.addEnum("align", align, alignmentNames(), "an aligned ATE besides the unaligned one: none, se3 or sim3 (Umeyama)");
+    t.addEnum("align", align, alignmentNames(), "an aligned ATE besides the unaligned one (Umeyama)");
     t.add("rpe_delta_s", rpe_delta_s, "s", Range::atLeast(0), "RPE step in seconds (0: rpe_delta_frames)");
     t.add("rpe_delta_frames", rpe_delta_frames, "", Range::atLeast(0), "RPE step in associated poses");
     t.add("recall_thresholds_m", recall_thresholds_m, "m", Range::above(0), "localization recall thresholds");

@@ -80,7 +80,8 @@ TEST(PointMatcherMethod, RegionGateFollowsFindCandidatesPrecedence)
 
 TEST(PointMatcherMethod, UnknownMethodNamesTheKey)
 {
-    const std::string e = inputError([] { test::withIni(PointMatchingOptions{}, "PointMatching", "method = superglue"); });
+    const std::string e =
+        inputError([] { test::withIni(PointMatchingOptions{}, "PointMatching", "method = superglue"); });
     EXPECT_NE(e.find("[PointMatching] method"), std::string::npos) << e;
 }
 

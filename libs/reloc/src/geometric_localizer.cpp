@@ -18,7 +18,6 @@ namespace
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-
 struct Candidate
 {
     Eigen::Isometry3d T_world_cam;

@@ -143,5 +143,4 @@ bool alignDirect(const DirectAlignmentOptions& options, const CameraEdgeField& f
                  const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam,
                  DirectAlignmentStats* stats = nullptr, const DirectPrior* prior = nullptr);
 
-
 }  // namespace quasiloc::estimation
