@@ -3,8 +3,7 @@
 //
 //     quasiloc-build-db <config.ini> [--set Section.key=value]... [--print-timing]
 //
-// [BuildDatabase]: map_file (LidarMap), calibration_ini (StereoRig keys, prefix camera_: the views are rendered
-//   in the left camera's pixel geometry), output (the database file), and the library keys (database_builder.h).
+// [BuildDatabase]: BuildRunOptions::declare below (the file keys) and the library's keys (database_builder.h).
 // Other sections: [ViewSampling] [QuasiImage] [Features] [Lines] [Association] [Vocabulary].
 //
 // Outputs, all or nothing: the database, <output>.views.tum (T_world_cam of every kept view, time = view id, for
@@ -15,7 +14,6 @@
 #include <iostream>
 #include <quasiloc/dataset/calibration.h>
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/program_options.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/core/stereo_rig.h>
@@ -30,19 +28,12 @@ using namespace quasiloc;
 struct BuildRunOptions : public reloc::DatabaseBuildOptions
 {
     std::string map_file, calibration_ini, output = "out/db/database.qdb";
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
+    void declare(core::OptionTable& t) override
     {
-        DatabaseBuildOptions::loadFromConfigFile(c, s);
-        map_file = c.read_string(s, "map_file", map_file);
-        calibration_ini = c.read_string(s, "calibration_ini", calibration_ini);
-        output = c.read_string(s, "output", output);
-    }
-    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
-    {
-        DatabaseBuildOptions::saveToConfigFile(c, s);
-        c.write(s, "map_file", map_file);
-        c.write(s, "calibration_ini", calibration_ini);
-        c.write(s, "output", output);
+        DatabaseBuildOptions::declare(t);
+        t.add("map_file", map_file, "the LiDAR map");
+        t.add("calibration_ini", calibration_ini, "StereoRig keys, prefix camera_: the views use the left camera");
+        t.add("output", output, "the database file");
     }
 };
 
@@ -56,7 +47,6 @@ int run(const core::CommandLine& cmd)
     const std::string name = cmd.config_path;
     BuildRunOptions o;
     core::loadOptionsChecked(o, cfg, "BuildDatabase", name);
-    o.check(name);
     core::requireInputFiles(name, "BuildDatabase", {{"map_file", o.map_file}, {"calibration_ini", o.calibration_ini}});
     core::require(!o.output.empty(), name + ": [BuildDatabase] output", "is required");
     reloc::DatabaseBuildConfig bc;

@@ -3,13 +3,9 @@
 //
 //     quasiloc-localize <config.ini> [--set Section.key=value]... [--print-timing]
 //
-// [Localize]: database, input_rawlog, calibration_ini (optional: overrides the rawlog's calibration),
-//   groundtruth (TUM of T_world_cam0, for the error table; optional), every_n (query every N-th frame),
-//   max_queries (0 = all), modes (fast, full or both: "fast full"), output_dir,
-//   query_image = camera | quasi: the camera's left image, or (a check of the localization machinery without
-//   the camera-to-map modality gap) the quasi-image of the map rendered at the ground-truth pose, which needs
-//   map_file and groundtruth.
-// Other sections: [Localization] [PointMatching] (and [QuasiImage] for query_image = quasi).
+// [Localize]: LocalizeRunOptions::declare below. query_image = quasi localizes the quasi-image of the map rendered at
+// the ground-truth pose instead of the camera image: a check of the localization machinery without the
+// camera-to-map modality gap. Other sections: [Localization] [PointMatching] (and [QuasiImage] for quasi queries).
 //
 // Outputs in output_dir, all or nothing: queries.txt (every query timestamp), and per mode <mode>.tum (the
 // localized queries' T_world_cam0), <mode>.csv (per query: status, reason, inliers, errors, time per stage),
@@ -21,8 +17,8 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/program_options.h>
 #include <quasiloc/core/staged_output.h>
@@ -38,36 +34,47 @@ namespace
 {
 using namespace quasiloc;
 
-struct LocalizeRunOptions : public mrpt::config::CLoadableOptions
+/** What is localized: the camera's left image, or the quasi-image rendered at the ground-truth pose. */
+enum class QueryImage
+{
+    Camera,
+    Quasi
+};
+
+struct LocalizeRunOptions : public core::DeclaredOptions
 {
     std::string database, input_rawlog, calibration_ini, groundtruth, map_file, output_dir = "out/localize";
-    std::string modes = "fast full", query_image = "camera";
+    std::vector<std::string> modes{"fast", "full"};
+    QueryImage query_image = QueryImage::Camera;
     int every_n = 10, max_queries = 0;
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
+
+    void declare(core::OptionTable& t) override
     {
-        database = c.read_string(s, "database", database);
-        input_rawlog = c.read_string(s, "input_rawlog", input_rawlog);
-        calibration_ini = c.read_string(s, "calibration_ini", calibration_ini);
-        groundtruth = c.read_string(s, "groundtruth", groundtruth);
-        map_file = c.read_string(s, "map_file", map_file);
-        output_dir = c.read_string(s, "output_dir", output_dir);
-        modes = c.read_string(s, "modes", modes);
-        query_image = c.read_string(s, "query_image", query_image);
-        every_n = core::readIniInt(c, s, "every_n", every_n);
-        max_queries = core::readIniInt(c, s, "max_queries", max_queries);
+        t.add("database", database, "the database (quasiloc-build-db)");
+        t.add("input_rawlog", input_rawlog, "the stereo rawlog whose left images are queried");
+        t.add("calibration_ini", calibration_ini, "optional: overrides the rawlog's calibration");
+        t.add("groundtruth", groundtruth, "optional TUM of T_world_cam0, for the error table");
+        t.add("map_file", map_file, "the LiDAR map (query_image = quasi)");
+        t.add("output_dir", output_dir, "where the outputs go");
+        t.add("modes", modes, "fast, full or both");
+        t.addEnum("query_image", query_image, {{"camera", QueryImage::Camera}, {"quasi", QueryImage::Quasi}},
+                  "the camera's left image, or the quasi-image rendered at the ground-truth pose");
+        t.add("every_n", every_n, "", core::Range::atLeast(1), "query every N-th frame");
+        t.add("max_queries", max_queries, "", core::Range::atLeast(0), "queries at most (0: all)");
     }
-    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
+
+    /** The budgets of `modes`; InputError naming `name` for a quasi query without map and ground truth, or no
+     *  or an unknown mode. */
+    std::vector<reloc::LocalizationMode> checkedModes(const std::string& name) const
     {
-        c.write(s, "database", database);
-        c.write(s, "input_rawlog", input_rawlog);
-        c.write(s, "calibration_ini", calibration_ini);
-        c.write(s, "groundtruth", groundtruth);
-        c.write(s, "map_file", map_file);
-        c.write(s, "output_dir", output_dir);
-        c.write(s, "modes", modes);
-        c.write(s, "query_image", query_image);
-        c.write(s, "every_n", every_n);
-        c.write(s, "max_queries", max_queries);
+        const std::string key = name + ": [Localize] ";
+        core::require(query_image == QueryImage::Camera || (!map_file.empty() && !groundtruth.empty()),
+                      key + "query_image",
+                      "quasi needs map_file and groundtruth (the query is rendered at the ground-truth pose)");
+        std::vector<reloc::LocalizationMode> out;
+        for (const auto& m : modes) out.push_back(reloc::localizationModeFromString(m, key + "modes"));
+        core::require(!out.empty(), key + "modes", "needs fast, full or both");
+        return out;
     }
 };
 
@@ -186,23 +193,11 @@ int run(const core::CommandLine& cmd)
     const std::string name = cmd.config_path;
     LocalizeRunOptions o;
     core::loadOptionsChecked(o, cfg, "Localize", name);
-    const auto key = [&](const char* k) { return name + ": [Localize] " + k; };
     core::requireInputFiles(name, "Localize", {{"database", o.database}, {"input_rawlog", o.input_rawlog}});
     core::requireInputFiles(name, "Localize",
                             {{"calibration_ini", o.calibration_ini}, {"groundtruth", o.groundtruth}, {"map_file", o.map_file}},
                             false);
-    core::require(o.every_n >= 1, key("every_n"), "must be >= 1");
-    core::require(o.max_queries >= 0, key("max_queries"), "must be >= 0");
-    core::require(o.query_image == "camera" || o.query_image == "quasi", key("query_image"),
-                  "'" + o.query_image + "' is not camera | quasi");
-    core::require(o.query_image == "camera" || (!o.map_file.empty() && !o.groundtruth.empty()), key("query_image"),
-                  "quasi needs map_file and groundtruth (the query is rendered at the ground-truth pose)");
-    std::vector<reloc::LocalizationMode> modes;
-    {
-        std::istringstream s(o.modes);
-        for (std::string m; s >> m;) modes.push_back(reloc::localizationModeFromString(m, key("modes")));
-        core::require(!modes.empty(), key("modes"), "needs fast, full or both");
-    }
+    const std::vector<reloc::LocalizationMode> modes = o.checkedModes(name);
     reloc::LocalizerOptions lo;
     core::loadOptionsChecked(lo, cfg, "Localization", name);
     core::loadOptionsChecked(lo.matching, cfg, "PointMatching", name);
@@ -220,7 +215,7 @@ int run(const core::CommandLine& cmd)
     const core::CameraModel& camera = source->rig().left;
     std::unique_ptr<map::LidarMap> map;
     std::unique_ptr<quasi::QuasiRenderer> renderer;
-    if (o.query_image == "quasi")
+    if (o.query_image == QueryImage::Quasi)
     {
         map = std::make_unique<map::LidarMap>(map::LidarMap::load(o.map_file));
         renderer = std::make_unique<quasi::QuasiRenderer>(*map, qo);
@@ -237,7 +232,7 @@ int run(const core::CommandLine& cmd)
     while (source->next(f) && (o.max_queries == 0 || count < o.max_queries))
     {
         if (f.index % size_t(o.every_n) != 0) continue;
-        if (o.query_image == "quasi" && !f.T_world_cam0) continue;  // nothing to render at
+        if (o.query_image == QueryImage::Quasi && !f.T_world_cam0) continue;  // nothing to render at
         ++count;
         query_times << std::setprecision(17) << f.timestamp << "\n";
         cv::Mat image = f.left;
@@ -277,9 +272,10 @@ int run(const core::CommandLine& cmd)
     }
     core::require(count > 0, o.input_rawlog, "no query frame (check every_n, and ground truth for query_image = quasi)");
 
+    const std::string image =
+        o.query_image == QueryImage::Camera ? "camera image" : "quasi-image at the ground-truth pose";
     const std::string what = "database " + o.database + " (" + db.summary() + "); queries: every " +
-                             std::to_string(o.every_n) + "th left " + (o.query_image == "camera" ? "camera image" : "quasi-image at the ground-truth pose") +
-                             " of " + o.input_rawlog;
+                             std::to_string(o.every_n) + "th left " + image + " of " + o.input_rawlog;
     core::StagedOutputs out;
     core::writeTextFileAtomically(out.addFile(o.output_dir + "/queries.txt"), query_times.str());
     std::vector<ModeSummary> summaries;

@@ -9,6 +9,7 @@
 #include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/program_options.h>
@@ -26,7 +27,7 @@ namespace
 using namespace quasiloc;
 
 /** [BenchCrossModal] */
-struct BenchOptions : public mrpt::config::CLoadableOptions
+struct BenchOptions : public core::DeclaredOptions
 {
     std::string kitti_dir = std::string(QUASILOC_SHARED_DIR) + "/data/kitti_raw_seq78";
     int kitti_frames = 0;  ///< 0: every query frame (39)
@@ -45,47 +46,27 @@ struct BenchOptions : public mrpt::config::CLoadableOptions
     double line_window_px = 3;  ///< map-line profile: association window
     std::string overlay_dir;  ///< if set: per sequence, a PNG of the first frame's camera edges and map edges at the true pose
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s) override
+    void declare(core::OptionTable& t) override
     {
-        kitti_dir = c.read_string(s, "kitti_dir", kitti_dir);
-        kitti_frames = c.read_int(s, "kitti_frames", kitti_frames);
-        kitti_max_depth_m = c.read_double(s, "kitti_max_depth_m", kitti_max_depth_m);
-        sim_dir = c.read_string(s, "sim_dir", sim_dir);
-        sim_world = c.read_string(s, "sim_world", sim_world);
-        sim_frames = c.read_int(s, "sim_frames", sim_frames);
-        draws = c.read_int(s, "draws", draws);
-        methods = c.read_string(s, "methods", methods);
-        success_m = c.read_double(s, "success_m", success_m);
-        success_deg = c.read_double(s, "success_deg", success_deg);
-        correct_px = c.read_double(s, "correct_px", correct_px);
-        profile = c.read_bool(s, "profile", profile);
-        profile_step_m = c.read_double(s, "profile_step_m", profile_step_m);
-        profile_step_deg = c.read_double(s, "profile_step_deg", profile_step_deg);
-        refine = c.read_bool(s, "refine", refine);
-        from_truth = c.read_bool(s, "from_truth", from_truth);
-        overlay_dir = c.read_string(s, "overlay_dir", overlay_dir);
-        line_window_px = c.read_double(s, "line_window_px", line_window_px);
-    }
-    void saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const override
-    {
-        c.write(s, "kitti_dir", kitti_dir);
-        c.write(s, "kitti_frames", kitti_frames);
-        c.write(s, "kitti_max_depth_m", kitti_max_depth_m);
-        c.write(s, "sim_dir", sim_dir);
-        c.write(s, "sim_world", sim_world);
-        c.write(s, "sim_frames", sim_frames);
-        c.write(s, "draws", draws);
-        c.write(s, "methods", methods);
-        c.write(s, "success_m", success_m);
-        c.write(s, "success_deg", success_deg);
-        c.write(s, "correct_px", correct_px);
-        c.write(s, "profile", profile);
-        c.write(s, "profile_step_m", profile_step_m);
-        c.write(s, "profile_step_deg", profile_step_deg);
-        c.write(s, "refine", refine);
-        c.write(s, "from_truth", from_truth);
-        c.write(s, "overlay_dir", overlay_dir);
-        c.write(s, "line_window_px", line_window_px);
+        const core::Range any = core::Range::any();
+        t.add("kitti_dir", kitti_dir, "kitti_raw_seq78 folder");
+        t.add("kitti_frames", kitti_frames, "", any, "KITTI query frames (0: all 39; < 0: none)");
+        t.add("kitti_max_depth_m", kitti_max_depth_m, "m", any, "quasi-image depth limit on KITTI");
+        t.add("sim_dir", sim_dir, "simulated sequence (made from sim_world when missing)");
+        t.add("sim_world", sim_world, "simulation INI");
+        t.add("sim_frames", sim_frames, "", any, "simulated frames");
+        t.add("draws", draws, "", any, "seeded random perturbations per frame and level");
+        t.add("methods", methods, "comma-separated refinement methods");
+        t.add("success_m", success_m, "m", any, "a refinement succeeds within this ...");
+        t.add("success_deg", success_deg, "deg", any, "... and this");
+        t.add("correct_px", correct_px, "px", any, "a 2D-3D correspondence is correct within this at the true pose");
+        t.add("profile", profile, "print the cost profile of the direct terms");
+        t.add("profile_step_m", profile_step_m, "m", any, "cost profile step");
+        t.add("profile_step_deg", profile_step_deg, "deg", any, "cost profile step");
+        t.add("refine", refine, "run the refinements (false: the profile alone)");
+        t.add("from_truth", from_truth, "also refine from the true pose");
+        t.add("overlay_dir", overlay_dir, "if set: camera and map edges of each sequence's first frame as PNG");
+        t.add("line_window_px", line_window_px, "px", any, "map-line profile: association window");
     }
 };
 
@@ -214,7 +195,7 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
     if (b.profile)
     {
         const bench::CostProfile p = bench::profileDirectTerms(seq, renderer, ro.direct, b.profile_step_m, b.profile_step_deg, frontend,
-                                                                   ro.quasi_gray == "matched_reflectivity");
+                                                                   ro.quasi_gray == estimation::QuasiGray::MatchedReflectivity);
         std::cout << "\n## " << seq.name << ": cost profile at the true pose (" << seq.frames.size() << " frames x 12 steps of "
                   << b.profile_step_m << " m / " << b.profile_step_deg << " deg)\n\n"
                   << "| valid pixels | edge points | edge cost lowest at truth | mean edge cost rise | NMI highest at truth | mean NMI drop | feature-metric highest at truth | mean feature-metric drop |\n"
@@ -371,7 +352,7 @@ int run(const core::CommandLine& cmd_in)
     core::loadOptionsChecked(ro, cfg, "MapRefinement", name);           // (loads [DirectAlignment] too)
     ro.check(name);
 
-    std::cout << "# bench_crossmodal (features: " << fo.features.type << ")\n" << std::flush;
+    std::cout << "# bench_crossmodal (features: " << frontend::toString(fo.features.type) << ")\n" << std::flush;
     if (b.kitti_frames >= 0)
     {
         quasi::QuasiOptions kq = qo;

@@ -1,8 +1,11 @@
 #include <cctype>
 #include <cerrno>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <sstream>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/ini_read.h>
@@ -11,7 +14,7 @@ namespace quasiloc::core
 {
 namespace
 {
-/** The shortest text that reads back as exactly `v` (0.05, not 0.050000000000000003). */
+/** The shortest text that reads back as exactly `v` (0.05, not 0.050000000000000003; 3000, not 3e+03). */
 std::string numberText(double v)
 {
     char buf[40];
@@ -46,6 +49,24 @@ std::string joined(const std::vector<std::string>& names, const std::string& sep
     for (const auto& n : names) s += (s.empty() ? "" : separator) + n;
     return s;
 }
+
+bool sameIgnoringCase(const std::string& a, const std::string& b)
+{
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](unsigned char x, unsigned char y) {
+               return std::tolower(x) == std::tolower(y);
+           });
+}
+
+/** "[a b, c]" -> {a, b, c}. */
+std::vector<std::string> nameList(std::string text)
+{
+    for (char& ch : text)
+        if (ch == '[' || ch == ']' || ch == ',' || ch == ';' || ch == '\t') ch = ' ';
+    std::istringstream in(text);
+    std::vector<std::string> names;
+    for (std::string n; in >> n;) names.push_back(n);
+    return names;
+}
 }  // namespace
 
 bool Range::contains(double v) const
@@ -65,16 +86,24 @@ std::string Range::text() const
 }
 
 OptionTable::OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
-                         const std::string& section)
-    : action_(action), in_(in), out_(out), section_(section)
+                         const std::string& section, const std::string& input)
+    : action_(action), in_(in), out_(out), section_(section), input_(input)
 {
+}
+
+std::string OptionTable::where(const std::string& key) const
+{
+    // With a section: "<input>: [section] key", as check() functions name keys; without one the input names the
+    // section already ("config.ini [World]"): "<input> key".
+    if (section_.empty()) return input_.empty() ? key : input_ + " " + key;
+    return (input_.empty() ? "" : input_ + ": ") + iniKeyName(section_, key);
 }
 
 std::string OptionTable::readText(const std::string& key) const { return in_->read_string(section_, key, "", false); }
 
 void OptionTable::requireInRange(const std::string& key, double v, Range range) const
 {
-    require(range.contains(v), section_ + " " + key, numberText(v) + " is out of range (must be " + range.text() + ")");
+    require(range.contains(v), where(key), numberText(v) + " is out of range (must be " + range.text() + ")");
 }
 
 void OptionTable::emit(const std::string& key, const std::string& type, const std::string& unit,
@@ -186,6 +215,17 @@ void OptionTable::add(const std::string& key, Eigen::Vector3d& value, const std:
     value = Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
+void OptionTable::add(const std::string& key, std::vector<std::string>& value, const std::string& doc)
+{
+    if (action_ == Action::Load)
+    {
+        const std::string text = readText(key);
+        if (!text.empty()) value = nameList(text);  // absent or empty: the default stays
+        return;
+    }
+    emit(key, "names", "", "", "[" + joined(value, " ") + "]", doc);
+}
+
 void OptionTable::addChoice(const std::string& key, const std::vector<std::string>& names, int current,
                             const std::function<void(size_t)>& set, const std::string& doc)
 {
@@ -194,11 +234,11 @@ void OptionTable::addChoice(const std::string& key, const std::vector<std::strin
         const std::string text = readText(key);
         if (text.empty()) return;
         for (size_t i = 0; i < names.size(); ++i)
-            if (names[i] == text) return set(i);
+            if (sameIgnoringCase(names[i], text)) return set(i);
         throw InputError(iniKeyName(section_, key), "'" + text + "' is not one of " + joined(names, ", "));
     }
     if (action_ == Action::Check)
-        return require(current >= 0, section_ + " " + key, "the present value is not one of " + joined(names, ", "));
+        return require(current >= 0, where(key), "the present value is not one of " + joined(names, ", "));
     require(current >= 0, iniKeyName(section_, key), "the present value has no name (declaration incomplete)");
     emit(key, "one of", "", joined(names, ", "), names[size_t(current)], doc);
 }
@@ -216,17 +256,17 @@ void DeclaredOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const
     const_cast<DeclaredOptions*>(this)->declare(t);
 }
 
-void DeclaredOptions::checkDeclaredRanges(const std::string& input) const
-{
-    OptionTable t(OptionTable::Action::Check, nullptr, nullptr, input);
-    const_cast<DeclaredOptions*>(this)->declare(t);
-}
-
 std::vector<OptionDescription> DeclaredOptions::describe() const
 {
     OptionTable t(OptionTable::Action::Describe, nullptr, nullptr, "");
     const_cast<DeclaredOptions*>(this)->declare(t);
     return t.descriptions();
+}
+
+void DeclaredOptions::checkRanges(const std::string& input, const std::string& section) const
+{
+    OptionTable t(OptionTable::Action::Check, nullptr, nullptr, section, input);
+    const_cast<DeclaredOptions*>(this)->declare(t);
 }
 
 }  // namespace quasiloc::core

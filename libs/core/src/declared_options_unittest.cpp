@@ -66,6 +66,8 @@ TEST(DeclaredOptions, LoadsEveryDeclaredTypeAndKeepsDefaultsOfAbsentKeys)
     EXPECT_EQ(o.heights_m, (std::vector<double>{1, 2}));
     EXPECT_EQ(o.budget, Budget::Full);
     EXPECT_EQ(o.keyframe_every, 1);
+    loadOptionsChecked(o, ini("[Demo]\nbudget = Fast\n"), "Demo", "demo.ini");
+    EXPECT_EQ(o.budget, Budget::Fast);
 }
 
 TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTheKey)
@@ -77,6 +79,7 @@ TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTh
     EXPECT_NE(loadError("[Demo]\nbudget = quick\n").find("'quick' is not one of fast, full"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nheights_m = 1 -2\n").find("each value must be >= 0"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nmax_dept_m = 3\n").find("unknown key"), std::string::npos);
+    EXPECT_EQ(loadError("[Demo]\nmax_depth_m = 0\n").rfind("demo.ini [Demo] max_depth_m", 0), 0u);
 }
 
 TEST(DeclaredOptions, SavedValuesLoadBackToTheSameOptions)
@@ -107,6 +110,7 @@ TEST(DeclaredOptions, DescribesEachKeyWithTypeUnitRangeDefaultAndDoc)
     EXPECT_EQ(d[5].range, "fast, full");
     EXPECT_EQ(d[5].default_value, "fast");
     EXPECT_EQ(Range::fromUpTo(0, 1).text(), "[0, 1)");
+    EXPECT_EQ(Range::atLeast(3000).text(), ">= 3000");  // integers in full, not 3e+03
     DemoOptions round;
     round.max_depth_m = 20;
     round.keyframe_every = 200;
@@ -163,11 +167,11 @@ TEST(DeclaredOptions, EmptyTextSeedsAbove2To53FullPrecisionVectorsAndAliasesLoad
 TEST(DeclaredOptions, CheckDeclaredRangesNamesTheKeyOfAValueSetInCode)
 {
     SeedOptions o;
-    EXPECT_NO_THROW(o.checkDeclaredRanges("test [S]"));
+    EXPECT_NO_THROW(o.checkRanges("test [S]"));
     o.bias = {0, 2};
     try
     {
-        o.checkDeclaredRanges("test [S]");
+        o.checkRanges("test [S]");
         ADD_FAILURE() << "out of range accepted";
     }
     catch (const InputError& e)
@@ -175,4 +179,40 @@ TEST(DeclaredOptions, CheckDeclaredRangesNamesTheKeyOfAValueSetInCode)
         EXPECT_NE(std::string(e.what()).find("test [S] bias: 2 is out of range (must be [-1, 1])"), std::string::npos)
             << e.what();
     }
+
+}
+
+TEST(DeclaredOptions, NameListsLoadAndSaveBack)
+{
+    struct Names : public DeclaredOptions
+    {
+        std::vector<std::string> names{"a"};
+        void declare(OptionTable& t) override { t.add("names", names, "the names"); }
+    } o, back;
+    loadOptionsChecked(o, ini("[N]\nnames = [v101, v102 x]\n"), "N", "n.ini");
+    EXPECT_EQ(o.names, (std::vector<std::string>{"v101", "v102", "x"}));
+    mrpt::config::CConfigFileMemory mem;
+    o.saveToConfigFile(mem, "N");
+    loadOptionsChecked(back, ini(mem.getContent()), "N", "saved");
+    EXPECT_EQ(back.names, o.names);
+    EXPECT_EQ(o.describe()[0].default_value, "[v101 v102 x]");
+}
+
+TEST(DeclaredOptions, CheckRangesTestsValuesSetInCode)
+{
+    DemoOptions o;
+    EXPECT_NO_THROW(o.checkRanges("code", "Demo"));
+    o.max_depth_m = -1;
+    try
+    {
+        o.checkRanges("code", "Demo");
+        FAIL() << "no error for max_depth_m = -1";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_EQ(std::string(e.what()), "code: [Demo] max_depth_m: -1 is out of range (must be > 0)");
+    }
+    o = DemoOptions();
+    o.heights_m = {1, -1};
+    EXPECT_THROW(o.checkRanges("code", "Demo"), InputError);
 }

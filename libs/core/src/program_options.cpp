@@ -115,9 +115,9 @@ void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::con
     }
     catch (const InputError& e)
     {
-        // A value error names "[section] key" (DeclaredOptions, ini_read.h): say which file too.
-        if (e.input().rfind("[", 0) == 0) throw InputError(config_name + " " + e.input(), e.problem());
-        throw;
+        // A value the declaration rejects ("[section] key: ...") is named with the file, as an unknown key is.
+        if (e.input().rfind(config_name, 0) == 0) throw;
+        throw InputError(config_name + " " + e.input(), e.problem());
     }
     catch (const std::exception& e)
     {

@@ -103,7 +103,7 @@ void Euroc2RawlogOptions::declare(core::OptionTable& t)
 
 void Euroc2RawlogOptions::check() const
 {
-    checkDeclaredRanges(kSection);
+    checkRanges(kSection);
     require(!input.empty(), std::string(kSection) + " input", "is empty: give the EuRoC ASL folder");
     require(!output.empty(), std::string(kSection) + " output", "is empty: give the rawlog to write");
     require(!fs::is_directory(output), std::string(kSection) + " output", "'" + output + "' is a folder");

@@ -30,12 +30,25 @@ constexpr double kReweightBoundMs = 0.1;
 
 struct Config
 {
-    std::string name, mode, primitives;
+    std::string name;
+    ReweightingMode mode;
+    Primitives primitives;
 };
 const std::vector<Config> kConfigs = {
-    {"uniform     P+L+plane", "uniform", "P+L+plane"}, {"observabil. P+L+plane", "observability", "P+L+plane"},
-    {"full        P+L+plane", "full", "P+L+plane"},    {"full        P", "full", "P"},
-    {"full        L", "full", "L"},                    {"full        P+L", "full", "P+L"}};
+    {"uniform     P+L+plane", ReweightingMode::Uniform, Primitives::PLPlane},
+    {"observabil. P+L+plane", ReweightingMode::Observability, Primitives::PLPlane},
+    {"full        P+L+plane", ReweightingMode::Full, Primitives::PLPlane},
+    {"full        P", ReweightingMode::Full, Primitives::P},
+    {"full        L", ReweightingMode::Full, Primitives::L},
+    {"full        P+L", ReweightingMode::Full, Primitives::PL}};
+
+/** The INI name of the present value of `key` (e.g. an enum's). */
+std::string valueText(const core::DeclaredOptions& options, const std::string& key)
+{
+    for (const auto& d : options.describe())
+        if (d.key == key) return d.default_value;
+    return "?";
+}
 
 struct Errors
 {
@@ -112,7 +125,7 @@ void runAccuracy(int trials, unsigned seed, const EstimatorOptions& est_base, co
                 WindowResult res;
                 Errors& e = errors[c.name];
                 if (!estimateWindow(eo, ro, in, res)) ++e.failures;
-                if (c.mode == "full" && c.primitives == "P+L+plane")
+                if (c.mode == ReweightingMode::Full && c.primitives == Primitives::PLPlane)
                     sqrt_lambda_sum += res.reweighting.analysis.lambda.cwiseSqrt();
                 addError(e, res.current.T_map_body, f.T_map_body_true);
             }
@@ -201,8 +214,8 @@ void runReweightTiming(const ReweightingOptions& rw)
     }
     int upweighted = 0;
     for (double w : res.weight) upweighted += w > 1.01;
-    std::printf("\n## Reweighting time (mode %s): %zu structural factors x 3 candidates\n", rw.mode.c_str(),
-                rc.factors.size());
+    std::printf("\n## Reweighting time (mode %s): %zu structural factors x 3 candidates\n",
+                valueText(rw, "mode").c_str(), rc.factors.size());
     std::printf("reweighting per frame: median %.4f ms, mean %.4f ms (bound %.3f ms): %s; factors with w > 1.01: %d\n",
                 median(ms), mean(ms), kReweightBoundMs, median(ms) <= kReweightBoundMs ? "OK" : "EXCEEDED", upweighted);
 }
@@ -246,10 +259,9 @@ int run(int argc, char** argv)
     ReweightingOptions ro;
     eo.loadFromConfigFile(cfg, "Estimator");
     ro.loadFromConfigFile(cfg, "Reweighting");
-    eo.check("bench_estimation");
-    ro.check("bench_estimation");
     std::printf("# bench_estimation: tau=%g beta=%g kappa=%g, outer=%d inner=%d, loss=%s(%g)\n", ro.tau, ro.beta,
-                ro.kappa, eo.outer_iterations, eo.inner_iterations, eo.robust_loss.c_str(), eo.robust_threshold);
+                ro.kappa, eo.outer_iterations, eo.inner_iterations, valueText(eo, "robust_loss").c_str(),
+                eo.robust_threshold);
     runAccuracy(trials, seed, eo, ro, false);
     runAccuracy(trials, seed, eo, ro, true);
     runReweightTiming(ro);

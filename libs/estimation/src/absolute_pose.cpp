@@ -10,10 +10,15 @@
 
 namespace quasiloc::estimation
 {
+const std::vector<std::pair<std::string, PnpMethod>>& pnpMethodNames()
+{
+    static const std::vector<std::pair<std::string, PnpMethod>> names = {
+        {"magsac", PnpMethod::Magsac}, {"usac_default", PnpMethod::UsacDefault}, {"ransac", PnpMethod::Ransac}};
+    return names;
+}
+
 void AbsolutePoseOptions::check(const std::string& input) const
 {
-    core::require(method == "magsac" || method == "usac_default" || method == "ransac", input + ": method",
-                  "'" + method + "' is not one of magsac, usac_default, ransac");
     core::require(max_reproj_error_px > 0, input + ": max_reproj_error_px", "must be > 0");
     core::require(confidence > 0 && confidence < 1, input + ": confidence", "must be in (0, 1)");
     core::require(max_iterations >= 1, input + ": max_iterations", "must be >= 1");
@@ -68,8 +73,8 @@ bool estimateAbsolutePose(const AbsolutePoseOptions& options, const std::vector<
                          static_cast<float>(points3D[i].z()));
     }
     int flags = static_cast<int>(cv::SOLVEPNP_EPNP);  // classic RANSAC with EPnP minimal solutions
-    if (options.method == "magsac") flags = static_cast<int>(cv::USAC_MAGSAC);
-    if (options.method == "usac_default") flags = static_cast<int>(cv::USAC_DEFAULT);
+    if (options.method == PnpMethod::Magsac) flags = static_cast<int>(cv::USAC_MAGSAC);
+    if (options.method == PnpMethod::UsacDefault) flags = static_cast<int>(cv::USAC_DEFAULT);
     cv::Mat rvec, tvec;
     std::vector<int> inliers;
     const cv::Mat K = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);

@@ -41,16 +41,16 @@ PnpScene makeScene(const quasiloc::core::CameraModel& cam, int n, double outlier
     return s;
 }
 
-void checkMethod(const std::string& method, const quasiloc::core::CameraModel& cam)
+void checkMethod(PnpMethod method, const quasiloc::core::CameraModel& cam)
 {
     const PnpScene s = makeScene(cam, 200, 0.4, 0.5, 11);
     AbsolutePoseOptions opt;
     opt.method = method;
     Eigen::Isometry3d T;
     AbsolutePoseStats st;
-    ASSERT_TRUE(estimateAbsolutePose(opt, s.px, s.X, cam, &T, &st)) << method;
-    EXPECT_LT((T.translation() - s.T_cam_world.translation()).norm(), 0.02) << method;
-    EXPECT_LT(logSO3(T.linear().transpose() * s.T_cam_world.linear()).norm(), 2e-3) << method;
+    ASSERT_TRUE(estimateAbsolutePose(opt, s.px, s.X, cam, &T, &st)) << int(method);
+    EXPECT_LT((T.translation() - s.T_cam_world.translation()).norm(), 0.02) << int(method);
+    EXPECT_LT(logSO3(T.linear().transpose() * s.T_cam_world.linear()).norm(), 2e-3) << int(method);
     int true_pos = 0, false_pos = 0, inliers = 0;
     for (size_t i = 0; i < s.px.size(); ++i)
     {
@@ -58,8 +58,8 @@ void checkMethod(const std::string& method, const quasiloc::core::CameraModel& c
         true_pos += s.is_inlier[i] && st.inlier_mask[i];
         false_pos += !s.is_inlier[i] && st.inlier_mask[i];
     }
-    EXPECT_GE(true_pos, 0.97 * inliers) << method;
-    EXPECT_LE(false_pos, 3) << method;  // a random outlier may land within 2 px of its reprojection
+    EXPECT_GE(true_pos, 0.97 * inliers) << int(method);
+    EXPECT_LE(false_pos, 3) << int(method);  // a random outlier may land within 2 px of its reprojection
     EXPECT_EQ(st.num_inliers, true_pos + false_pos);
     EXPECT_GT(st.iterations, 1);
     EXPECT_LE(st.refinement_final_cost, st.refinement_initial_cost);
@@ -67,16 +67,19 @@ void checkMethod(const std::string& method, const quasiloc::core::CameraModel& c
 }
 }  // namespace
 
-TEST(AbsolutePose, MagsacRecoversPoseAndInliers) { checkMethod("magsac", test::pinholeCamera().model); }
-TEST(AbsolutePose, UsacDefaultRecoversPoseAndInliers) { checkMethod("usac_default", test::pinholeCamera().model); }
-TEST(AbsolutePose, ClassicRansacRecoversPoseAndInliers) { checkMethod("ransac", test::pinholeCamera().model); }
+TEST(AbsolutePose, MagsacRecoversPoseAndInliers) { checkMethod(PnpMethod::Magsac, test::pinholeCamera().model); }
+TEST(AbsolutePose, UsacDefaultRecoversPoseAndInliers)
+{
+    checkMethod(PnpMethod::UsacDefault, test::pinholeCamera().model);
+}
+TEST(AbsolutePose, ClassicRansacRecoversPoseAndInliers) { checkMethod(PnpMethod::Ransac, test::pinholeCamera().model); }
 
 TEST(AbsolutePose, WorksWithEquidistantCamera)
 {
     quasiloc::core::CameraModel cam = quasiloc::core::CameraModel::pinhole(640, 480, 300, 300, 320, 240);
     cam.model = quasiloc::core::DistortionModel::Equidistant;
     cam.dist = {-0.01, 0.02, -0.01, 0.002, 0};
-    checkMethod("magsac", cam);
+    checkMethod(PnpMethod::Magsac, cam);
 }
 
 TEST(AbsolutePose, RejectsBadInput)
@@ -89,6 +92,6 @@ TEST(AbsolutePose, RejectsBadInput)
     s.X[3].x() = std::nan("");
     EXPECT_THROW(estimateAbsolutePose(opt, s.px, s.X, cam, &T, nullptr), quasiloc::core::InputError);
     EXPECT_FALSE(estimateAbsolutePose(opt, {s.px[0], s.px[1], s.px[2]}, {s.X[0], s.X[1], s.X[2]}, cam, &T, nullptr));
-    opt.method = "lmeds";
+    opt.min_inliers = 3;
     EXPECT_THROW(opt.check("test"), quasiloc::core::InputError);
 }

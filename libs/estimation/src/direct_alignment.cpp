@@ -1,5 +1,5 @@
 // Direct alignment: Levenberg-Marquardt on the distance-transform residuals of map edges, coarse to fine,
-// and NMI between camera intensity and map reflectivity.
+// and NMI between camera intensity and map reflectivity (a measure).
 #include <mrpt/system/CTicTac.h>
 
 #include <Eigen/Cholesky>
@@ -15,14 +15,11 @@ namespace quasiloc::estimation
 namespace
 {
 using detail::bilinear;
-using detail::fineRobustness;
 using detail::projectToLevel;
-using detail::pyramidRobustness;
-using detail::Robustness;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
 
-double levelCost(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -50,7 +47,7 @@ double levelCost(const Robustness& o, const CameraEdgeLevel& L, const core::Came
 
 /** Gauss-Newton normal equations of the Huber-weighted edge residuals at one level. Points at the
  *  truncation (flat field) or outside the image carry no gradient and are left out. */
-void normalEquations(const Robustness& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                      const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, Matrix6d& H, Vector6d& b)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
@@ -93,13 +90,13 @@ double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d*
 }
 
 /** Levenberg-Marquardt at one level. Returns the iterations taken. */
-int alignLevel(const Robustness& o, int iterations, const CameraEdgeLevel& L, const core::CameraModel& camera,
+int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step)
 {
     double cost = levelCost(o, L, camera, model, T_world_cam, nullptr) + priorCost(prior, T_world_cam, nullptr, nullptr);
     double lambda = 1e-3;
     int it = 0;
-    for (; it < iterations; ++it)
+    for (; it < o.iterations_per_level; ++it)
     {
         Matrix6d H;
         Vector6d b;
@@ -132,35 +129,13 @@ int alignLevel(const Robustness& o, int iterations, const CameraEdgeLevel& L, co
     }
     return it;
 }
-
-/** Pattern search maximising NMI: coordinate steps in the 6 tangent directions, halved when none helps. */
-void polishNmi(const DirectAlignmentOptions& o, const CameraEdgeField& field, const core::CameraModel& camera,
-               const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam)
-{
-    double best = normalizedMutualInformation(o, field, camera, model, T_world_cam);
-    double rot_step = 0.2 * M_PI / 180.0, trans_step = 0.04;
-    for (int round = 0; round < 5; ++round, rot_step /= 2, trans_step /= 2)
-        for (bool moved = true; moved;)
-        {
-            moved = false;
-            for (int k = 0; k < 6; ++k)
-                for (double sign : {1.0, -1.0})
-                {
-                    Vector6d d = Vector6d::Zero();
-                    d[k] = sign * (k < 3 ? rot_step : trans_step);
-                    const Eigen::Isometry3d T = boxPlus(T_world_cam, d);
-                    const double v = normalizedMutualInformation(o, field, camera, model, T);
-                    if (v > best + 1e-6) best = v, T_world_cam = T, moved = true;
-                }
-        }
-}
 }  // namespace
 
 double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& field, int level,
                 const core::CameraModel& camera, const DirectAlignmentModel& model,
                 const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
-    return levelCost(pyramidRobustness(options), field.levels.at(size_t(level)), camera, model, T_world_cam,
+    return levelCost(options, field.levels.at(size_t(level)), camera, model, T_world_cam,
                      inlier_ratio);
 }
 
@@ -208,28 +183,20 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
 {
     mrpt::system::CTicTac tic;
     DirectAlignmentStats st;
-    if (!detail::canAlign(field, model, st, stats)) return false;
+    st.edge_points = int(model.edge_points_world.size());
+    if (field.levels.empty() || model.edge_points_world.size() < 20)
+    {
+        if (stats) *stats = st;
+        return false;
+    }
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
-    if (!model.nmi_points_world.empty()) st.initial_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
     bool any_step = false;
     const int coarsest = int(field.levels.size()) - 1;
     for (int l = coarsest; l >= 0; --l)
-        st.iterations += alignLevel(pyramidRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
-                                    model, prior, T_world_cam, any_step);
-    // The fine pass: the wide truncation gives the basin, but near the optimum it lets every map edge with no
-    // camera counterpart within truncation_px (LiDAR noise, reflectivity texture the camera does not show) pull
-    // with the full Huber slope. A second coarse-to-fine pass listens only to edges within fine_truncation_px.
-    // Without the prior: the pass's costs are several times smaller than the pyramid's (tighter kernel), so the
-    // same prior would hold the pose where it started (measured: the pose stayed at the perturbed start).
-    if (o.fine_truncation_px > 0)
-        for (int l = coarsest; l >= 0; --l)
-            st.iterations += alignLevel(fineRobustness(o), o.iterations_per_level, field.levels[size_t(l)], camera,
-                                        model, nullptr, T_world_cam, any_step);
-    if (o.nmi_polish && !model.nmi_points_world.empty()) polishNmi(o, field, camera, model, T_world_cam);
+        st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step);
     st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
     Vector6d gradient;
-    normalEquations(pyramidRobustness(o), field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
-    if (!model.nmi_points_world.empty()) st.final_nmi = normalizedMutualInformation(o, field, camera, model, T_world_cam);
+    normalEquations(o, field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;
     return any_step;

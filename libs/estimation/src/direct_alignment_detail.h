@@ -1,8 +1,7 @@
 #pragma once
-// Sampling helpers shared by the direct alignment's own Levenberg-Marquardt (direct_alignment.cpp) and its Ceres
-// cost function (direct_factor.cpp), so that both see exactly the same residuals.
+// Sampling helpers shared by the direct alignment's Levenberg-Marquardt (direct_alignment.cpp) and the window's
+// edge factor (direct_factor.cpp), so that both see exactly the same residuals.
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <opencv2/core.hpp>
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/estimation/direct_alignment.h>
@@ -39,30 +38,6 @@ inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLeve
     u_level = (u.array() + 0.5) * L.scale - 0.5;
     if (J_level) *J_level *= L.scale;
     return insideForBilinear(L.edges, float(u_level.x()), float(u_level.y()));
-}
-
-/** The robust kernel of one pass: the distance is truncated at truncation_px (no farther pull), Huber beyond
- *  huber_px. The fields are truncated at options.truncation_px when built; a pass may only truncate lower. */
-struct Robustness
-{
-    double truncation_px, huber_px;
-};
-inline Robustness pyramidRobustness(const DirectAlignmentOptions& o) { return {o.truncation_px, o.huber_px}; }
-/** The fine pass's kernel (used when o.fine_truncation_px > 0). */
-inline Robustness fineRobustness(const DirectAlignmentOptions& o)
-{
-    return {std::min(o.fine_truncation_px, o.truncation_px), o.fine_huber_px};
-}
-
-/** The start both solvers share: st.edge_points set; false (and *stats = st) when there is nothing to align
- *  (no field level, fewer than 20 edge points). */
-inline bool canAlign(const CameraEdgeField& field, const DirectAlignmentModel& model, DirectAlignmentStats& st,
-                     DirectAlignmentStats* stats)
-{
-    st.edge_points = int(model.edge_points_world.size());
-    if (!field.levels.empty() && model.edge_points_world.size() >= 20) return true;
-    if (stats) *stats = st;
-    return false;
 }
 
 }  // namespace quasiloc::estimation::detail

@@ -1,12 +1,8 @@
-#include <ceres/loss_function.h>
-#include <ceres/problem.h>
-#include <ceres/solver.h>
-#include <mrpt/system/CTicTac.h>
-
+#include <algorithm>
+#include <cmath>
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/pose_parametrization.h>
-#include <quasiloc/estimation/prior_factor.h>
 
 #include "direct_alignment_detail.h"
 
@@ -63,7 +59,7 @@ bool DirectEdgeCostFunction::Evaluate(double const* const* parameters, double* r
         }
         const cv::Mat& D = level_.distance[model_.edge_bin[i]];
         const float x = float(u.x()), y = float(u.y());
-        // The field is truncated where it was built; a pass may truncate lower (the fine pass of alignDirect).
+        // The field is truncated where it was built; the factor may truncate lower.
         const double r = std::min<double>(detail::bilinear(D, x, y), truncation_px_);
         double slope = 0;
         residuals[i] = robust(r * inv_sigma_, &slope);
@@ -89,63 +85,6 @@ double DirectEdgeCostFunction::robust(double r, double* slope) const
     const double rho = std::sqrt(2 * huber_ * r - huber_ * huber_);
     if (slope) *slope = huber_ / rho;
     return rho;
-}
-
-bool alignDirectCeres(const DirectAlignmentOptions& o, const CameraEdgeField& field, const core::CameraModel& camera,
-                      const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam, DirectAlignmentStats* stats,
-                      const DirectPrior* prior)
-{
-    mrpt::system::CTicTac tic;
-    DirectAlignmentStats st;
-    if (!detail::canAlign(field, model, st, stats)) return false;
-    st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
-    double params[kPoseSize];
-    poseToParams(T_world_cam, params);
-    bool any_step = false;
-    const double n = double(model.edge_points_world.size());
-    // One Ceres solve per level and pass, as alignDirect: the pyramid with the prior, then (fine_truncation_px > 0)
-    // the tightly truncated pass without it.
-    const auto solveLevel = [&](int l, const detail::Robustness& kernel, const DirectPrior* level_prior) {
-        PoseManifold manifold;  // declared before the problem that points to it, so it outlives it
-        ceres::Problem::Options po;
-        po.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-        ceres::Problem problem(po);
-        // The body is the camera here: the block is T_world_cam itself.
-        problem.AddResidualBlock(new DirectEdgeCostFunction(field, l, camera, model, Eigen::Isometry3d::Identity(), 1.0,
-                                                            kernel.truncation_px, kernel.huber_px),
-                                 nullptr, params);
-        if (level_prior)
-        {
-            // alignDirect minimises the MEAN edge cost plus the prior; Ceres the sum: scale the prior by n.
-            const DirectPrior& pr = *level_prior;
-            const Matrix6d information = (n * pr.weight * poseInformationDiagonal(pr.sigma_rad, pr.sigma_m)).asDiagonal();
-            problem.AddResidualBlock(new PosePriorFactor(pr.T_world_cam, information), nullptr, params);
-        }
-        problem.SetManifold(params, &manifold);
-        ceres::Solver::Options so;
-        so.linear_solver_type = ceres::DENSE_QR;
-        so.max_num_iterations = o.iterations_per_level;
-        so.num_threads = 1;
-        // Points outside the image or on the truncated field add a large constant to the cost: the default
-        // relative tolerances would stop on the first small (relative) decrease.
-        so.function_tolerance = 1e-10;
-        so.gradient_tolerance = 1e-14;
-        so.parameter_tolerance = 1e-10;
-        so.logging_type = ceres::SILENT;
-        ceres::Solver::Summary summary;
-        ceres::Solve(so, &problem, &summary);
-        st.iterations += int(summary.iterations.size()) - 1;
-        any_step = any_step || summary.num_successful_steps > 0;
-    };
-    const int coarsest = int(field.levels.size()) - 1;
-    for (int l = coarsest; l >= 0; --l) solveLevel(l, detail::pyramidRobustness(o), prior);
-    if (o.fine_truncation_px > 0)
-        for (int l = coarsest; l >= 0; --l) solveLevel(l, detail::fineRobustness(o), nullptr);
-    if (any_step) T_world_cam = paramsToPose(params);
-    st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
-    st.ms = tic.Tac() * 1e3;
-    if (stats) *stats = st;
-    return any_step;
 }
 
 }  // namespace quasiloc::estimation

@@ -1,56 +1,31 @@
-#include <quasiloc/core/error.h>
 #include <quasiloc/estimation/estimator_options.h>
-
-#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::estimation
 {
-void EstimatorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void EstimatorOptions::declare(core::OptionTable& t)
 {
-    primitives = cfg.read_string(s, "primitives", primitives);
-    use_imu = core::readIniBool(cfg, s, "use_imu", use_imu);
-    use_temporal_landmarks = core::readIniBool(cfg, s, "use_temporal_landmarks", use_temporal_landmarks);
-    outer_iterations = core::readIniInt(cfg, s, "outer_iterations", outer_iterations);
-    inner_iterations = core::readIniInt(cfg, s, "inner_iterations", inner_iterations);
-    robust_loss = cfg.read_string(s, "robust_loss", robust_loss);
-    robust_threshold = core::readIniDouble(cfg, s, "robust_threshold", robust_threshold);
-    min_depth_m = core::readIniDouble(cfg, s, "min_depth_m", min_depth_m);
-    marginal_damping = core::readIniDouble(cfg, s, "marginal_damping", marginal_damping);
+    using core::Range;
+    t.addEnum("primitives", primitives,
+              {{"P", Primitives::P}, {"L", Primitives::L}, {"P+L", Primitives::PL}, {"P+L+plane", Primitives::PLPlane}},
+              "which structural residuals enter (ablation)");
+    t.add("use_imu", use_imu, "IMU preintegration and bias random-walk factors (when the input has them)");
+    t.add("use_temporal_landmarks", use_temporal_landmarks,
+          "stereo reprojection of landmarks seen in the previous and the current frame");
+    t.add("outer_iterations", outer_iterations, "", Range::between(1, 100),
+          "relinearise + reweight + solve rounds (weights fixed within a round)");
+    t.add("inner_iterations", inner_iterations, "", Range::between(1, 1000),
+          "Levenberg-Marquardt iterations per round");
+    t.addEnum("robust_loss", robust_loss,
+              {{"none", RobustLoss::None}, {"huber", RobustLoss::Huber}, {"cauchy", RobustLoss::Cauchy}},
+              "robust loss on whitened residuals");
+    t.add("robust_threshold", robust_threshold, "", Range::above(0),
+          "in sigmas of a single residual; a block of n residuals uses sqrt(n) times it");
+    t.add("min_depth_m", min_depth_m, "m", Range::atLeast(0),
+          "map matches closer than this (camera z) do not count for L");
+    t.add("marginal_damping", marginal_damping, "", Range::atLeast(0),
+          "added to the diagonal of the marginalised block (gauge, unseen landmarks)");
 }
 
-void EstimatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
-{
-    cfg.write(s, "primitives", primitives, 24, 10, "P | L | P+L | P+L+plane");
-    cfg.write(s, "use_imu", use_imu ? "true" : "false", 24, 10);
-    cfg.write(s, "use_temporal_landmarks", use_temporal_landmarks ? "true" : "false", 24, 10);
-    cfg.write(s, "outer_iterations", outer_iterations, 24, 10, "relinearise + reweight + solve rounds");
-    cfg.write(s, "inner_iterations", inner_iterations, 24, 10, "LM iterations per round");
-    cfg.write(s, "robust_loss", robust_loss, 24, 10, "none | huber | cauchy");
-    cfg.write(s, "robust_threshold", robust_threshold, 24, 10, "sigmas of one residual");
-    cfg.write(s, "min_depth_m", min_depth_m, 24, 10);
-    cfg.write(s, "marginal_damping", marginal_damping, 24, 10);
-}
-
-Primitives EstimatorOptions::primitiveSet() const
-{
-    if (primitives == "P") return Primitives::P;
-    if (primitives == "L") return Primitives::L;
-    if (primitives == "P+L") return Primitives::PL;
-    if (primitives == "P+L+plane") return Primitives::PLPlane;
-    throw core::InputError("[Estimator] primitives", "'" + primitives + "' is not one of P, L, P+L, P+L+plane");
-}
-
-void EstimatorOptions::check(const std::string& input) const
-{
-    const std::string k = input + ": [Estimator] ";
-    primitiveSet();
-    core::require(robust_loss == "none" || robust_loss == "huber" || robust_loss == "cauchy", k + "robust_loss",
-                  "'" + robust_loss + "' is not one of none, huber, cauchy");
-    core::require(outer_iterations >= 1 && outer_iterations <= 100, k + "outer_iterations", "must be in [1, 100]");
-    core::require(inner_iterations >= 1 && inner_iterations <= 1000, k + "inner_iterations", "must be in [1, 1000]");
-    core::require(robust_threshold > 0, k + "robust_threshold", "must be > 0");
-    core::require(min_depth_m >= 0, k + "min_depth_m", "must be >= 0");
-    core::require(marginal_damping >= 0, k + "marginal_damping", "must be >= 0");
-}
+void EstimatorOptions::check(const std::string& input) const { checkRanges(input, "Estimator"); }
 
 }  // namespace quasiloc::estimation

@@ -6,13 +6,10 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/absolute_pose.h>
-#include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/map_refinement.h>
 #include <quasiloc/quasi/histogram_matching.h>
 #include <quasiloc/frontend/lifting.h>
 #include <unordered_map>
-
-#include <quasiloc/core/ini_read.h>
 
 namespace quasiloc::estimation
 {
@@ -34,67 +31,6 @@ RefinementMethod refinementMethodFromString(const std::string& name, const std::
                                RefinementMethod::Combined})
         if (toString(m) == name) return m;
     throw core::InputError(input, "'" + name + "' is not one of features, guided, direct, combined");
-}
-
-void MapRefinementOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
-{
-    window_sigmas = core::readIniDouble(cfg, s, "window_sigmas", window_sigmas);
-    min_window_px = core::readIniDouble(cfg, s, "min_window_px", min_window_px);
-    max_window_px = core::readIniDouble(cfg, s, "max_window_px", max_window_px);
-    guided_candidates = core::readIniInt(cfg, s, "guided_candidates", guided_candidates);
-    combined_sigma_m = core::readIniDouble(cfg, s, "combined_sigma_m", combined_sigma_m);
-    combined_sigma_deg = core::readIniDouble(cfg, s, "combined_sigma_deg", combined_sigma_deg);
-    min_inliers = core::readIniInt(cfg, s, "min_inliers", min_inliers);
-    agree_m = core::readIniDouble(cfg, s, "agree_m", agree_m);
-    agree_deg = core::readIniDouble(cfg, s, "agree_deg", agree_deg);
-    gate_sigmas = core::readIniDouble(cfg, s, "gate_sigmas", gate_sigmas);
-    direct_prior_weight = core::readIniDouble(cfg, s, "direct_prior_weight", direct_prior_weight);
-    lift_radius_px = core::readIniDouble(cfg, s, "lift_radius_px", lift_radius_px);
-    pnp_max_error_px = core::readIniDouble(cfg, s, "pnp_max_error_px", pnp_max_error_px);
-    direct_solver = cfg.read_string(s, "direct_solver", direct_solver);
-    quasi_gray = cfg.read_string(s, "quasi_gray", quasi_gray);
-    direct.loadFromConfigFile(cfg, "DirectAlignment");
-}
-
-void MapRefinementOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "window_sigmas", window_sigmas, 24, 10, "guided window in sigmas of the reprojection");
-    c.write(s, "min_window_px", min_window_px, 24, 10);
-    c.write(s, "max_window_px", max_window_px, 24, 10);
-    c.write(s, "guided_candidates", guided_candidates, 24, 10, "K candidates per camera keypoint");
-    c.write(s, "combined_sigma_m", combined_sigma_m, 24, 10, "uncertainty of the direct estimate");
-    c.write(s, "combined_sigma_deg", combined_sigma_deg, 24, 10);
-    c.write(s, "min_inliers", min_inliers, 24, 10, "PnP inliers to trust a feature pose");
-    c.write(s, "agree_m", agree_m, 24, 10, "combined: PnP within this of the direct pose");
-    c.write(s, "agree_deg", agree_deg, 24, 10);
-    c.write(s, "gate_sigmas", gate_sigmas, 24, 10, "features/guided: PnP pose within this many sigmas");
-    c.write(s, "direct_prior_weight", direct_prior_weight, 24, 10, "prediction prior in the direct term (0: none)");
-    c.write(s, "lift_radius_px", lift_radius_px, 24, 10);
-    c.write(s, "pnp_max_error_px", pnp_max_error_px, 24, 10);
-    c.write(s, "direct_solver", direct_solver, 24, 10, "lm | ceres (direct_factor.h)");
-    c.write(s, "quasi_gray", quasi_gray, 24, 10, "encoding | matched_reflectivity (features of Q)");
-    direct.saveToConfigFile(c, "DirectAlignment");
-}
-
-void MapRefinementOptions::check(const std::string& input) const
-{
-    const std::string k = input + ": [MapRefinement] ";
-    core::require(window_sigmas > 0, k + "window_sigmas", "must be > 0");
-    core::require(min_window_px >= 1 && max_window_px >= min_window_px, k + "min_window_px/max_window_px",
-                  "need 1 <= min_window_px <= max_window_px");
-    core::require(guided_candidates >= 1 && guided_candidates <= 16, k + "guided_candidates", "must be in [1, 16]");
-    core::require(combined_sigma_m > 0 && combined_sigma_deg > 0, k + "combined_sigma_m/deg", "must be > 0");
-    core::require(min_inliers >= 6, k + "min_inliers", "must be >= 6");
-    core::require(agree_m > 0 && agree_deg > 0, k + "agree_m/agree_deg", "must be > 0");
-    core::require(gate_sigmas > 0, k + "gate_sigmas", "must be > 0");
-    core::require(direct_prior_weight >= 0, k + "direct_prior_weight", "must be >= 0");
-    core::require(direct_solver == "lm" || direct_solver == "ceres", k + "direct_solver",
-                  "'" + direct_solver + "' is not lm or ceres");
-    core::require(quasi_gray == "encoding" || quasi_gray == "matched_reflectivity", k + "quasi_gray",
-                  "'" + quasi_gray + "' is not encoding or matched_reflectivity");
-    core::require(lift_radius_px >= 0 && lift_radius_px <= 20, k + "lift_radius_px", "must be in [0, 20]");
-    core::require(pnp_max_error_px > 0, k + "pnp_max_error_px", "must be > 0");
-    direct.check(input);
 }
 
 MapRefiner::MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer& renderer, frontend::Frontend& frontend)
@@ -123,7 +59,8 @@ void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera,
 
 cv::Mat MapRefiner::quasiFeatureImage() const
 {
-    return options_.quasi_gray == "matched_reflectivity" ? quasi::reflectivityMatchedToImage(q_, gray_) : q_.gray;
+    if (options_.quasi_gray == QuasiGray::MatchedReflectivity) return quasi::reflectivityMatchedToImage(q_, gray_);
+    return q_.gray;
 }
 
 double MapRefiner::windowFor(double sigma_m, double sigma_rad, double median_depth_m) const
@@ -259,9 +196,7 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
         DirectAlignmentStats ds;
         DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, prior_weight};
         const DirectPrior* p = prior_weight > 0 ? &prior : nullptr;
-        const bool ok = options_.direct_solver == "ceres"
-                            ? alignDirectCeres(options_.direct, edge_field_, camera_, model, T, &ds, p)
-                            : alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);
+        const bool ok = alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);
         const double ms_direct = tic.Tac() * 1e3;
         if (method == RefinementMethod::Direct)
         {

@@ -4,44 +4,23 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/reweighting.h>
 
-#include <quasiloc/core/ini_read.h>
-
 namespace quasiloc::estimation
 {
-void ReweightingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void ReweightingOptions::declare(core::OptionTable& t)
 {
-    mode = cfg.read_string(s, "mode", mode);
-    tau = core::readIniDouble(cfg, s, "tau", tau);
-    beta = core::readIniDouble(cfg, s, "beta", beta);
-    kappa = core::readIniDouble(cfg, s, "kappa", kappa);
-    epsilon = core::readIniDouble(cfg, s, "epsilon", epsilon);
+    using core::Range;
+    t.addEnum("mode", mode,
+              {{"uniform", ReweightingMode::Uniform},
+               {"observability", ReweightingMode::Observability},
+               {"full", ReweightingMode::Full}},
+              "uniform: W* = W_meas; observability: kappa = 0, the nominal candidate only; full: all candidates");
+    t.add("tau", tau, "", Range::above(0), "a_k = max(0, 1 - sqrt(lambda_k) / tau); same unit as sqrt(lambda)");
+    t.add("beta", beta, "", Range::atLeast(0), "W* = (1 + beta q) W_meas");
+    t.add("kappa", kappa, "", Range::atLeast(0), "g^ = max(0, mu - kappa sigma) (full mode only)");
+    t.add("epsilon", epsilon, "", Range::above(0), "regulariser of q's denominator");
 }
 
-void ReweightingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& s) const
-{
-    cfg.write(s, "mode", mode, 20, 10, "uniform | observability | full");
-    cfg.write(s, "tau", tau, 20, 10, "a_k = max(0, 1 - sqrt(lambda_k)/tau)");
-    cfg.write(s, "beta", beta, 20, 10, "W* = (1 + beta q) W_meas");
-    cfg.write(s, "kappa", kappa, 20, 10, "g^ = max(0, mu - kappa sigma)");
-    cfg.write(s, "epsilon", epsilon, 20, 10, "regulariser of q's denominator");
-}
-
-ReweightingMode ReweightingOptions::reweightingMode() const
-{
-    if (mode == "uniform") return ReweightingMode::Uniform;
-    if (mode == "observability") return ReweightingMode::Observability;
-    if (mode == "full") return ReweightingMode::Full;
-    throw core::InputError("[Reweighting] mode", "'" + mode + "' is not one of uniform, observability, full");
-}
-
-void ReweightingOptions::check(const std::string& input) const
-{
-    reweightingMode();
-    core::require(tau > 0, input + ": [Reweighting] tau", "must be > 0");
-    core::require(beta >= 0, input + ": [Reweighting] beta", "must be >= 0");
-    core::require(kappa >= 0, input + ": [Reweighting] kappa", "must be >= 0");
-    core::require(epsilon > 0, input + ": [Reweighting] epsilon", "must be > 0");
-}
+void ReweightingOptions::check(const std::string& input) const { checkRanges(input, "Reweighting"); }
 
 ObservabilityAnalysis analyzeObservability(const Matrix6d& H0, double L, double tau)
 {
@@ -107,7 +86,7 @@ double factorScore(const ObservabilityAnalysis& an, const StructuralCandidates& 
 void computeWeights(const ReweightingOptions& options, const Matrix6d& H0, double L,
                     const std::vector<StructuralCandidates>& factors, ReweightingResult& result)
 {
-    const ReweightingMode mode = options.reweightingMode();
+    const ReweightingMode mode = options.mode;
     result.q.assign(factors.size(), 0.0);
     result.weight.assign(factors.size(), 1.0);
     if (mode == ReweightingMode::Uniform) return;

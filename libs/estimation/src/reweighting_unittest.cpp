@@ -196,7 +196,7 @@ TEST(Reweighting, ScoreRanksFactorsByTheWeakDirectionsTheyFill)
     computeWeights(opt, H0, L, {factorAlong(Vector6d::Unit(0)), factorAlong(Vector6d::Unit(5))}, res);
     EXPECT_NEAR(res.weight[0], 1.0, 1e-9);
     EXPECT_NEAR(res.weight[1], 1.0 + 2.0 * 0.99, 1e-6);
-    opt.mode = "uniform";
+    opt.mode = ReweightingMode::Uniform;
     computeWeights(opt, H0, L, {factorAlong(Vector6d::Unit(5))}, res);
     EXPECT_EQ(res.weight[0], 1.0);
 }
@@ -211,11 +211,11 @@ TEST(Reweighting, ObservabilityModeUsesOnlyTheNominalCandidate)
     f.probability = {0.3, 0.7};
     f.nominal = 1;
     ReweightingOptions opt;
-    opt.mode = "observability";
+    opt.mode = ReweightingMode::Observability;
     ReweightingResult res;
     computeWeights(opt, H0, 1.0, {f}, res);
     EXPECT_NEAR(res.q[0], 1.0 - 0.01 / opt.tau, 1e-9);  // nominal alone, p = 1, no sigma penalty
-    opt.mode = "full";
+    opt.mode = ReweightingMode::Full;
     computeWeights(opt, H0, 1.0, {f}, res);
     EXPECT_LT(res.q[0], 0.7);  // the mixture is less sure about the weak direction
 }

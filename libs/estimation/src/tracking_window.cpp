@@ -52,8 +52,8 @@ struct Structural
 ceres::LossFunction* robustLoss(const EstimatorOptions& o, int residuals)
 {
     const double a = o.robust_threshold * std::sqrt(static_cast<double>(residuals));
-    if (o.robust_loss == "huber") return new ceres::HuberLoss(a);
-    if (o.robust_loss == "cauchy") return new ceres::CauchyLoss(a);
+    if (o.robust_loss == RobustLoss::Huber) return new ceres::HuberLoss(a);
+    if (o.robust_loss == RobustLoss::Cauchy) return new ceres::CauchyLoss(a);
     return nullptr;
 }
 

@@ -47,8 +47,8 @@ TEST(TrackingWindow, SingleFrameRecoversTruthInEveryMode)
     const WindowInput in = singleFrameInput(f);
     ASSERT_GT(in.lines.size(), 5u);
     ASSERT_GT(in.planes.size(), 2u);
-    for (const char* mode : {"uniform", "observability", "full"})
-        for (const char* prim : {"P", "L", "P+L", "P+L+plane"})
+    for (ReweightingMode mode : {ReweightingMode::Uniform, ReweightingMode::Observability, ReweightingMode::Full})
+        for (Primitives prim : {Primitives::P, Primitives::L, Primitives::PL, Primitives::PLPlane})
         {
             EstimatorOptions eo;
             eo.primitives = prim;
@@ -58,7 +58,7 @@ TEST(TrackingWindow, SingleFrameRecoversTruthInEveryMode)
             WindowResult res;
             ASSERT_TRUE(estimateWindow(eo, ro, in, res));
             const Vector6d err = boxMinus(res.current.T_map_body, f.T_map_body_true);
-            EXPECT_LT(err.norm(), 1e-5) << mode << " " << prim << " error " << err.transpose();
+            EXPECT_LT(err.norm(), 1e-5) << int(mode) << " " << int(prim) << " error " << err.transpose();
             EXPECT_EQ(res.reweighting.weight.size(), size_t(res.stats.structural_factors));
         }
 }
@@ -169,9 +169,9 @@ TEST(Options, IniRoundTripAndCheck)
     ReweightingOptions ro;
     eo.loadFromConfigFile(cfg, "Estimator");
     ro.loadFromConfigFile(cfg, "Reweighting");
-    EXPECT_EQ(eo.primitiveSet(), Primitives::PL);
+    EXPECT_EQ(eo.primitives, Primitives::PL);
     EXPECT_FALSE(eo.usePlanes());
-    EXPECT_EQ(ro.reweightingMode(), ReweightingMode::Observability);
+    EXPECT_EQ(ro.mode, ReweightingMode::Observability);
     EXPECT_EQ(ro.tau, 250.0);
     // Every key load reads is one save writes (core::loadOptionsChecked rejects the others).
     const auto rk = quasiloc::core::knownKeys(ro, "Reweighting");
@@ -185,11 +185,11 @@ TEST(Options, IniRoundTripAndCheck)
 
     cfg.write("Reweighting", "tau", "abc");
     EXPECT_THROW(ro.loadFromConfigFile(cfg, "Reweighting"), quasiloc::core::InputError);
-    ro.tau = -1;
-    EXPECT_THROW(ro.check("test.ini"), quasiloc::core::InputError);
-    eo.primitives = "P+plane";
-    EXPECT_THROW(eo.check("test.ini"), quasiloc::core::InputError);
-    eo.primitives = "P";
-    eo.robust_loss = "tukey";
-    EXPECT_THROW(eo.check("test.ini"), quasiloc::core::InputError);
+    cfg.write("Reweighting", "tau", "-1");
+    EXPECT_THROW(ro.loadFromConfigFile(cfg, "Reweighting"), quasiloc::core::InputError);
+    cfg.write("Estimator", "primitives", "P+plane");
+    EXPECT_THROW(eo.loadFromConfigFile(cfg, "Estimator"), quasiloc::core::InputError);
+    cfg.write("Estimator", "primitives", "P");
+    cfg.write("Estimator", "robust_loss", "tukey");
+    EXPECT_THROW(eo.loadFromConfigFile(cfg, "Estimator"), quasiloc::core::InputError);
 }

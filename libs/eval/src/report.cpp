@@ -71,7 +71,7 @@ void rpeTable(std::ostringstream& md, const std::vector<SequenceReport>& reports
     md << "\n## Tracking: RPE (delta = "
        << (opts.rpe_delta_frames > 0 ? std::to_string(opts.rpe_delta_frames) + " associated poses"
                                      : fmt(opts.rpe_delta_s, "%g") + " s")
-       << (opts.alignment() == Alignment::Sim3 ? ", Sim(3)-scaled estimate" : "") << ")\n\n"
+       << (opts.align == Alignment::Sim3 ? ", Sim(3)-scaled estimate" : "") << ")\n\n"
        << "| sequence | pairs | trans RMSE [cm] | mean [cm] | median [cm] | max [cm] | rot RMSE [deg] | "
           "mean [deg] | median [deg] | max [deg] |\n"
        << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -143,9 +143,9 @@ std::string markdownReport(const std::vector<SequenceReport>& reports, const Eva
     {
         md << "\n## Tracking: ATE, map frame (no alignment)\n\n";
         ateTable(md, reports, false);
-        if (opts.alignment() != Alignment::None)
+        if (opts.align != Alignment::None)
         {
-            md << "\n## Tracking: ATE after " << alignmentName(opts.alignment()) << " alignment (Umeyama)\n\n";
+            md << "\n## Tracking: ATE after " << alignmentName(opts.align) << " alignment (Umeyama)\n\n";
             ateTable(md, reports, true);
             alignmentLines(md, reports);
         }

@@ -121,7 +121,7 @@ void writeSettings(JsonWriter& j, const EvalOptions& o)
 {
     j.key("settings").beginObject();
     j.key("max_dt_s").value(o.max_dt_s);
-    j.key("align").value(o.align);
+    j.key("align").value(toString(o.align));
     j.key("rpe_delta_s").value(o.rpe_delta_s);
     j.key("rpe_delta_frames").value(o.rpe_delta_frames);
     writeDoubles(j, "recall_thresholds_m", o.recall_thresholds_m);
@@ -143,7 +143,7 @@ std::string jsonReport(const std::vector<SequenceReport>& reports, const EvalOpt
         const SequenceOptions& s = r.sequence.options;
         j.beginObject();
         j.key("name").value(r.sequence.name);
-        j.key("kind").value(s.kind);
+        j.key("kind").value(toString(s.kind));
         j.key("estimate_file").value(s.estimate);
         j.key("groundtruth_file").value(s.groundtruth);
         j.key("queries_file").value(s.queries);

@@ -68,7 +68,7 @@ class ReportTest : public ::testing::Test
         quasiloc::core::writeTum(path("loc_gt.tum"), gt);
         quasiloc::core::writeTum(path("loc_est.tum"), est);
         NamedSequence s{"loc \"x\"", "Eval.loc", {}};  // a name that needs JSON escaping
-        s.options.kind = "localization";
+        s.options.kind = SequenceKind::Localization;
         s.options.estimate = path("loc_est.tum");
         s.options.groundtruth = path("loc_gt.tum");
         s.options.queries = path("loc_queries.txt");
@@ -82,7 +82,7 @@ class ReportTest : public ::testing::Test
 TEST_F(ReportTest, JsonParsesAndHoldsTheFigures)
 {
     EvalOptions opts;
-    opts.align = "se3";
+    opts.align = Alignment::SE3;
     const std::vector<SequenceReport> reports = {evaluateSequence(writeTracking(), opts),
                                                  evaluateSequence(writeLocalization(), opts)};
     const JsonValue v = JsonParser::parse(jsonReport(reports, opts));
@@ -115,7 +115,7 @@ TEST_F(ReportTest, JsonParsesAndHoldsTheFigures)
 TEST_F(ReportTest, MarkdownShowsUnalignedFirstInCentimetres)
 {
     EvalOptions opts;
-    opts.align = "sim3";
+    opts.align = Alignment::Sim3;
     const std::vector<SequenceReport> reports = {evaluateSequence(writeTracking(), opts),
                                                  evaluateSequence(writeLocalization(), opts)};
     const std::string md = markdownReport(reports, opts);
@@ -157,7 +157,7 @@ TEST_F(ReportTest, RealEurocGroundTruthAgainstARotatedCopy)
     s.options.estimate = path("v101_est.tum");
     s.options.groundtruth = gt_path;
     EvalOptions opts;
-    opts.align = "se3";
+    opts.align = Alignment::SE3;
     const SequenceReport r = evaluateSequence(s, opts);
     EXPECT_EQ(r.duplicates_gt, r.duplicates_est);
     EXPECT_GT(r.duplicates_gt, 0u);  // EuRoC repeats rows before ground truth starts

@@ -17,7 +17,7 @@ TrackingReport evaluateTracking(const core::Trajectory& est, const core::Traject
                       " s of a ground-truth pose (different time bases or units?)");
     r.pairs = makePairs(est, gt, r.association);
     r.ate = computeAte(r.pairs, Alignment::None);
-    const Alignment alignment = opts.alignment();
+    const Alignment alignment = opts.align;
     if (alignment != Alignment::None)
     {
         r.ate_aligned = computeAte(r.pairs, alignment);
@@ -33,7 +33,7 @@ SequenceReport evaluateSequence(const NamedSequence& seq, const EvalOptions& opt
 {
     SequenceReport r;
     r.sequence = seq;
-    r.kind = seq.options.sequenceKind();
+    r.kind = seq.options.kind;
     core::Trajectory est = core::readTum(seq.options.estimate);
     core::Trajectory gt = core::readTum(seq.options.groundtruth);
     r.duplicates_est = dropDuplicateTimestamps(est);

@@ -14,25 +14,18 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 Eigen::Vector3d positionOf(const mrpt::poses::CPose3D& T) { return {T.x(), T.y(), T.z()}; }
 }  // namespace
 
-std::string toString(Alignment a)
+const std::vector<std::pair<std::string, Alignment>>& alignmentNames()
 {
-    switch (a)
-    {
-        case Alignment::None: return "none";
-        case Alignment::SE3: return "se3";
-        case Alignment::Sim3: return "sim3";
-    }
-    return "?";
+    static const std::vector<std::pair<std::string, Alignment>> names = {
+        {"none", Alignment::None}, {"se3", Alignment::SE3}, {"sim3", Alignment::Sim3}};
+    return names;
 }
 
-Alignment alignmentFromString(const std::string& s, const std::string& input)
+std::string toString(Alignment a)
 {
-    std::string l = s;
-    std::transform(l.begin(), l.end(), l.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (l == "none") return Alignment::None;
-    if (l == "se3") return Alignment::SE3;
-    if (l == "sim3") return Alignment::Sim3;
-    throw core::InputError(input, "unknown alignment '" + s + "' (expected none, se3 or sim3)");
+    for (const auto& [name, value] : alignmentNames())
+        if (value == a) return name;
+    return "?";
 }
 
 std::vector<PosePair> makePairs(const core::Trajectory& est, const core::Trajectory& gt, const Association& assoc)

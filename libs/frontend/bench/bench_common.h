@@ -1,10 +1,10 @@
 #pragma once
 // Shared pieces of bench_frontend: options, per-stage timing with budgets, small statistics.
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/system/CTimeLogger.h>
 
 #include <chrono>
 #include <map>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/frontend/frontend.h>
 #include <quasiloc/quasi/quasi_options.h>
 #include <string>
@@ -13,7 +13,7 @@
 namespace quasiloc::bench
 {
 /** [Bench] section. */
-struct BenchOptions : public mrpt::config::CLoadableOptions
+struct BenchOptions : public core::DeclaredOptions
 {
     std::string extractors = "orb,sift,akaze,xfeat";  ///< xfeat is skipped (and said so) without a model file
     std::string xfeat_model_path = std::string(QUASILOC_SHARED_DIR) + "/models/xfeat/xfeat_dyn_op11.onnx";
@@ -36,8 +36,8 @@ struct BenchOptions : public mrpt::config::CLoadableOptions
     double ransac_px = 1.0;            ///< fundamental-matrix RANSAC threshold (stereo, moving sim frames)
     std::string report_path;           ///< optional Markdown copy of the tables (+ effective INI beside it)
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` for an extractor list that names no or an unknown [Features] type. */
     void check(const std::string& input) const;
     std::vector<std::string> extractorList() const;
 };

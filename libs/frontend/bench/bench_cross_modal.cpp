@@ -288,7 +288,7 @@ std::unique_ptr<frontend::PointMatcher> lighterGlueFor(const BenchOptions& b, co
     else if (!fileExists(b.lighterglue_model)) why_not = "no model file " + b.lighterglue_model;
     if (!why_not.empty()) return nullptr;
     frontend::PointMatchingOptions o;
-    o.method = "lighterglue";
+    o.method = frontend::MatchingMethod::LighterGlue;
     o.lighterglue_model = b.lighterglue_model;
     return frontend::createPointMatcher(o);  // whole image: the window is applied when counting
 }

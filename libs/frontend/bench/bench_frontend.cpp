@@ -21,48 +21,28 @@
 
 namespace quasiloc::bench
 {
-void BenchOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+void BenchOptions::declare(core::OptionTable& t)
 {
-    extractors = c.read_string(s, "extractors", extractors);
-    xfeat_model_path = c.read_string(s, "xfeat_model_path", xfeat_model_path);
-    lighterglue_model = c.read_string(s, "lighterglue_model", lighterglue_model);
-    sim_dirs = c.read_string(s, "sim_dirs", sim_dirs);
-    sim_worlds = c.read_string(s, "sim_worlds", sim_worlds);
-    sim_root = c.read_string(s, "sim_root", sim_root);
-    sim_duration_s = c.read_double(s, "sim_duration_s", sim_duration_s);
-    sim_start_offset_s = c.read_double(s, "sim_start_offset_s", sim_start_offset_s);
-    frames_per_sequence = c.read_int(s, "frames_per_sequence", frames_per_sequence);
-    precision_px = c.read_double(s, "precision_px", precision_px);
-    perturb_translation_m = c.read_double(s, "perturb_translation_m", perturb_translation_m);
-    perturb_rotation_deg = c.read_double(s, "perturb_rotation_deg", perturb_rotation_deg);
-    cross_modal_window_px = c.read_double(s, "cross_modal_window_px", cross_modal_window_px);
-    euroc_dir = c.read_string(s, "euroc_dir", euroc_dir);
-    euroc_frames = c.read_int(s, "euroc_frames", euroc_frames);
-    static_inlier_px = c.read_double(s, "static_inlier_px", static_inlier_px);
-    ransac_px = c.read_double(s, "ransac_px", ransac_px);
-    report_path = c.read_string(s, "report_path", report_path);
-}
-
-void BenchOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "extractors", extractors);
-    c.write(s, "xfeat_model_path", xfeat_model_path);
-    c.write(s, "lighterglue_model", lighterglue_model);
-    c.write(s, "sim_dirs", sim_dirs);
-    c.write(s, "sim_worlds", sim_worlds);
-    c.write(s, "sim_root", sim_root);
-    c.write(s, "sim_duration_s", sim_duration_s);
-    c.write(s, "sim_start_offset_s", sim_start_offset_s);
-    c.write(s, "frames_per_sequence", frames_per_sequence);
-    c.write(s, "precision_px", precision_px);
-    c.write(s, "perturb_translation_m", perturb_translation_m);
-    c.write(s, "perturb_rotation_deg", perturb_rotation_deg);
-    c.write(s, "cross_modal_window_px", cross_modal_window_px);
-    c.write(s, "euroc_dir", euroc_dir);
-    c.write(s, "euroc_frames", euroc_frames);
-    c.write(s, "static_inlier_px", static_inlier_px);
-    c.write(s, "ransac_px", ransac_px);
-    c.write(s, "report_path", report_path);
+    using core::Range;
+    t.add("extractors", extractors, "comma-separated [Features] types (xfeat is skipped without a model file)");
+    t.add("xfeat_model_path", xfeat_model_path, "XFeat ONNX file");
+    t.add("lighterglue_model", lighterglue_model, "LighterGlue TorchScript file (measured when it exists)");
+    t.add("sim_dirs", sim_dirs, "existing sim-rawlog folders (comma separated); empty: simulate sim_worlds");
+    t.add("sim_worlds", sim_worlds, "simulation INI files (comma separated)");
+    t.add("sim_root", sim_root, "where the simulated sequences go (reused when complete)");
+    t.add("sim_duration_s", sim_duration_s, "s", Range::above(0), "simulated duration");
+    t.add("sim_start_offset_s", sim_start_offset_s, "s", Range::any(), "skip the take-off");
+    t.add("frames_per_sequence", frames_per_sequence, "", Range::atLeast(1), "frames evenly spread over a sequence");
+    t.add("precision_px", precision_px, "px", Range::above(0), "a camera<->quasi match is correct within this");
+    t.add("perturb_translation_m", perturb_translation_m, "m", Range::any(), "perturbation of the rendering pose");
+    t.add("perturb_rotation_deg", perturb_rotation_deg, "deg", Range::any(), "perturbation of the rendering pose");
+    t.add("cross_modal_window_px", cross_modal_window_px, "px", Range::above(0),
+          "search window of camera<->quasi point matching");
+    t.add("euroc_dir", euroc_dir, "EuRoC micro folder");
+    t.add("euroc_frames", euroc_frames, "", Range::atLeast(2), "EuRoC frames used");
+    t.add("static_inlier_px", static_inlier_px, "px", Range::above(0), "static scene: a temporal match moved less");
+    t.add("ransac_px", ransac_px, "px", Range::above(0), "fundamental-matrix RANSAC threshold");
+    t.add("report_path", report_path, "optional Markdown copy of the tables");
 }
 
 void BenchOptions::check(const std::string& input) const
@@ -71,12 +51,6 @@ void BenchOptions::check(const std::string& input) const
     for (const auto& e : extractorList())
         core::require(e == "orb" || e == "sift" || e == "akaze" || e == "xfeat", input + ": [Bench] extractors",
                       "'" + e + "' is not one of orb, sift, akaze, xfeat");
-    core::require(sim_duration_s > 0, input + ": [Bench] sim_duration_s", "must be > 0");
-    core::require(frames_per_sequence >= 1, input + ": [Bench] frames_per_sequence", "must be >= 1");
-    core::require(precision_px > 0, input + ": [Bench] precision_px", "must be > 0");
-    core::require(cross_modal_window_px > 0, input + ": [Bench] cross_modal_window_px", "must be > 0");
-    core::require(euroc_frames >= 2, input + ": [Bench] euroc_frames", "must be >= 2");
-    core::require(static_inlier_px > 0 && ransac_px > 0, input + ": [Bench] static_inlier_px/ransac_px", "must be > 0");
 }
 
 std::vector<std::string> BenchOptions::extractorList() const
@@ -103,7 +77,10 @@ frontend::FrontendOptions withExtractor(const frontend::FrontendOptions& base, c
                                         const BenchOptions& bench)
 {
     frontend::FrontendOptions o = base;
-    o.features.type = type;
+    bool known = false;
+    for (const auto& [name, t] : frontend::featureTypeNames())
+        if (name == type) o.features.type = t, known = true;
+    core::require(known, "extractors", "'" + type + "' is not a [Features] type");
     if (type == "xfeat" && o.features.xfeat_model_path.empty()) o.features.xfeat_model_path = bench.xfeat_model_path;
     return o;
 }

@@ -4,6 +4,8 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/frontend/association.h>
 
+#include "test_options.h"
+
 using namespace quasiloc::frontend;
 
 TEST(Association, ScoresSumToOneAndFollowTheSimilarity)
@@ -58,10 +60,6 @@ TEST(Association, PointAssociationsKeepTheNominalMatchFirst)
 
 TEST(Association, OptionsAreChecked)
 {
-    AssociationOptions o;
-    o.temperature = 0;
-    EXPECT_THROW(o.check("test"), quasiloc::core::InputError);
-    o = AssociationOptions{};
-    o.max_candidates = 0;
-    EXPECT_THROW(o.check("test"), quasiloc::core::InputError);
+    EXPECT_THROW(test::withIni(AssociationOptions{}, "Association", "temperature = 0"), quasiloc::core::InputError);
+    EXPECT_THROW(test::withIni(AssociationOptions{}, "Association", "max_candidates = 0"), quasiloc::core::InputError);
 }

@@ -15,7 +15,7 @@ namespace
 class OpenCvExtractor : public FeatureExtractor
 {
    public:
-    OpenCvExtractor(const FeatureOptions& o) : opt_(o), type_(o.featureType())
+    OpenCvExtractor(const FeatureOptions& o) : opt_(o), type_(o.type)
     {
         const int n = int(o.max_keypoints * o.detect_factor);
         switch (type_)
@@ -109,7 +109,7 @@ void normaliseRows(cv::Mat& m)
 std::unique_ptr<FeatureExtractor> createFeatureExtractor(const FeatureOptions& options)
 {
     options.check("feature options");
-    if (options.featureType() == FeatureType::XFeat) return detail::createXFeatExtractor(options);
+    if (options.type == FeatureType::XFeat) return detail::createXFeatExtractor(options);
     return std::make_unique<OpenCvExtractor>(options);
 }
 }  // namespace quasiloc::frontend

@@ -24,12 +24,13 @@ void FrontendOptions::check(const std::string& input) const
     features.check(input);
     point_matching.check(input);
     lines.check(input);
-    line_matching.check(input);
-    association.check(input);
+    line_matching.checkRanges(input, "LineMatching");
+    association.checkRanges(input, "Association");
     stereo.check(input);
     if (point_matching.useLighterGlue())
-        core::require(features.type == "xfeat", input + ": [PointMatching] method",
-                      "lighterglue matches XFeat descriptors: it needs [Features] type = xfeat, not " + features.type);
+        core::require(features.type == FeatureType::XFeat, input + ": [PointMatching] method",
+                      "lighterglue matches XFeat descriptors: it needs [Features] type = xfeat, not " +
+                          toString(features.type));
 }
 
 std::vector<core::OptionsSection> FrontendOptions::sections() const
@@ -45,7 +46,7 @@ namespace
  *  dense map is an output of its network: it stays with the points. */
 bool denseMapWithLines(const FeatureOptions& f)
 {
-    return f.dense_map && (f.type == "orb" || f.type == "sift" || f.type == "akaze");
+    return f.dense_map && f.type != FeatureType::XFeat;
 }
 
 FeatureOptions pointExtractorOptions(FeatureOptions f)

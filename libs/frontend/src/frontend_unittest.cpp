@@ -7,6 +7,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/frontend/frontend.h>
 
+#include "test_options.h"
 #include "test_scenes.h"
 
 using namespace quasiloc::frontend;
@@ -16,7 +17,7 @@ namespace
 FrontendOptions optionsFor(const std::string& type)
 {
     FrontendOptions o;
-    o.features.type = type;
+    o.features = test::withIni(o.features, "Features", "type = " + type);
     if (type == "xfeat")
         o.features.xfeat_model_path = std::string(QUASILOC_SHARED_DIR) + "/models/xfeat/xfeat_dyn_op11.onnx";
     return o;

@@ -5,14 +5,11 @@
 #include <opencv2/ximgproc/edge_drawing.hpp>
 #include <opencv2/ximgproc/fast_line_detector.hpp>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
 #include <quasiloc/frontend/lines.h>
-
-#include "ini_read.h"
 
 namespace quasiloc::frontend
 {
-using namespace detail;
-
 Eigen::Vector3f LineSegment::homogeneous() const
 {
     const Eigen::Vector3f l = Eigen::Vector3f(p0.x(), p0.y(), 1.f).cross(Eigen::Vector3f(p1.x(), p1.y(), 1.f));
@@ -33,41 +30,28 @@ float LineSegment::distanceToSegment(const Eigen::Vector2f& p) const
     return (p - (p0 + t * d)).norm();
 }
 
-void LineOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void LineOptions::declare(core::OptionTable& t)
 {
-    detector = readString(cfg, s, "detector", detector);
-    min_length_px = readDouble(cfg, s, "min_length_px", min_length_px);
-    max_lines = readInt(cfg, s, "max_lines", max_lines);
-    samples_per_line = readInt(cfg, s, "samples_per_line", samples_per_line);
-    band_width_px = readDouble(cfg, s, "band_width_px", band_width_px);
-    line_branch_weight = readDouble(cfg, s, "line_branch_weight", line_branch_weight);
-    point_branch_weight = readDouble(cfg, s, "point_branch_weight", point_branch_weight);
-}
-
-void LineOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "detector", detector, 30, 40, "lsd | fld | edlines");
-    c.write(s, "min_length_px", min_length_px, 30, 40, "shorter segments are dropped");
-    c.write(s, "max_lines", max_lines, 30, 40, "longest kept");
-    c.write(s, "samples_per_line", samples_per_line, 30, 40, "descriptor samples along a segment");
-    c.write(s, "band_width_px", band_width_px, 30, 40, "line-branch band spacing");
-    c.write(s, "line_branch_weight", line_branch_weight, 30, 40, "g_l");
-    c.write(s, "point_branch_weight", point_branch_weight, 30, 40, "g_p");
+    using core::Range;
+    t.addEnum("detector", detector,
+              {{"lsd", LineDetectorType::Lsd}, {"fld", LineDetectorType::Fld}, {"edlines", LineDetectorType::EdLines}},
+              "the line segment detector (FLD runs with merging off)");
+    t.add("min_length_px", min_length_px, "px", Range::atLeast(2), "shorter segments are dropped");
+    t.add("max_lines", max_lines, "", Range::atLeast(1), "the longest ones are kept");
+    t.add("samples_per_line", samples_per_line, "", Range::between(2, 256),
+          "descriptor samples spread evenly between the endpoints");
+    t.add("band_width_px", band_width_px, "px", Range{0, 20, true, false},
+          "line branch: perpendicular spacing of the sampling bands");
+    t.add("line_branch_weight", line_branch_weight, "", Range::atLeast(0), "g_l: weight of the line branch");
+    t.add("point_branch_weight", point_branch_weight, "", Range::atLeast(0), "g_p: weight of the point branch");
 }
 
 void LineOptions::check(const std::string& input) const
 {
-    const std::string S = "Lines";
-    requireKey(detector == "lsd" || detector == "fld" || detector == "edlines", input, S, "detector",
-               "'" + detector + "' is not one of lsd, fld, edlines");
-    requireKey(min_length_px >= 2, input, S, "min_length_px", "must be >= 2");
-    requireKey(max_lines >= 1, input, S, "max_lines", "must be >= 1");
-    requireKey(samples_per_line >= 2 && samples_per_line <= 256, input, S, "samples_per_line", "must be in [2, 256]");
-    requireKey(band_width_px > 0 && band_width_px <= 20, input, S, "band_width_px", "must be in (0, 20]");
-    requireKey(line_branch_weight >= 0, input, S, "line_branch_weight", "must be >= 0");
-    requireKey(point_branch_weight >= 0, input, S, "point_branch_weight", "must be >= 0");
-    requireKey(line_branch_weight + point_branch_weight > 0, input, S, "line_branch_weight",
-               "line_branch_weight and point_branch_weight cannot both be 0");
+    checkRanges(input, "Lines");
+    core::require(line_branch_weight + point_branch_weight > 0,
+                  input + ": " + core::iniKeyName("Lines", "line_branch_weight"),
+                  "line_branch_weight and point_branch_weight cannot both be 0");
 }
 
 struct LineDetector::Impl
@@ -80,8 +64,8 @@ struct LineDetector::Impl
 LineDetector::LineDetector(const LineOptions& options) : options_(options), impl_(new Impl)
 {
     options.check("line options");
-    if (options.detector == "lsd") impl_->lsd = cv::createLineSegmentDetector(cv::LSD_REFINE_STD);
-    else if (options.detector == "fld")
+    if (options.detector == LineDetectorType::Lsd) impl_->lsd = cv::createLineSegmentDetector(cv::LSD_REFINE_STD);
+    else if (options.detector == LineDetectorType::Fld)
         impl_->fld = cv::ximgproc::createFastLineDetector(int(options.min_length_px), 1.414213562f, 50, 50, 3, false);
     else
     {

@@ -2,44 +2,22 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/frontend/line_matcher.h>
 
-#include "ini_read.h"
-
 namespace quasiloc::frontend
 {
-using namespace detail;
-
-void LineMatchingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void LineMatchingOptions::declare(core::OptionTable& t)
 {
-    epsilon = readDouble(cfg, s, "epsilon", epsilon);
-    dustbin_cost = readDouble(cfg, s, "dustbin_cost", dustbin_cost);
-    max_iterations = readInt(cfg, s, "max_iterations", max_iterations);
-    tolerance = readDouble(cfg, s, "tolerance", tolerance);
-    min_probability = readDouble(cfg, s, "min_probability", min_probability);
-    gate_max_distance_px = readDouble(cfg, s, "gate_max_distance_px", gate_max_distance_px);
-    gate_max_angle_deg = readDouble(cfg, s, "gate_max_angle_deg", gate_max_angle_deg);
-}
-
-void LineMatchingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "epsilon", epsilon, 30, 40, "entropy regularisation");
-    c.write(s, "dustbin_cost", dustbin_cost, 30, 40, "cost of leaving a line unmatched");
-    c.write(s, "max_iterations", max_iterations, 30, 40, "Sinkhorn iterations at most");
-    c.write(s, "tolerance", tolerance, 30, 40, "row-marginal error to stop at");
-    c.write(s, "min_probability", min_probability, 30, 40, "P_ij needed for a match");
-    c.write(s, "gate_max_distance_px", gate_max_distance_px, 30, 40, "geometric gate: midpoint distance");
-    c.write(s, "gate_max_angle_deg", gate_max_angle_deg, 30, 40, "geometric gate: direction difference");
-}
-
-void LineMatchingOptions::check(const std::string& input) const
-{
-    const std::string S = "LineMatching";
-    requireKey(epsilon >= 0.01 && epsilon <= 10, input, S, "epsilon", "must be in [0.01, 10]");
-    requireKey(dustbin_cost >= 0 && dustbin_cost <= 2, input, S, "dustbin_cost", "must be in [0, 2]");
-    requireKey(max_iterations >= 1, input, S, "max_iterations", "must be >= 1");
-    requireKey(tolerance > 0, input, S, "tolerance", "must be > 0");
-    requireKey(min_probability > 0 && min_probability <= 1, input, S, "min_probability", "must be in (0, 1]");
-    requireKey(gate_max_distance_px > 0, input, S, "gate_max_distance_px", "must be > 0");
-    requireKey(gate_max_angle_deg > 0 && gate_max_angle_deg <= 90, input, S, "gate_max_angle_deg", "must be in (0, 90]");
+    using core::Range;
+    t.add("epsilon", epsilon, "", Range::between(0.01, 10),
+          "entropy regularisation (cost units; smaller = sharper plan, more iterations)");
+    t.add("dustbin_cost", dustbin_cost, "", Range::between(0, 2),
+          "cost of leaving a line unmatched (pairs with 1 - <f_i,f_j> above it lose)");
+    t.add("max_iterations", max_iterations, "", Range::atLeast(1), "Sinkhorn iterations at most");
+    t.add("tolerance", tolerance, "", Range::above(0), "row-marginal error at which iterations stop");
+    t.add("min_probability", min_probability, "", Range{0, 1, true, false}, "P_ij needed for a match");
+    t.add("gate_max_distance_px", gate_max_distance_px, "px", Range::above(0),
+          "geometric gate: a segment's midpoint within this of the other segment");
+    t.add("gate_max_angle_deg", gate_max_angle_deg, "deg", Range{0, 90, true, false},
+          "geometric gate: directions within this angle (undirected)");
 }
 
 bool lineGate(const LineSegment& a, const LineSegment& b, const LineMatchingOptions& o)

@@ -6,6 +6,7 @@
 #include <quasiloc/frontend/line_matcher.h>
 #include <quasiloc/frontend/lines.h>
 
+#include "test_options.h"
 #include "test_scenes.h"
 
 using namespace quasiloc::frontend;
@@ -18,9 +19,7 @@ class PerDetector : public ::testing::TestWithParam<std::string>
 
 LineOptions lineOptions(const std::string& detector)
 {
-    LineOptions o;
-    o.detector = detector;
-    return o;
+    return test::withIni(LineOptions{}, "Lines", "detector = " + detector);
 }
 }  // namespace
 
@@ -107,14 +106,10 @@ TEST(LineMatching, TranslatedImageAndGate)
 
 TEST(Lines, OptionsAreChecked)
 {
+    EXPECT_THROW(test::withIni(LineOptions{}, "Lines", "detector = hough"), quasiloc::core::InputError);
     LineOptions o;
-    o.detector = "hough";
-    EXPECT_THROW(o.check("test"), quasiloc::core::InputError);
-    EXPECT_THROW(LineDetector{o}, quasiloc::core::InputError);
-    o = LineOptions{};
     o.line_branch_weight = 0, o.point_branch_weight = 0;
     EXPECT_THROW(o.check("test"), quasiloc::core::InputError);
-    LineMatchingOptions m;
-    m.epsilon = 0;
-    EXPECT_THROW(m.check("test"), quasiloc::core::InputError);
+    EXPECT_THROW(LineDetector{o}, quasiloc::core::InputError);
+    EXPECT_THROW(test::withIni(LineMatchingOptions{}, "LineMatching", "epsilon = 0"), quasiloc::core::InputError);
 }

@@ -5,59 +5,45 @@
 #include <cmath>
 #include <cstring>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
 #include <quasiloc/frontend/point_matcher.h>
 #include <sys/stat.h>
 
-#include "ini_read.h"
 #include "lighterglue_matcher.h"
 
 namespace quasiloc::frontend
 {
-using namespace detail;
-
-void PointMatchingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void PointMatchingOptions::declare(core::OptionTable& t)
 {
-    method = readString(cfg, s, "method", method);
-    ratio = readDouble(cfg, s, "ratio", ratio);
-    mutual = readBool(cfg, s, "mutual", mutual);
-    max_distance_l2 = readDouble(cfg, s, "max_distance_l2", max_distance_l2);
-    max_distance_hamming = readInt(cfg, s, "max_distance_hamming", max_distance_hamming);
-    window_px = readDouble(cfg, s, "window_px", window_px);
-    lighterglue_model = readString(cfg, s, "lighterglue_model", lighterglue_model);
-    lighterglue_min_score = readDouble(cfg, s, "lighterglue_min_score", lighterglue_min_score);
-}
-
-void PointMatchingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "method", method, 30, 40, "mutual_nn | lighterglue (needs libtorch, XFeat)");
-    c.write(s, "ratio", ratio, 30, 40, "best < ratio * second best; 1 disables");
-    c.write(s, "mutual", mutual, 30, 40, "mutual nearest neighbour");
-    c.write(s, "max_distance_l2", max_distance_l2, 30, 40, "float descriptors (unit vectors)");
-    c.write(s, "max_distance_hamming", max_distance_hamming, 30, 40, "binary descriptors");
-    c.write(s, "window_px", window_px, 30, 40, "search window around the (predicted) position; 0: all");
-    c.write(s, "lighterglue_model", lighterglue_model, 30, 40, "TorchScript file (method = lighterglue)");
-    c.write(s, "lighterglue_min_score", lighterglue_min_score, 30, 40, "LighterGlue match probability threshold");
+    using core::Range;
+    t.addEnum("method", method, {{"mutual_nn", MatchingMethod::MutualNn}, {"lighterglue", MatchingMethod::LighterGlue}},
+              "mutual_nn | lighterglue (needs libtorch and [Features] type = xfeat)");
+    t.add("ratio", ratio, "", Range{0, 1, true, false}, "mutual_nn: best < ratio * second best (distance); 1 disables");
+    t.add("mutual", mutual, "mutual_nn: the train keypoint's best query must be the query");
+    t.add("max_distance_l2", max_distance_l2, "", Range{0, 2, true, false},
+          "float descriptors: larger L2 distances never match (unit vectors: 0..2)");
+    t.add("max_distance_hamming", max_distance_hamming, "", Range::above(0),
+          "binary descriptors: larger Hamming distances never match");
+    t.add("window_px", window_px, "px", Range::atLeast(0),
+          "> 0: a match must lie within this of the query's (predicted) position; 0: anywhere");
+    t.add("lighterglue_model", lighterglue_model,
+          "TorchScript file (e.g. ../shared/models/lighterglue/lighterglue_L3_ts.pt); required by lighterglue");
+    t.add("lighterglue_min_score", lighterglue_min_score, "", Range::strictlyBetween(0, 1),
+          "lighterglue: a mutual best pair matches when its assignment probability is above this");
 }
 
 void PointMatchingOptions::check(const std::string& input) const
 {
-    const std::string S = "PointMatching";
-    requireKey(ratio > 0 && ratio <= 1, input, S, "ratio", "must be in (0, 1]");
-    requireKey(max_distance_l2 > 0 && max_distance_l2 <= 2, input, S, "max_distance_l2", "must be in (0, 2]");
-    requireKey(max_distance_hamming > 0, input, S, "max_distance_hamming", "must be > 0");
-    requireKey(window_px >= 0, input, S, "window_px", "must be >= 0");
-    requireKey(method == "mutual_nn" || method == "lighterglue", input, S, "method",
-               "'" + method + "' is not one of mutual_nn, lighterglue");
-    requireKey(lighterglue_min_score > 0 && lighterglue_min_score < 1, input, S, "lighterglue_min_score",
-               "must be in (0, 1)");
+    checkRanges(input, "PointMatching");
     if (!useLighterGlue()) return;
-    requireKey(lighterGlueAvailable(), input, S, "method",
-               "'lighterglue' needs libtorch, and this build has none (install libtorch-dev, then configure with "
-               "-DQUASILOC_WITH_TORCH=ON); use mutual_nn");
+    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("PointMatching", k); };
+    core::require(lighterGlueAvailable(), key("method"),
+                  "'lighterglue' needs libtorch, and this build has none (install libtorch-dev, then configure with "
+                  "-DQUASILOC_WITH_TORCH=ON); use mutual_nn");
     struct stat st;
-    requireKey(!lighterglue_model.empty(), input, S, "lighterglue_model", "required when method = lighterglue");
-    requireKey(::stat(lighterglue_model.c_str(), &st) == 0 && S_ISREG(st.st_mode), input, S, "lighterglue_model",
-               "'" + lighterglue_model + "' is not a readable file");
+    core::require(!lighterglue_model.empty(), key("lighterglue_model"), "required when method = lighterglue");
+    core::require(::stat(lighterglue_model.c_str(), &st) == 0 && S_ISREG(st.st_mode), key("lighterglue_model"),
+                  "'" + lighterglue_model + "' is not a readable file");
 }
 
 float descriptorSimilarity(float distance, const Features& f)

@@ -9,6 +9,7 @@
 #include <quasiloc/frontend/point_matcher.h>
 
 #include "lighterglue_matcher.h"
+#include "test_options.h"
 
 using namespace quasiloc::frontend;
 
@@ -79,15 +80,15 @@ TEST(PointMatcherMethod, RegionGateFollowsFindCandidatesPrecedence)
 
 TEST(PointMatcherMethod, UnknownMethodNamesTheKey)
 {
-    PointMatchingOptions o;
-    o.method = "superglue";
-    EXPECT_NE(inputError([&] { o.check("test.ini"); }).find("[PointMatching] method"), std::string::npos);
+    const std::string e =
+        inputError([] { test::withIni(PointMatchingOptions{}, "PointMatching", "method = superglue"); });
+    EXPECT_NE(e.find("[PointMatching] method"), std::string::npos) << e;
 }
 
 TEST(PointMatcherMethod, LighterGlueErrorsNameTheKey)
 {
     PointMatchingOptions o;
-    o.method = "lighterglue";
+    o.method = MatchingMethod::LighterGlue;
     o.lighterglue_model = lighterGlueModel();
     if (!lighterGlueAvailable())
     {
@@ -109,9 +110,9 @@ TEST(PointMatcherMethod, LighterGlueErrorsNameTheKey)
 TEST(PointMatcherMethod, LighterGlueNeedsXFeatFeatures)
 {
     FrontendOptions o;
-    o.point_matching.method = "lighterglue";
+    o.point_matching.method = MatchingMethod::LighterGlue;
     o.point_matching.lighterglue_model = lighterGlueModel();
-    o.features.type = "orb";
+    o.features.type = FeatureType::Orb;
     // Without libtorch the method is refused first; with it, ORB is: either way the error names the method key.
     EXPECT_NE(inputError([&] { o.check("test.ini"); }).find("[PointMatching] method"), std::string::npos);
 }

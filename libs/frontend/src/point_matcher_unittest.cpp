@@ -9,6 +9,7 @@
 #include <quasiloc/frontend/features.h>
 #include <quasiloc/frontend/point_matcher.h>
 
+#include "test_options.h"
 #include "test_scenes.h"
 
 using namespace quasiloc::frontend;
@@ -19,8 +20,7 @@ std::string xfeatModel() { return std::string(QUASILOC_SHARED_DIR) + "/models/xf
 
 FeatureOptions optionsFor(const std::string& type)
 {
-    FeatureOptions o;
-    o.type = type;
+    FeatureOptions o = test::withIni(FeatureOptions{}, "Features", "type = " + type);
     o.max_keypoints = 600;
     if (type == "xfeat") o.xfeat_model_path = xfeatModel();
     return o;
@@ -134,10 +134,9 @@ TEST(Features, SpreadingKeepsTheBudgetAndCoversTheGrid)
 
 TEST(Features, BadInputIsRejected)
 {
+    EXPECT_THROW(test::withIni(FeatureOptions{}, "Features", "type = surf"), quasiloc::core::InputError);
     FeatureOptions o;
-    o.type = "surf";
-    EXPECT_THROW(o.check("test"), quasiloc::core::InputError);
-    o.type = "xfeat";
+    o.type = FeatureType::XFeat;
     o.xfeat_model_path = "/nonexistent/xfeat.onnx";
     EXPECT_THROW(createFeatureExtractor(o), quasiloc::core::InputError);
     auto ex = createFeatureExtractor(FeatureOptions{});

@@ -1,45 +1,28 @@
 #include <cmath>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
 #include <quasiloc/frontend/stereo_matcher.h>
-
-#include "ini_read.h"
 
 namespace quasiloc::frontend
 {
-using namespace detail;
-
-void StereoOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void StereoOptions::declare(core::OptionTable& t)
 {
-    max_epipolar_px = readDouble(cfg, s, "max_epipolar_px", max_epipolar_px);
-    min_disparity_px = readDouble(cfg, s, "min_disparity_px", min_disparity_px);
-    max_disparity_px = readDouble(cfg, s, "max_disparity_px", max_disparity_px);
-    ratio = readDouble(cfg, s, "ratio", ratio);
-    max_distance_l2 = readDouble(cfg, s, "max_distance_l2", max_distance_l2);
-    max_distance_hamming = readInt(cfg, s, "max_distance_hamming", max_distance_hamming);
-    max_depth_m = readDouble(cfg, s, "max_depth_m", max_depth_m);
-}
-
-void StereoOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "max_epipolar_px", max_epipolar_px, 30, 40, "rectified row difference");
-    c.write(s, "min_disparity_px", min_disparity_px, 30, 40, "");
-    c.write(s, "max_disparity_px", max_disparity_px, 30, 40, "");
-    c.write(s, "ratio", ratio, 30, 40, "ratio test; 1 disables");
-    c.write(s, "max_distance_l2", max_distance_l2, 30, 40, "float descriptors");
-    c.write(s, "max_distance_hamming", max_distance_hamming, 30, 40, "binary descriptors");
-    c.write(s, "max_depth_m", max_depth_m, 30, 40, "farther triangulations dropped");
+    using core::Range;
+    t.add("max_epipolar_px", max_epipolar_px, "px", Range::above(0), "|v_left - v_right| in the rectified images");
+    t.add("min_disparity_px", min_disparity_px, "px", Range::atLeast(0), "disparity at least");
+    t.add("max_disparity_px", max_disparity_px, "px", Range::above(0), "disparity at most");
+    t.add("ratio", ratio, "", Range{0, 1, true, false}, "ratio test among the epipolar candidates; 1 disables");
+    t.add("max_distance_l2", max_distance_l2, "", Range{0, 2, true, false}, "float descriptors: L2 distance at most");
+    t.add("max_distance_hamming", max_distance_hamming, "", Range::above(0),
+          "binary descriptors: Hamming distance at most");
+    t.add("max_depth_m", max_depth_m, "m", Range::above(0), "triangulated points farther than this are dropped");
 }
 
 void StereoOptions::check(const std::string& input) const
 {
-    const std::string S = "Stereo";
-    requireKey(max_epipolar_px > 0, input, S, "max_epipolar_px", "must be > 0");
-    requireKey(min_disparity_px >= 0, input, S, "min_disparity_px", "must be >= 0");
-    requireKey(max_disparity_px > min_disparity_px, input, S, "max_disparity_px", "must be > min_disparity_px");
-    requireKey(ratio > 0 && ratio <= 1, input, S, "ratio", "must be in (0, 1]");
-    requireKey(max_distance_l2 > 0 && max_distance_l2 <= 2, input, S, "max_distance_l2", "must be in (0, 2]");
-    requireKey(max_distance_hamming > 0, input, S, "max_distance_hamming", "must be > 0");
-    requireKey(max_depth_m > 0, input, S, "max_depth_m", "must be > 0");
+    checkRanges(input, "Stereo");
+    core::require(max_disparity_px > min_disparity_px, input + ": " + core::iniKeyName("Stereo", "max_disparity_px"),
+                  "must be > min_disparity_px");
 }
 
 StereoMatcher::StereoMatcher(const core::StereoRig& rig, const StereoOptions& options) : rig_(rig), opt_(options)

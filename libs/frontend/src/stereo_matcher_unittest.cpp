@@ -29,7 +29,7 @@ TEST(Stereo, TriangulatesASlantedPlane)
         for (int j = 0; j < 3; ++j) Hcv(i, j) = H(i, j);
     cv::warpPerspective(left, right, cv::Mat(Hcv), left.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
 
-    for (const std::string type : {"orb", "sift"})
+    for (const FeatureType type : {FeatureType::Orb, FeatureType::Sift})
     {
         FeatureOptions fo;
         fo.type = type;
@@ -41,7 +41,7 @@ TEST(Stereo, TriangulatesASlantedPlane)
         StereoMatcher sm(rig, StereoOptions{});
         EXPECT_NEAR(sm.baseline(), 0.11, 1e-9);
         const auto pts = sm.match(fl, fr);
-        ASSERT_GE(pts.size(), 100u) << type;
+        ASSERT_GE(pts.size(), 100u) << toString(type);
         size_t good = 0;
         for (const auto& s : pts)
         {
@@ -50,14 +50,14 @@ TEST(Stereo, TriangulatesASlantedPlane)
             const double z_true = dist / n.dot(K.inverse() * Eigen::Vector3d(k.x, k.y, 1));
             // Disparity error: ORB keypoints on coarse pyramid levels are localised to ~1-2 px, SIFT's to subpixel.
             const double disp_true = sm.focal() * sm.baseline() / z_true;
-            good += std::abs(s.disparity_px - disp_true) < (type == "orb" ? 2.0 : 0.5);
+            good += std::abs(s.disparity_px - disp_true) < (type == FeatureType::Orb ? 2.0 : 0.5);
             EXPECT_NEAR(s.p_left.z(), sm.focal() * sm.baseline() / s.disparity_px, 1e-6);
             // The point lies on the left keypoint's ray.
             Eigen::Vector2d u;
             ASSERT_TRUE(rig.left.project(s.p_left, u));
             EXPECT_LT(std::hypot(u.x() - k.x, u.y() - k.y), 1e-6);
         }
-        std::printf("%s: %zu stereo points, %zu with the true disparity\n", type.c_str(), pts.size(), good);
-        EXPECT_GE(good, pts.size() * 9 / 10) << type;
+        std::printf("%s: %zu stereo points, %zu with the true disparity\n", toString(type).c_str(), pts.size(), good);
+        EXPECT_GE(good, pts.size() * 9 / 10) << toString(type);
     }
 }

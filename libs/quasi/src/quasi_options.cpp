@@ -70,7 +70,7 @@ void QuasiOptions::declare(core::OptionTable& t)
 void QuasiOptions::check(const std::string& input) const
 {
     const std::string section = input + " [QuasiImage]";
-    checkDeclaredRanges(section);
+    checkRanges(section);
     core::require(max_depth_m > min_depth_m, section + " max_depth_m", "must be > min_depth_m");
     core::require(reflectivity_percentile_low < reflectivity_percentile_high,
                   section + " reflectivity_percentile_low/high", "need 0 <= low < high <= 100");

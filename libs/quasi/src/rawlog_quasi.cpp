@@ -165,7 +165,7 @@ void RawlogQuasiOptions::declare(core::OptionTable& t)
 
 void RawlogQuasiOptions::check(const std::string& input) const
 {
-    checkDeclaredRanges(input + " " + kSection);
+    checkRanges(input + " " + kSection);
     auto key = [&](const char* k) { return input + " " + kSection + " " + k; };
     core::require(!input_rawlog.empty(), key("input_rawlog"), "is empty");
     core::require(fs::is_regular_file(input_rawlog), key("input_rawlog"), "'" + input_rawlog + "' does not exist");

@@ -152,7 +152,7 @@ Database Database::load(const std::string& path)
         for (uint64_t i = 0; i < n; ++i) db.views.push_back(readView(in));
         for (auto& v : db.views)
         {
-            v.points.type = db.features.featureType();
+            v.points.type = db.features.type;
             v.points.image_size = cv::Size(db.camera.width, db.camera.height);
         }
         db.vocabulary = Vocabulary::read(in);
@@ -186,7 +186,7 @@ std::string Database::summary() const
     }
     std::ostringstream s;
     s << views.size() << " views, " << kps << " keypoints (" << lifted << " lifted to the map), " << lines
-      << " line segments, " << vocabulary.numWords() << " words, features " << features.type;
+      << " line segments, " << vocabulary.numWords() << " words, features " << frontend::toString(features.type);
     return s.str();
 }
 

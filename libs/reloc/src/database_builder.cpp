@@ -1,5 +1,4 @@
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <quasiloc/frontend/lifting.h>
 #include <quasiloc/map/visibility_index.h>
 #include <quasiloc/quasi/quasi_renderer.h>
@@ -91,31 +90,17 @@ bool processView(Worker& w, const map::LidarMap& map, const core::CameraModel& c
 }
 }  // namespace
 
-void DatabaseBuildOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+void DatabaseBuildOptions::declare(core::OptionTable& t)
 {
-    min_valid_fraction = core::readIniDouble(c, s, "min_valid_fraction", min_valid_fraction);
-    min_lifted = core::readIniInt(c, s, "min_lifted", min_lifted);
-    store_lines = core::readIniBool(c, s, "store_lines", store_lines);
-    threads = core::readIniInt(c, s, "threads", threads);
-    image_blur_sigma_px = core::readIniDouble(c, s, "image_blur_sigma_px", image_blur_sigma_px);
-}
-
-void DatabaseBuildOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "min_valid_fraction", min_valid_fraction, 30, 40, "drop views with fewer valid quasi-image pixels");
-    c.write(s, "min_lifted", min_lifted, 30, 40, "drop views with fewer keypoints lifted to the map");
-    c.write(s, "store_lines", store_lines, 30, 40, "detect and lift line segments too");
-    c.write(s, "threads", threads, 30, 40, "workers (0 = all cores)");
-    c.write(s, "image_blur_sigma_px", image_blur_sigma_px, 30, 40, "blur before extraction (0 = none)");
-}
-
-void DatabaseBuildOptions::check(const std::string& input) const
-{
-    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("BuildDatabase", k); };
-    core::require(min_valid_fraction >= 0 && min_valid_fraction <= 1, key("min_valid_fraction"), "must be in [0, 1]");
-    core::require(min_lifted >= 0, key("min_lifted"), "must be >= 0");
-    core::require(threads >= 0, key("threads"), "must be >= 0");
-    core::require(image_blur_sigma_px >= 0 && image_blur_sigma_px <= 10, key("image_blur_sigma_px"), "must be in [0, 10]");
+    using core::Range;
+    t.add("min_valid_fraction", min_valid_fraction, "", Range::between(0, 1),
+          "a view whose quasi-image has fewer valid pixels is dropped (looks at a void)");
+    t.add("min_lifted", min_lifted, "", Range::atLeast(0),
+          "a view with fewer keypoints lifted to the map is dropped (nothing to localize with)");
+    t.add("store_lines", store_lines, "detect and lift line segments too ([Lines] options)");
+    t.add("threads", threads, "", Range::atLeast(0), "workers; 0 = all cores");
+    t.add("image_blur_sigma_px", image_blur_sigma_px, "px", Range::between(0, 10),
+          "Gaussian blur of the quasi-image (and of every query) before feature extraction (0: none)");
 }
 
 Database buildDatabase(const map::LidarMap& map, const core::CameraModel& camera, const DatabaseBuildConfig& config,
@@ -123,7 +108,7 @@ Database buildDatabase(const map::LidarMap& map, const core::CameraModel& camera
 {
     core::require(!map.empty(), "the LiDAR map", "is empty: nothing to build a database from");
     camera.check("the database camera");
-    config.build.check("BuildDatabase");
+    config.build.checkRanges("BuildDatabase", "BuildDatabase");
     DatabaseBuildStats st;
 
     auto t0 = Clock::now();

@@ -1,7 +1,6 @@
 // Global localization by geometry (geometric_localizer.h): coarse 4-DoF search, 6-DoF refinement, decision.
 #include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/pose_parametrization.h>
 #include <quasiloc/reloc/geometric_localizer.h>
@@ -18,7 +17,6 @@ namespace
 {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
 
 struct Candidate
 {
@@ -42,91 +40,6 @@ double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
     return core::rotationDistanceRad(a, b) * 180.0 / M_PI;
 }
 }  // namespace
-
-void GeometricLocalizationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-    field_voxel_m = core::readIniDouble(c, s, "field_voxel_m", field_voxel_m);
-    field_max_distance_m = core::readIniDouble(c, s, "field_max_distance_m", field_max_distance_m);
-    stereo.num_disparities = core::readIniInt(c, s, "num_disparities", stereo.num_disparities);
-    stereo.block_size = core::readIniInt(c, s, "block_size", stereo.block_size);
-    stereo.uniqueness_ratio = core::readIniInt(c, s, "uniqueness_ratio", stereo.uniqueness_ratio);
-    stereo.min_depth_m = core::readIniDouble(c, s, "min_depth_m", stereo.min_depth_m);
-    stereo.max_depth_m = core::readIniDouble(c, s, "max_depth_m", stereo.max_depth_m);
-    stereo.voxel_m = core::readIniDouble(c, s, "query_voxel_m", stereo.voxel_m);
-    stereo.max_points = core::readIniInt(c, s, "max_points", stereo.max_points);
-    stereo.disparity_sigma_px = core::readIniDouble(c, s, "disparity_sigma_px", stereo.disparity_sigma_px);
-    stereo.downscale = core::readIniInt(c, s, "stereo_downscale", stereo.downscale);
-    grid_spacing_m = core::readIniDouble(c, s, "grid_spacing_m", grid_spacing_m);
-    heights_m = core::readIniVector(c, s, "heights_m", heights_m);
-    clearance_m = core::readIniDouble(c, s, "clearance_m", clearance_m);
-    require_enclosed = core::readIniBool(c, s, "require_enclosed", require_enclosed);
-    region = core::readIniVector(c, s, "region", region);
-    num_yaws = core::readIniInt(c, s, "num_yaws", num_yaws);
-    score_points = core::readIniInt(c, s, "score_points", score_points);
-    coarse_truncation_m = core::readIniDouble(c, s, "coarse_truncation_m", coarse_truncation_m);
-    refine_candidates = core::readIniInt(c, s, "refine_candidates", refine_candidates);
-    refine_truncations_m = core::readIniVector(c, s, "refine_truncations_m", refine_truncations_m);
-    refine_iterations = core::readIniInt(c, s, "refine_iterations", refine_iterations);
-    polish_truncations_m = core::readIniVector(c, s, "polish_truncations_m", polish_truncations_m);
-    inlier_m = core::readIniDouble(c, s, "inlier_m", inlier_m);
-    min_inlier_ratio = core::readIniDouble(c, s, "min_inlier_ratio", min_inlier_ratio);
-    ambiguity_ratio = core::readIniDouble(c, s, "ambiguity_ratio", ambiguity_ratio);
-}
-
-void GeometricLocalizationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "field_voxel_m", field_voxel_m, 30, 40, "distance field voxel");
-    c.write(s, "field_max_distance_m", field_max_distance_m, 30, 40, "distance field truncation");
-    c.write(s, "num_disparities", stereo.num_disparities, 30, 40, "SGBM disparity range");
-    c.write(s, "block_size", stereo.block_size, 30, 40, "SGBM block size");
-    c.write(s, "uniqueness_ratio", stereo.uniqueness_ratio, 30, 40, "SGBM uniqueness ratio [%]");
-    c.write(s, "min_depth_m", stereo.min_depth_m, 30, 40, "nearest stereo point kept");
-    c.write(s, "max_depth_m", stereo.max_depth_m, 30, 40, "farthest stereo point kept");
-    c.write(s, "query_voxel_m", stereo.voxel_m, 30, 40, "one stereo point per voxel");
-    c.write(s, "max_points", stereo.max_points, 30, 40, "query points at most");
-    c.write(s, "disparity_sigma_px", stereo.disparity_sigma_px, 30, 40, "disparity noise (depth-dependent weights)");
-    c.write(s, "stereo_downscale", stereo.downscale, 30, 40, "1: full resolution, 2: half (4x faster SGBM)");
-    c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "candidate position grid");
-    c.write(s, "heights_m", core::iniVectorText(heights_m), 30, 40, "candidate heights above the floor");
-    c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a candidate position");
-    c.write(s, "require_enclosed", require_enclosed, 30, 40, "indoors: positions enclosed by the map");
-    c.write(s, "region", core::iniVectorText(region), 30, 40, "optional xmin ymin xmax ymax");
-    c.write(s, "num_yaws", num_yaws, 30, 40, "headings per candidate position");
-    c.write(s, "score_points", score_points, 30, 40, "query points scored per coarse candidate");
-    c.write(s, "coarse_truncation_m", coarse_truncation_m, 30, 40, "coarse score truncation");
-    c.write(s, "refine_candidates", refine_candidates, 30, 40, "distinct candidates refined");
-    c.write(s, "refine_truncations_m", core::iniVectorText(refine_truncations_m), 30, 40, "refinement truncations");
-    c.write(s, "refine_iterations", refine_iterations, 30, 40, "Gauss-Newton iterations per truncation");
-    c.write(s, "polish_truncations_m", core::iniVectorText(polish_truncations_m), 30, 40, "point-to-point ICP of the best");
-    c.write(s, "inlier_m", inlier_m, 30, 40, "a query point this close to the map is an inlier");
-    c.write(s, "min_inlier_ratio", min_inlier_ratio, 30, 40, "answer only with this share of inliers");
-    c.write(s, "ambiguity_ratio", ambiguity_ratio, 30, 40, "reject when another place reaches this share");
-}
-
-void GeometricLocalizationOptions::check(const std::string& input) const
-{
-    const std::string s = "GeometricLocalization";
-    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName(s, k); };
-    core::require(field_voxel_m > 0, key("field_voxel_m"), "must be > 0");
-    core::require(field_max_distance_m > 0, key("field_max_distance_m"), "must be > 0");
-    stereo.check(input, s);
-    core::require(grid_spacing_m > 0, key("grid_spacing_m"), "must be > 0");
-    core::require(!heights_m.empty(), key("heights_m"), "needs at least one height");
-    core::require(clearance_m >= 0, key("clearance_m"), "must be >= 0");
-    core::require(region.empty() || (region.size() == 4 && region[0] < region[2] && region[1] < region[3]),
-                  key("region"), "must be empty or [xmin ymin xmax ymax] with xmin < xmax, ymin < ymax");
-    core::require(num_yaws >= 1 && num_yaws <= 720, key("num_yaws"), "must be in [1, 720]");
-    core::require(score_points >= 10, key("score_points"), "must be >= 10");
-    core::require(coarse_truncation_m > 0, key("coarse_truncation_m"), "must be > 0");
-    core::require(refine_candidates >= 1, key("refine_candidates"), "must be >= 1");
-    core::require(!refine_truncations_m.empty(), key("refine_truncations_m"), "needs at least one truncation");
-    for (double t : refine_truncations_m) core::require(t > 0, key("refine_truncations_m"), "truncations must be > 0");
-    core::require(refine_iterations >= 1, key("refine_iterations"), "must be >= 1");
-    for (double t : polish_truncations_m) core::require(t > 0, key("polish_truncations_m"), "truncations must be > 0");
-    core::require(inlier_m > 0, key("inlier_m"), "must be > 0");
-    core::require(min_inlier_ratio > 0 && min_inlier_ratio <= 1, key("min_inlier_ratio"), "must be in (0, 1]");
-    core::require(ambiguity_ratio > 0 && ambiguity_ratio <= 1, key("ambiguity_ratio"), "must be in (0, 1]");
-}
 
 Eigen::Vector3d upInCamera(const std::vector<Eigen::Vector3d>& acc_body, const Eigen::Matrix3d& R_cam_body)
 {

@@ -2,9 +2,11 @@
 // the refinement converges from a few decimetres, a scene that is not the room is "not localized", and bad
 // options are named.
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/core/program_options.h>
 #include <quasiloc/reloc/geometric_localizer.h>
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/stereo_renderer.h>
@@ -160,10 +162,11 @@ TEST(GeometricLocalizer, UpInCameraFromTheAccelerometer)
 TEST(GeometricLocalizer, BadOptionsAreNamed)
 {
     reloc::GeometricLocalizationOptions o;
-    o.num_yaws = 0;
+    mrpt::config::CConfigFileMemory ini;
+    ini.setContent("[GeometricLocalization]\nnum_yaws = 0\n");
     try
     {
-        o.check("track.ini");
+        core::loadOptionsChecked(o, ini, "GeometricLocalization", "track.ini");
         FAIL() << "no error for num_yaws = 0";
     }
     catch (const core::InputError& e)

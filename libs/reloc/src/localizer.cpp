@@ -1,5 +1,4 @@
 #include <quasiloc/core/error.h>
-#include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/absolute_pose.h>
 #include <quasiloc/reloc/localizer.h>
@@ -47,94 +46,6 @@ LocalizationMode localizationModeFromString(const std::string& s, const std::str
     if (s == "fast") return LocalizationMode::Fast;
     if (s == "full") return LocalizationMode::Full;
     throw core::InputError(input, "'" + s + "' is not a localization mode (fast | full)");
-}
-
-void LocalizerOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
-{
-    retrieval_per_group = core::readIniInt(c, s, "retrieval_per_group", retrieval_per_group);
-    group_radius_m = core::readIniDouble(c, s, "group_radius_m", group_radius_m);
-    group_heading_deg = core::readIniDouble(c, s, "group_heading_deg", group_heading_deg);
-    views_per_group = core::readIniInt(c, s, "views_per_group", views_per_group);
-    fast_groups = core::readIniInt(c, s, "fast_groups", fast_groups);
-    fast_groups_retry = core::readIniInt(c, s, "fast_groups_retry", fast_groups_retry);
-    full_groups = core::readIniInt(c, s, "full_groups", full_groups);
-    full_groups_retry = core::readIniInt(c, s, "full_groups_retry", full_groups_retry);
-    pnp_groups = core::readIniInt(c, s, "pnp_groups", pnp_groups);
-    min_group_matches = core::readIniInt(c, s, "min_group_matches", min_group_matches);
-    match_level = core::readIniInt(c, s, "match_level", match_level);
-    voting_radius_m = core::readIniDouble(c, s, "voting_radius_m", voting_radius_m);
-    min_votes = core::readIniInt(c, s, "min_votes", min_votes);
-    pnp_reproj_px = core::readIniDouble(c, s, "pnp_reproj_px", pnp_reproj_px);
-    pnp_method = c.read_string(s, "pnp_method", pnp_method);
-    pnp_max_iterations = core::readIniInt(c, s, "pnp_max_iterations", pnp_max_iterations);
-    min_inliers = core::readIniInt(c, s, "min_inliers", min_inliers);
-    min_inlier_ratio = core::readIniDouble(c, s, "min_inlier_ratio", min_inlier_ratio);
-    max_distance_to_views_m = core::readIniDouble(c, s, "max_distance_to_views_m", max_distance_to_views_m);
-    ambiguity_distance_m = core::readIniDouble(c, s, "ambiguity_distance_m", ambiguity_distance_m);
-    ambiguity_ratio = core::readIniDouble(c, s, "ambiguity_ratio", ambiguity_ratio);
-}
-
-void LocalizerOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "retrieval_per_group", retrieval_per_group, 30, 40, "views retrieved per group asked for");
-    c.write(s, "group_radius_m", group_radius_m, 30, 40, "views this close to a group's best view join it");
-    c.write(s, "group_heading_deg", group_heading_deg, 30, 40, "... if their viewing directions differ less");
-    c.write(s, "views_per_group", views_per_group, 30, 40, "views of a group matched with the query");
-    c.write(s, "fast_groups", fast_groups, 30, 40, "Fast: groups tried");
-    c.write(s, "fast_groups_retry", fast_groups_retry, 30, 40, "Fast: groups tried when that fails");
-    c.write(s, "full_groups", full_groups, 30, 40, "Full: groups tried");
-    c.write(s, "full_groups_retry", full_groups_retry, 30, 40, "Full: groups tried when that fails");
-    c.write(s, "pnp_groups", pnp_groups, 30, 40, "best re-ranked groups that get a PnP");
-    c.write(s, "min_group_matches", min_group_matches, 30, 40, "fewer 2D-3D correspondences: no PnP");
-    c.write(s, "match_level", match_level, 30, 40, "compare descriptors under the same node of this level");
-    c.write(s, "voting_radius_m", voting_radius_m, 30, 40, "3D candidates closer than this agree");
-    c.write(s, "min_votes", min_votes, 30, 40, "views that must confirm a correspondence");
-    c.write(s, "pnp_reproj_px", pnp_reproj_px, 30, 40, "PnP inlier threshold");
-    c.write(s, "pnp_method", pnp_method, 30, 40, "magsac | usac_default | ransac");
-    c.write(s, "pnp_max_iterations", pnp_max_iterations, 30, 40, "PnP sampling iterations");
-    c.write(s, "min_inliers", min_inliers, 30, 40, "decision: PnP inliers needed");
-    c.write(s, "min_inlier_ratio", min_inlier_ratio, 30, 40, "decision: share of correspondences");
-    c.write(s, "max_distance_to_views_m", max_distance_to_views_m, 30, 40, "decision: pose near its views");
-    c.write(s, "ambiguity_distance_m", ambiguity_distance_m, 30, 40, "a rival pose farther than this ...");
-    c.write(s, "ambiguity_ratio", ambiguity_ratio, 30, 40, "... with this share of the inliers: ambiguous");
-}
-
-estimation::AbsolutePoseOptions LocalizerOptions::pnpOptions() const
-{
-    estimation::AbsolutePoseOptions po;
-    po.method = pnp_method;
-    po.max_reproj_error_px = pnp_reproj_px;
-    po.max_iterations = pnp_max_iterations;
-    po.min_inliers = 4;  // the decision (min_inliers, ratio, ambiguity) is made here, not by the solver
-    return po;
-}
-
-void LocalizerOptions::check(const std::string& input) const
-{
-    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("Localization", k); };
-    core::require(retrieval_per_group >= 1, key("retrieval_per_group"), "must be >= 1");
-    core::require(group_radius_m >= 0, key("group_radius_m"), "must be >= 0");
-    core::require(group_heading_deg >= 0 && group_heading_deg <= 180, key("group_heading_deg"), "must be in [0, 180]");
-    core::require(views_per_group >= 1, key("views_per_group"), "must be >= 1");
-    core::require(fast_groups >= 1, key("fast_groups"), "must be >= 1");
-    core::require(fast_groups_retry >= fast_groups, key("fast_groups_retry"), "must be >= fast_groups");
-    core::require(full_groups >= 1, key("full_groups"), "must be >= 1");
-    core::require(full_groups_retry >= full_groups, key("full_groups_retry"), "must be >= full_groups");
-    core::require(pnp_groups >= 1, key("pnp_groups"), "must be >= 1");
-    core::require(min_group_matches >= 4, key("min_group_matches"), "must be >= 4 (PnP needs 4 points)");
-    core::require(match_level >= 0, key("match_level"), "must be >= 0");
-    core::require(voting_radius_m > 0, key("voting_radius_m"), "must be > 0");
-    core::require(min_votes >= 1, key("min_votes"), "must be >= 1");
-    core::require(pnp_reproj_px > 0, key("pnp_reproj_px"), "must be > 0");
-    pnpOptions().check(input + ": [Localization] pnp_*");
-    core::require(min_inliers >= 4, key("min_inliers"), "must be >= 4");
-    core::require(min_inlier_ratio >= 0 && min_inlier_ratio <= 1, key("min_inlier_ratio"), "must be in [0, 1]");
-    core::require(max_distance_to_views_m > 0, key("max_distance_to_views_m"), "must be > 0");
-    core::require(ambiguity_distance_m >= 0, key("ambiguity_distance_m"), "must be >= 0");
-    core::require(ambiguity_ratio > 0 && ambiguity_ratio <= 1, key("ambiguity_ratio"), "must be in (0, 1]");
-    matching.check(input);
-    core::require(matching.window_px == 0, input + ": " + core::iniKeyName("PointMatching", "window_px"),
-                  "must be 0 for global localization (there is no predicted position)");
 }
 
 struct Localizer::Impl

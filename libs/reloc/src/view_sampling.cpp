@@ -88,48 +88,33 @@ class OccupancyGrid
 };
 }  // namespace
 
-void ViewSamplingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c, const std::string& s)
+void ViewSamplingOptions::declare(core::OptionTable& t)
 {
-    grid_spacing_m = core::readIniDouble(c, s, "grid_spacing_m", grid_spacing_m);
-    heights_m = core::readIniVector(c, s, "heights_m", heights_m);
-    num_headings = core::readIniInt(c, s, "num_headings", num_headings);
-    pitches_deg = core::readIniVector(c, s, "pitches_deg", pitches_deg);
-    clearance_m = core::readIniDouble(c, s, "clearance_m", clearance_m);
-    voxel_m = core::readIniDouble(c, s, "voxel_m", voxel_m);
-    require_enclosed = core::readIniBool(c, s, "require_enclosed", require_enclosed);
-    max_ray_m = core::readIniDouble(c, s, "max_ray_m", max_ray_m);
-    region = core::readIniVector(c, s, "region", region);
-    margin_m = core::readIniDouble(c, s, "margin_m", margin_m);
-}
-
-void ViewSamplingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "grid_spacing_m", grid_spacing_m, 30, 40, "horizontal position grid spacing");
-    c.write(s, "heights_m", core::iniVectorText(heights_m), 30, 40, "camera heights above the floor");
-    c.write(s, "num_headings", num_headings, 30, 40, "headings per position (360 deg)");
-    c.write(s, "pitches_deg", core::iniVectorText(pitches_deg), 30, 40, "camera pitches (positive up)");
-    c.write(s, "clearance_m", clearance_m, 30, 40, "no map point closer to a viewpoint");
-    c.write(s, "voxel_m", voxel_m, 30, 40, "occupancy grid voxel");
-    c.write(s, "require_enclosed", require_enclosed, 30, 40, "indoors: horizontal and up rays must hit the map");
-    c.write(s, "max_ray_m", max_ray_m, 30, 40, "enclosure ray length");
-    c.write(s, "region", core::iniVectorText(region), 30, 40, "optional xmin ymin xmax ymax");
-    c.write(s, "margin_m", margin_m, 30, 40, "distance from the map's horizontal bounds");
+    using core::Range;
+    t.add("grid_spacing_m", grid_spacing_m, "m", Range::above(0), "spacing of the horizontal position grid");
+    t.add("heights_m", heights_m, "m", Range::any(), "camera heights above the floor below the position");
+    t.add("num_headings", num_headings, "", Range::between(1, 360),
+          "headings evenly spread over 360 deg (the first along +x)");
+    t.add("pitches_deg", pitches_deg, "deg", Range::strictlyBetween(-89, 89),
+          "camera pitch(es), positive = looking up");
+    t.add("clearance_m", clearance_m, "m", Range::atLeast(0), "no map point within this distance of a viewpoint");
+    t.add("voxel_m", voxel_m, "m", Range::above(0),
+          "occupancy grid of the map used for the clearance / floor / enclosure tests");
+    t.add("require_enclosed", require_enclosed,
+          "indoors: rays in 8 horizontal directions and straight up must all hit the map within max_ray_m");
+    t.add("max_ray_m", max_ray_m, "m", Range::above(0), "enclosure ray length");
+    t.add("region", region, "m", Range::any(), "optional [xmin ymin xmax ymax] (world): sample only there");
+    t.add("margin_m", margin_m, "m", Range::atLeast(0), "distance kept from the map's horizontal bounds");
 }
 
 void ViewSamplingOptions::check(const std::string& input) const
 {
     const auto key = [&](const char* k) { return input + ": " + core::iniKeyName("ViewSampling", k); };
-    core::require(grid_spacing_m > 0, key("grid_spacing_m"), "must be > 0");
+    checkRanges(input, "ViewSampling");
     core::require(!heights_m.empty(), key("heights_m"), "needs at least one height");
-    core::require(num_headings >= 1 && num_headings <= 360, key("num_headings"), "must be in [1, 360]");
     core::require(!pitches_deg.empty(), key("pitches_deg"), "needs at least one pitch");
-    for (double p : pitches_deg) core::require(std::abs(p) < 89, key("pitches_deg"), "pitches must lie in (-89, 89)");
-    core::require(clearance_m >= 0, key("clearance_m"), "must be >= 0");
-    core::require(voxel_m > 0, key("voxel_m"), "must be > 0");
-    core::require(max_ray_m > 0, key("max_ray_m"), "must be > 0");
     core::require(region.empty() || (region.size() == 4 && region[0] < region[2] && region[1] < region[3]),
                   key("region"), "must be empty or [xmin ymin xmax ymax] with xmin < xmax, ymin < ymax");
-    core::require(margin_m >= 0, key("margin_m"), "must be >= 0");
 }
 
 mrpt::poses::CPose3D viewPose(double x, double y, double z, double heading_rad, double pitch_rad)

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 
 #include <cmath>
 #include <quasiloc/core/error.h>
@@ -86,9 +87,9 @@ TEST(ViewSampling, EnclosureRejectsPositionsOutsideTheRoom)
 TEST(ViewSampling, BadOptionsAndEmptyMapsAreErrors)
 {
     reloc::ViewSamplingOptions o;
-    o.grid_spacing_m = 0;
-    EXPECT_THROW(o.check("test.ini"), core::InputError);
-    o = {};
+    mrpt::config::CConfigFileMemory ini;
+    ini.setContent("[ViewSampling]\ngrid_spacing_m = 0\n");
+    EXPECT_THROW(o.loadFromConfigFile(ini, "ViewSampling"), core::InputError);
     o.region = {1, 2, 0, 3};
     EXPECT_THROW(o.check("test.ini"), core::InputError);
     EXPECT_THROW(reloc::sampleViewpoints(map::LidarMap(), reloc::ViewSamplingOptions{}), core::InputError);

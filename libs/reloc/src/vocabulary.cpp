@@ -404,39 +404,25 @@ std::vector<std::pair<int, int>> trainingRows(const std::vector<cv::Mat>& mats, 
 
 // ---------------------------------------------------------------------------------------------- options
 
-void VocabularyOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& s)
+void VocabularyOptions::declare(core::OptionTable& t)
 {
-    branching = core::readIniInt(cfg, s, "branching", branching);
-    depth = core::readIniInt(cfg, s, "depth", depth);
-    max_training_descriptors = core::readIniInt(cfg, s, "max_training_descriptors", max_training_descriptors);
-    kmeans_iterations = core::readIniInt(cfg, s, "kmeans_iterations", kmeans_iterations);
-    seed = core::readIniInt(cfg, s, "seed", seed);
-}
-
-void VocabularyOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c, const std::string& s) const
-{
-    c.write(s, "branching", branching, 30, 40, "k of the hierarchical k-means");
-    c.write(s, "depth", depth, 30, 40, "tree levels (at most branching^depth words)");
-    c.write(s, "max_training_descriptors", max_training_descriptors, 30, 40, "random subsample clustered");
-    c.write(s, "kmeans_iterations", kmeans_iterations, 30, 40, "Lloyd iterations per node");
-    c.write(s, "seed", seed, 30, 40, "random seed (subsample, k-means++)");
+    using core::Range;
+    t.add("branching", branching, "", Range::between(2, 256), "k of the hierarchical k-means");
+    t.add("depth", depth, "", Range::between(1, 16), "levels below the root (at most branching^depth words)");
+    t.add("max_training_descriptors", max_training_descriptors, "", Range::atLeast(1),
+          "random (seeded) subsample of the training descriptors");
+    t.add("kmeans_iterations", kmeans_iterations, "", Range::between(1, 1000),
+          "Lloyd iterations per node (fewer when assignments settle)");
+    t.add("seed", seed, "", Range::atLeast(0), "the only source of randomness: same input + seed = same tree");
 }
 
 void VocabularyOptions::check(const std::string& input) const
 {
-    auto require = [&](bool ok, const std::string& key, const std::string& problem) {
-        if (!ok) throw core::InputError(input + ": " + core::iniKeyName(kSection, key), problem);
-    };
-    require(branching >= 2 && branching <= 256, "branching", "must be in [2, 256], is " + std::to_string(branching));
-    require(depth >= 1 && depth <= 16, "depth", "must be in [1, 16], is " + std::to_string(depth));
-    require(std::pow(double(branching), double(depth)) <= double(kMaxWords), "depth",
-            "branching^depth = " + std::to_string(branching) + "^" + std::to_string(depth) + " exceeds " +
-                std::to_string(kMaxWords) + " words");
-    require(max_training_descriptors >= 1, "max_training_descriptors",
-            "must be at least 1, is " + std::to_string(max_training_descriptors));
-    require(kmeans_iterations >= 1 && kmeans_iterations <= 1000, "kmeans_iterations",
-            "must be in [1, 1000], is " + std::to_string(kmeans_iterations));
-    require(seed >= 0, "seed", "must be >= 0, is " + std::to_string(seed));
+    checkRanges(input, kSection);
+    core::require(std::pow(double(branching), double(depth)) <= double(kMaxWords),
+                  input + ": " + core::iniKeyName(kSection, "depth"),
+                  "branching^depth = " + std::to_string(branching) + "^" + std::to_string(depth) + " exceeds " +
+                      std::to_string(kMaxWords) + " words");
 }
 
 // ---------------------------------------------------------------------------------------------- training

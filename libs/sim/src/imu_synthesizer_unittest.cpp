@@ -74,7 +74,7 @@ TEST(ImuNoiseOptions, IniRoundTripYamlAndCheck)
     EXPECT_EQ(b.bias_file, a.bias_file);
     // Modes are names, not numbers; a key for the other mode is an error, not silently ignored.
     ImuNoiseOptions m;
-    for (const char* bad : {"Real", "1", "synthetic_real"})
+    for (const char* bad : {"reel", "1", "synthetic_real"})  // names match without regard to case: "Real" is real
     {
         cfg.write("imu", "source", std::string(bad));
         EXPECT_THROW(m.loadFromConfigFile(cfg, "imu"), quasiloc::core::InputError) << bad;

@@ -39,7 +39,7 @@ void SimulationOptions::declare(core::OptionTable& t)
 
 void SimulationOptions::check(const std::string& in) const
 {
-    checkDeclaredRanges(in);
+    checkRanges(in);
     core::require(!output_dir.empty(), in + " output_dir", "is required");
     core::require(!sequence.empty() && sequence.find('/') == std::string::npos, in + " sequence",
                   "must be a plain name (it names the rawlog)");
@@ -75,7 +75,7 @@ void ImuNoiseOptions::declare(core::OptionTable& t)
 
 void ImuNoiseOptions::check(const std::string& in) const
 {
-    checkDeclaredRanges(in);
+    checkRanges(in);
     core::require(real_imu_csv.empty() || source == ImuSource::real, in + " real_imu_csv",
                   "is read only with source = real (got source = " + sourceName(source) + ")");
     core::require(bias_file.empty() || bias == ImuBiasModel::euroc_groundtruth, in + " bias_file",

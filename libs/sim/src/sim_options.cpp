@@ -40,7 +40,7 @@ void WorldOptions::declare(core::OptionTable& t)
 
 void WorldOptions::check(const std::string& in) const
 {
-    checkDeclaredRanges(in);
+    checkRanges(in);
     core::require(gmm_max_semi_axis_m >= gmm_min_semi_axis_m, in + " gmm_max_semi_axis_m",
                   "must be >= gmm_min_semi_axis_m");
     core::require((texture_size_px & (texture_size_px - 1)) == 0, in + " texture_size_px", "must be a power of two");
@@ -82,7 +82,7 @@ void AppearanceOptions::declare(core::OptionTable& t)
           "ellipse semi-axes as fraction of the room extent");
 }
 
-void AppearanceOptions::check(const std::string& in) const { checkDeclaredRanges(in); }
+void AppearanceOptions::check(const std::string& in) const { checkRanges(in); }
 
 void LidarOptions::declare(core::OptionTable& t)
 {
@@ -113,7 +113,7 @@ void LidarOptions::declare(core::OptionTable& t)
 
 void LidarOptions::check(const std::string& in) const
 {
-    checkDeclaredRanges(in);
+    checkRanges(in);
     core::require(beam_max_elevation_deg >= beam_min_elevation_deg, in + " beam_max_elevation_deg",
                   "must be >= beam_min_elevation_deg");
 }

@@ -39,7 +39,7 @@ TEST(LighterGlue, MatchesAgreeWithAKnownHomography)
     cv::warpPerspective(img, warped, cv::Mat(H), img.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
 
     FeatureOptions fo;
-    fo.type = "xfeat";
+    fo.type = FeatureType::XFeat;
     fo.xfeat_model_path = kXFeat;
     fo.max_keypoints = 500;
     auto extractor = createFeatureExtractor(fo);
@@ -50,7 +50,7 @@ TEST(LighterGlue, MatchesAgreeWithAKnownHomography)
     ASSERT_GE(f1.size(), 200u);
 
     PointMatchingOptions po;
-    po.method = "lighterglue";
+    po.method = MatchingMethod::LighterGlue;
     po.lighterglue_model = kLighterGlue;
     auto matcher = createPointMatcher(po);
     const auto matches = matcher->match(f0, f1);

@@ -3,7 +3,8 @@
 // name, the member it fills, its unit, its valid range and one line of documentation. Loading (strict: a value out
 // of range or not of the key's type is an InputError naming the key), saving, the known-key list that rejects
 // unknown keys (program_options.h: loadOptionsChecked) and the generated reference docs/options.md all come from
-// that declaration. Checks that relate two keys stay in the struct's own check().
+// that declaration, and so does checkRanges(), which tests values set in code (not loaded) against the declared
+// ranges. Checks that relate two keys stay in the struct's own check().
 //
 //     struct FooOptions : core::DeclaredOptions {
 //         double max_depth_m = 6;
@@ -69,8 +70,11 @@ class OptionTable
     /** "[x y z]": exactly three numbers, each in `range`. */
     void add(const std::string& key, Eigen::Vector3d& value, const std::string& unit, Range range,
              const std::string& doc);
-    /** One of the named values; an other name is an InputError listing them. A value may have several names (an
-     *  alias kept so that old INI files stay valid): the first one is the name saved. */
+    /** "[a b c]" of names (blanks or commas between them, brackets optional). */
+    void add(const std::string& key, std::vector<std::string>& value, const std::string& doc);
+    /** One of the named values (matched without regard to case: "SE3" is "se3"); an other name is an InputError
+     *  listing them. A value may have several names (an alias kept so that old INI files stay valid): the first one
+     *  is the name saved. */
     template <class E>
     void addEnum(const std::string& key, E& value, const std::vector<std::pair<std::string, E>>& names,
                  const std::string& doc)
@@ -90,10 +94,10 @@ class OptionTable
         Load,
         Save,
         Describe,
-        Check  ///< the present values against the declared ranges; `section` is then how errors name the struct
+        Check  ///< the present values against the declared ranges; errors name `input` and the key
     };
     OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
-                const std::string& section);
+                const std::string& section, const std::string& input = "");
     const std::vector<OptionDescription>& descriptions() const { return descriptions_; }
 
    private:
@@ -105,11 +109,13 @@ class OptionTable
     void emit(const std::string& key, const std::string& type, const std::string& unit, const std::string& range,
               const std::string& value, const std::string& doc);
     std::string readText(const std::string& key) const;
+    /** "[section] key", after "<input>: " when checking. */
+    std::string where(const std::string& key) const;
 
     Action action_;
     const mrpt::config::CConfigFileBase* in_;
     mrpt::config::CConfigFileBase* out_;
-    std::string section_;
+    std::string section_, input_;
     std::vector<OptionDescription> descriptions_;
 };
 
@@ -123,10 +129,9 @@ struct DeclaredOptions : public mrpt::config::CLoadableOptions
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
     /** The declared keys with their defaults (the struct's present values), for the reference. */
     std::vector<OptionDescription> describe() const;
-    /** The present values against the declared ranges, for options set in code rather than loaded: InputError
-     *  "<input> <key>: ..." for the first value out of range. check() functions call it before their checks
-     *  that relate two keys. */
-    void checkDeclaredRanges(const std::string& input) const;
+    /** InputError "<input>: [section] key: ..." for a present value outside its declared range (options set in
+     *  code rather than loaded, e.g. before a library uses them). */
+    void checkRanges(const std::string& input, const std::string& section = "") const;
 };
 
 }  // namespace quasiloc::core

@@ -35,8 +35,8 @@ mrpt::config::CConfigFileMemory loadConfig(const CommandLine& cmd);
 std::vector<std::string> knownKeys(const mrpt::config::CLoadableOptions& options, const std::string& section);
 
 /** Loads `options` from `section` after checking that the section has no unknown key (InputError
- *  naming the key, the section, the file, and the known keys). A bad value's error ("[section] key: ...")
- *  names the file too. */
+ *  naming the key, the section, the file, and the known keys). A value the options reject is an InputError
+ *  that names the file too ("<config_name> [section] key: ..."). */
 void loadOptionsChecked(mrpt::config::CLoadableOptions& options, const mrpt::config::CConfigFileBase& cfg,
                         const std::string& section, const std::string& config_name);
 

@@ -7,13 +7,23 @@
 #include <Eigen/Geometry>
 #include <quasiloc/core/camera_model.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace quasiloc::estimation
 {
+enum class PnpMethod
+{
+    Magsac,       ///< OpenCV USAC with MAGSAC++
+    UsacDefault,  ///< OpenCV USAC_DEFAULT
+    Ransac        ///< classic OpenCV RANSAC + EPnP
+};
+/** The INI names of the methods: magsac, usac_default, ransac. */
+const std::vector<std::pair<std::string, PnpMethod>>& pnpMethodNames();
+
 struct AbsolutePoseOptions
 {
-    std::string method = "magsac";    ///< magsac | usac_default | ransac (classic OpenCV RANSAC + EPnP)
+    PnpMethod method = PnpMethod::Magsac;
     double max_reproj_error_px = 2.0;
     double confidence = 0.999;
     int max_iterations = 2000;

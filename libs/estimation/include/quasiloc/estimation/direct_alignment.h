@@ -10,63 +10,39 @@
 //    is why this crosses the gap where descriptors fail. Minimised by Levenberg-Marquardt (Huber weights) on
 //    an image pyramid, coarse to fine: the coarse levels' distance fields are smooth over tens of pixels,
 //    which gives the basin of attraction; the fine level gives the precision.
-//  * NMI (a check and a polish). Normalised mutual information (Studholme) between the camera intensity at the
-//    projection of map points and their reflectivity (Wolcott & Eustice, IROS 2014): it rewards any
-//    consistent (not necessarily linear) relation between the two. Computed from a joint histogram.
+//  * NMI (a measure, not optimised: bench_crossmodal's cost profile). Normalised mutual information (Studholme)
+//    between the camera intensity at the projection of map points and their reflectivity (Wolcott & Eustice,
+//    IROS 2014): it rewards any consistent (not necessarily linear) relation between the two. Computed from a
+//    joint histogram.
 //
 // The model (map side) is built from one quasi-image rendered at the initial pose; the camera side once per
 // image. Poses: T_world_cam maps camera coordinates to world; updates are right perturbations in the camera
 // frame, delta = [dtheta; dp] (pose_parametrization.h).
 //
-//   [DirectAlignment]
-//   pyramid_levels = 2              ; 0 = full resolution only; level l has 1/2^l of the resolution
-//   camera_blur_sigma_px = 0        ; Gaussian blur before the camera's Canny, at every level (level pixels)
-//   canny_high_percentile = 85      ; camera Canny high threshold: this percentile of the gradient magnitude
-//   canny_low_ratio = 0.4           ; low threshold = ratio * high
-//   orientation_bins = 6            ; edge orientation classes (1: none): a map edge is attracted only by camera
-//                                   ;   edges within 180/bins deg of its own orientation (directional chamfer);
-//                                   ;   up to 8 classes share one fused distance transform (classDistanceTransforms),
-//                                   ;   so the camera side costs about one transform per level whatever the bins
-//                                   ;   (4 bins: ATE 1.09 cm instead of ~0.9 on config.ini's 10 s run: kept at 6)
-//   truncation_px = 12              ; DT truncation at every level (level pixels): farther points do not pull
-//   huber_px = 2                    ; Huber threshold on DT residuals (level pixels)
-//   iterations_per_level = 12       ; LM iterations per pyramid level (and per level of the fine pass)
-//   fine_truncation_px = 0          ; > 0: after the pyramid, a second coarse-to-fine pass, without the prior, whose
-//   fine_huber_px = 1               ;   distances are truncated at this (<= truncation_px, level pixels) with this
-//                                   ;   Huber threshold: only map edges already within a few pixels of a camera
-//                                   ;   edge pull (see alignDirect)
-//   max_edge_points = 3000          ; map edge points kept (spread over a grid)
-//   model_block_px = 4              ; map edges are found on planes reduced by this (nearest surface per block)
-//   model_close_px = 2              ; closing (in blocks) of the inverse depth before depth edges: fills holes
-//   depth_edge_rel = 0.08           ; depth edge: a 4-neighbour farther by more than rel * depth
-//   refl_canny_high = 0.12          ; reflectivity edges: Canny high threshold on reflectivity (map units, [0,1])
-//   use_reflectivity_edges = true
-//   nmi_bins = 24                   ; joint histogram bins per axis
-//   max_nmi_points = 6000           ; map points used by NMI
-//   nmi_polish = false              ; finish with a pattern search maximising NMI
+// Options: [DirectAlignment], declared in DirectAlignmentOptions::declare (direct_alignment_options.cpp).
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <opencv2/core.hpp>
 #include <quasiloc/core/camera_model.h>
+#include <quasiloc/core/declared_options.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::estimation
 {
-struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
+struct DirectAlignmentOptions : public core::DeclaredOptions
 {
     int pyramid_levels = 2;
     double camera_blur_sigma_px = 0;
     double canny_high_percentile = 85;
     double canny_low_ratio = 0.4;
+    /** Directional chamfer: a map edge is attracted only by camera edges within 180/bins deg of its own
+     *  orientation. Up to 8 classes share one fused distance transform (classDistanceTransforms), so the camera
+     *  side costs about one transform per level whatever the bins. Why 6: docs/experiments_estimation.md. */
     int orientation_bins = 6;
     double truncation_px = 12;
     double huber_px = 2;
     int iterations_per_level = 12;
-    double fine_truncation_px = 0;
-    double fine_huber_px = 1;
     int max_edge_points = 3000;
     int model_block_px = 4;
     int model_close_px = 2;
@@ -75,12 +51,8 @@ struct DirectAlignmentOptions : public mrpt::config::CLoadableOptions
     bool use_reflectivity_edges = true;
     int nmi_bins = 24;
     int max_nmi_points = 6000;
-    bool nmi_polish = false;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` and the key for a value that cannot be used. */
-    void check(const std::string& input) const;
+    void declare(core::OptionTable& t) override;
 };
 
 /** The map side: 3D points (world frame) on map edges, and points with reflectivity for NMI. */
@@ -137,11 +109,9 @@ struct DirectAlignmentStats
     int edge_points = 0;
     double initial_edge_cost = 0, final_edge_cost = 0;  ///< mean Huber cost at the full-resolution level
     double final_inlier_ratio = 0;  ///< share of edge points with DT < huber_px at full resolution
-    double initial_nmi = 0, final_nmi = 0;
     double ms = 0;
     /** Gauss-Newton Hessian of the mean edge cost at the final pose, full resolution, prior excluded (tangent
-     *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. alignDirect
-     *  fills it; alignDirectCeres leaves it zero. */
+     *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. */
     Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
 };
 
@@ -172,6 +142,5 @@ struct DirectPrior
 bool alignDirect(const DirectAlignmentOptions& options, const CameraEdgeField& field, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, Eigen::Isometry3d& T_world_cam,
                  DirectAlignmentStats* stats = nullptr, const DirectPrior* prior = nullptr);
-
 
 }  // namespace quasiloc::estimation

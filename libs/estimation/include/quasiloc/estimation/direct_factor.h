@@ -43,13 +43,4 @@ class DirectEdgeCostFunction final : public ceres::CostFunction
     double inv_sigma_, truncation_px_, flat_px_, huber_;
 };
 
-/** alignDirect's problem solved by Ceres with DirectEdgeCostFunction: coarse to fine over the field's levels,
- *  Huber at huber_px, the optional prior as a Gaussian on the pose (weight scaled like alignDirect's, which
- *  averages the edge cost over the points); then, with fine_truncation_px > 0, the fine pass without the prior. T_world_cam: in the initial guess, out the estimate. Returns false
- *  (pose unchanged) for fewer than 20 edge points or when no level took a successful step. */
-bool alignDirectCeres(const DirectAlignmentOptions& options, const CameraEdgeField& field,
-                      const core::CameraModel& camera, const DirectAlignmentModel& model,
-                      Eigen::Isometry3d& T_world_cam, DirectAlignmentStats* stats = nullptr,
-                      const DirectPrior* prior = nullptr);
-
 }  // namespace quasiloc::estimation

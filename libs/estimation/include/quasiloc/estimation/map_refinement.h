@@ -14,32 +14,12 @@
 //            window of the direct result; PnP's pose is kept if it has enough inliers and agrees with the
 //            direct one (within agree_m / agree_deg), else the direct pose stands.
 //
-//   [MapRefinement]
-//   window_sigmas = 2.0        ; guided window radius in sigmas of the predicted reprojection
-//   min_window_px = 8
-//   max_window_px = 160
-//   guided_candidates = 3      ; K candidates kept per camera keypoint
-//   combined_sigma_m = 0.05    ; the direct estimate's assumed uncertainty (for the combined window)
-//   combined_sigma_deg = 0.3
-//   min_inliers = 15           ; fewer PnP inliers: the feature pose is not trusted
-//   agree_m = 0.3              ; combined: PnP pose must lie this close to the direct pose ...
-//   agree_deg = 2.0            ; ... and within this rotation
-//   gate_sigmas = 3.0          ; features/guided: a PnP pose farther than this many sigmas of the prediction is
-//                              ;   rejected (the prediction is kept)
-//   direct_prior_weight = 0.2  ; direct/combined: weight of the prediction prior (sigma_m, sigma_rad) in the edge
-//                              ;   cost (0: no prior)
-//   lift_radius_px = 2         ; provenance search radius when lifting a Q keypoint
-//   pnp_max_error_px = 3       ; PnP inlier threshold
-//   quasi_gray = encoding      ; features/guided/combined: the Q image features are extracted on: encoding (Q's
-//                              ;   gray, [QuasiImage] gray_mode) or matched_reflectivity (the reflectivity remapped to
-//                              ;   the camera image's grey-level histogram, quasi/histogram_matching.h)
-//   direct_solver = lm         ; direct/combined: lm (alignDirect's own Levenberg-Marquardt) | ceres (the same
-//                              ;   problem as a Ceres factor, direct_factor.h: what an estimator window would add)
+//
+// Options: [MapRefinement] (MapRefinementOptions::declare, map_refinement_options.cpp) and [DirectAlignment].
 #include <Eigen/Geometry>
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <opencv2/core.hpp>
 #include <quasiloc/core/camera_model.h>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/frontend/frontend.h>
 #include <quasiloc/quasi/quasi_renderer.h>
@@ -59,7 +39,14 @@ enum class RefinementMethod
 std::string toString(RefinementMethod m);
 RefinementMethod refinementMethodFromString(const std::string& name, const std::string& input);
 
-struct MapRefinementOptions : public mrpt::config::CLoadableOptions
+/** The 8-bit image of a quasi-image that its features are extracted on. */
+enum class QuasiGray
+{
+    Encoding,            ///< Q's gray image ([QuasiImage] gray_mode)
+    MatchedReflectivity  ///< the reflectivity remapped to the camera image's histogram (quasi/histogram_matching.h)
+};
+
+struct MapRefinementOptions : public core::DeclaredOptions
 {
     double window_sigmas = 2.0;
     double min_window_px = 8, max_window_px = 160;
@@ -71,12 +58,15 @@ struct MapRefinementOptions : public mrpt::config::CLoadableOptions
     double direct_prior_weight = 0.2;
     double lift_radius_px = 2;
     double pnp_max_error_px = 3;
-    std::string direct_solver = "lm";
-    std::string quasi_gray = "encoding";
+    QuasiGray quasi_gray = QuasiGray::Encoding;
     DirectAlignmentOptions direct;  ///< section [DirectAlignment]
 
+    void declare(core::OptionTable& t) override;
+    /** [MapRefinement] from `section`, and `direct` from [DirectAlignment]. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
     void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    /** InputError naming `input` and the key for a value out of its declared range (here or in `direct`) or
+     *  min_window_px > max_window_px. */
     void check(const std::string& input) const;
 };
 

@@ -21,8 +21,7 @@
 // Weights are computed once per linearisation and held fixed during one Gauss-Newton solve.
 // Modes (ablations): Uniform (W* = W_meas), Observability (kappa = 0 and a single hypothesis: the nominal
 // candidate with p = 1), Full (all candidates, kappa as configured).
-#include <mrpt/config/CLoadableOptions.h>
-
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/estimation/pose_parametrization.h>
 #include <string>
 #include <vector>
@@ -36,19 +35,18 @@ enum class ReweightingMode
     Full
 };
 
-/** INI section [Reweighting]. */
-struct ReweightingOptions : public mrpt::config::CLoadableOptions
+/** INI section [Reweighting] (ReweightingOptions::declare, reweighting.cpp). */
+struct ReweightingOptions : public core::DeclaredOptions
 {
-    std::string mode = "full";  ///< uniform | observability | full
-    double tau = 1000.0;         ///< a_k = max(0, 1 - sqrt(lambda_k) / tau); same unit as sqrt(lambda)
-    double beta = 4.0;           ///< W* = (1 + beta q) W_meas
-    double kappa = 1.0;          ///< g^ = max(0, mu - kappa sigma) (full mode only)
-    double epsilon = 1e-9;       ///< regulariser of q's denominator
+    ReweightingMode mode = ReweightingMode::Full;
+    double tau = 1000.0;   ///< a_k = max(0, 1 - sqrt(lambda_k) / tau); same unit as sqrt(lambda)
+    double beta = 4.0;     ///< W* = (1 + beta q) W_meas
+    double kappa = 1.0;    ///< g^ = max(0, mu - kappa sigma) (full mode only)
+    double epsilon = 1e-9; ///< regulariser of q's denominator
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range (no two keys relate). */
     void check(const std::string& input) const;
-    ReweightingMode reweightingMode() const;
 };
 
 /** The linearised candidates of one structural factor: H_ic = J_ic^T W_meas J_ic and p_ic. */

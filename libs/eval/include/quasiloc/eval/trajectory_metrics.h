@@ -9,6 +9,7 @@
 #include <quasiloc/eval/error_stats.h>
 #include <quasiloc/eval/umeyama.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace quasiloc::eval
@@ -19,9 +20,9 @@ enum class Alignment
     SE3,
     Sim3
 };
-std::string toString(Alignment a);  ///< "none", "se3", "sim3"
-/** Parses "none" | "se3" | "sim3" (case-insensitive); InputError naming `input` otherwise. */
-Alignment alignmentFromString(const std::string& s, const std::string& input);
+/** The INI names of the alignments ([Eval] align): none, se3, sim3. */
+const std::vector<std::pair<std::string, Alignment>>& alignmentNames();
+std::string toString(Alignment a);
 
 /** One associated pair: T_world_frame of the estimate and of the ground truth. */
 struct PosePair

@@ -4,22 +4,8 @@
 // the descriptor similarity (point_matcher.h), for lines the hybrid-descriptor similarity <f_i, f_j>.
 // Candidates far below the nominal one (similarity gap) are not kept: they would only carry numerical noise.
 //
-//   [Association]
-//   max_candidates = 3            ; K
-//   temperature = 0.05            ; softmax temperature on similarities
-//   max_similarity_gap = 0.15     ; keep candidates with s >= s_best - gap
-//   lift_search_radius_px = 2     ; lifting: nearest provenance pixel whose point projects within this
-//   line_support_samples = 16     ; lines: samples along the segment for LiDAR support
-//   line_band_px = 1.5            ; lines: support points project within this of the segment
-//   line_support_tolerance_m = 0.05 ; lines: support points within this of the 3D line fitted to them
-//   plane_side_offset_px = 3      ; planes: support band starts this far from the line on each side ...
-//   plane_side_width_px = 10      ; ... and is this wide
-//   plane_min_points = 15         ; fewer support points: no plane
-//   plane_max_rms_m = 0.03        ; thicker support: not a plane
-//   plane_min_extent_ratio = 0.15 ; degeneracy: sqrt(lambda_2 / lambda_1) of the support below this is a
-//                                 ; line-like support (a plane's rotation about it is unobservable): rejected
-#include <mrpt/config/CLoadableOptions.h>
-
+// Options: [Association] (AssociationOptions::declare, association.cpp).
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/frontend/line_matcher.h>
 #include <quasiloc/frontend/point_matcher.h>
 #include <string>
@@ -27,7 +13,7 @@
 
 namespace quasiloc::frontend
 {
-struct AssociationOptions : public mrpt::config::CLoadableOptions
+struct AssociationOptions : public core::DeclaredOptions
 {
     int max_candidates = 3;
     double temperature = 0.05;
@@ -40,11 +26,10 @@ struct AssociationOptions : public mrpt::config::CLoadableOptions
     double plane_side_width_px = 10;
     int plane_min_points = 15;
     double plane_max_rms_m = 0.03;
+    /** Below it the support is line-like: a plane's rotation about that line is unobservable. */
     double plane_min_extent_ratio = 0.15;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    void check(const std::string& input) const;
+    void declare(core::OptionTable& t) override;
 };
 
 struct AssociationCandidate

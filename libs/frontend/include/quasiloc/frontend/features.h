@@ -3,35 +3,18 @@
 // source-agnostic front-end): keypoints + descriptors + a dense descriptor map that the hybrid line
 // descriptor samples along segments ("point branch", line_descriptor.h).
 //
-//   [Features]
-//   type = orb                 ; orb | sift | akaze | xfeat
-//   max_keypoints = 1000       ; the budget
-//   grid_cols = 8              ; spatial spreading: the image is cut into grid_cols x grid_rows cells; each
-//   grid_rows = 6              ;   cell keeps its strongest keypoints up to budget / cells, then the remaining
-//                              ;   budget goes to the strongest leftovers anywhere
-//   detect_factor = 2.0        ; detectors are asked for detect_factor * max_keypoints candidates
-//   orb_fast_threshold = 12    ; ORB FAST threshold for images without a mask (camera images; lower than OpenCV's 20)
-//   orb_fast_threshold_masked = 20 ; ... for images given with a validity mask (quasi-images): the rendered
-//                              ;   quasi-images have many weak FAST corners (rendering noise); 20 instead of 12 saves
-//                              ;   ~1.5 ms CPU per 752x480 quasi-image (extraction budget 15 ms) at no measurable
-//                              ;   cost in camera<->quasi matches (bench_frontend)
-//   orb_levels = 6             ; ORB pyramid levels (scale 1.2)
-//   sift_contrast_threshold = 0.02
-//   akaze_threshold = 0.0005
-//   xfeat_model_path =         ; XFeat ONNX (e.g. ../shared/models/xfeat/xfeat_dyn_op11.onnx); required when type = xfeat
-//   xfeat_detection_threshold = 0.05  ; keypoint probability threshold after 5x5 NMS
-//   dense_map = true           ; compute the dense map (needed by the hybrid line descriptor)
+// Options: [Features] (FeatureOptions::declare, feature_options.cpp).
 //
 // Dense maps (point branch): XFeat: its `feats` output (64 channels, stride 8), L2-normalised per cell.
 // Classical (orb, sift, akaze): a DAISY-like map computed at quarter resolution (stride 4): image gradients
 // soft-binned into 8 unsigned orientations (magnitude-weighted), pooled by Gaussians of sigma 1 and 2 cells
 // (4 and 8 image pixels; 16 channels), L2-normalised per cell. It describes the local gradient layout around a position, which is
 // what a segment's neighbourhood looks like; it is not rotation invariant (neither is XFeat's).
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <memory>
 #include <opencv2/core.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace quasiloc::frontend
@@ -43,6 +26,8 @@ enum class FeatureType
     Akaze,
     XFeat
 };
+/** The INI names of the feature types ([Features] type). */
+const std::vector<std::pair<std::string, FeatureType>>& featureTypeNames();
 std::string toString(FeatureType t);
 
 /** A dense descriptor map: `data` is CV_32FC1 with rows = rows_cells * cols_cells and cols = channels
@@ -76,13 +61,17 @@ struct Features
     bool binary() const { return descriptors.depth() == CV_8U; }
 };
 
-struct FeatureOptions : public mrpt::config::CLoadableOptions
+struct FeatureOptions : public core::DeclaredOptions
 {
-    std::string type = "orb";
+    FeatureType type = FeatureType::Orb;
     int max_keypoints = 1000;
+    /** Spatial spreading: the image is cut into grid_cols x grid_rows cells; each cell keeps its strongest keypoints
+     *  up to budget / cells, then the remaining budget goes to the strongest leftovers anywhere. */
     int grid_cols = 8, grid_rows = 6;
     double detect_factor = 2.0;
-    int orb_fast_threshold = 12;
+    int orb_fast_threshold = 12;  ///< camera images: lower than OpenCV's 20
+    /** Quasi-images (given with a validity mask) have many weak FAST corners (rendering noise): why 20 and not 12,
+     *  docs/experiments_estimation.md. */
     int orb_fast_threshold_masked = 20;
     int orb_levels = 6;
     double sift_contrast_threshold = 0.02;
@@ -91,11 +80,10 @@ struct FeatureOptions : public mrpt::config::CLoadableOptions
     double xfeat_detection_threshold = 0.05;
     bool dense_map = true;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` and the key for a value that cannot be used (including a missing XFeat model). */
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, or type = xfeat without a
+     *  readable model file. */
     void check(const std::string& input) const;
-    FeatureType featureType() const;
 };
 
 class FeatureExtractor

@@ -4,17 +4,9 @@
 // the caller passes segments already in the same pixel frame (a quasi-image rendered at the predicted pose
 // is), and the geometric gate removes pairs that are too far apart or too differently oriented.
 //
-//   [LineMatching]
-//   epsilon = 0.05              ; entropy regularisation (cost units; smaller = sharper plan, more iterations)
-//   dustbin_cost = 0.35         ; cost of leaving a line unmatched (pairs with 1 - <f_i,f_j> above it lose)
-//   max_iterations = 100
-//   tolerance = 1e-4            ; row-marginal error at which iterations stop
-//   min_probability = 0.2       ; P_ij needed for a match
-//   gate_max_distance_px = 40   ; geometric gate: a segment's midpoint within this of the other segment
-//   gate_max_angle_deg = 10     ; ... and directions within this angle (undirected)
-#include <mrpt/config/CLoadableOptions.h>
-
+// Options: [LineMatching] (LineMatchingOptions::declare, line_matcher.cpp).
 #include <opencv2/core.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/frontend/lines.h>
 #include <quasiloc/frontend/sinkhorn.h>
 #include <string>
@@ -22,7 +14,7 @@
 
 namespace quasiloc::frontend
 {
-struct LineMatchingOptions : public mrpt::config::CLoadableOptions
+struct LineMatchingOptions : public core::DeclaredOptions
 {
     double epsilon = 0.05;
     double dustbin_cost = 0.35;
@@ -32,9 +24,7 @@ struct LineMatchingOptions : public mrpt::config::CLoadableOptions
     double gate_max_distance_px = 40;
     double gate_max_angle_deg = 10;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    void check(const std::string& input) const;
+    void declare(core::OptionTable& t) override;
 };
 
 struct LineMatch

@@ -2,14 +2,7 @@
 // Line segments and their hybrid descriptor (PAPER_NOTES: f_l = normalize([g_l * mean line-branch features;
 // g_p * mean point-branch features]) along the segment).
 //
-//   [Lines]
-//   detector = fld            ; lsd | fld | edlines  (FLD runs with merging off)
-//   min_length_px = 25        ; shorter segments are dropped
-//   max_lines = 150           ; the longest ones are kept
-//   samples_per_line = 16     ; descriptor samples spread evenly between the endpoints
-//   band_width_px = 2.0       ; line branch: perpendicular spacing of the sampling bands
-//   line_branch_weight = 1.0  ; g_l
-//   point_branch_weight = 1.0 ; g_p
+// Options: [Lines] (LineOptions::declare, line_detector.cpp).
 //
 // Line branch (defined here for every front-end; the paper's learned line branch is not available): at every
 // sample, the image gradient is read at 4 perpendicular offsets (-3/2, -1/2, +1/2, +3/2) * band_width_px and
@@ -18,10 +11,9 @@
 // the image is brighter on the left of d (gradient polarity), making the descriptor independent of the
 // endpoints' order. Point branch: the mean of the extractor's dense map (features.h) at the samples.
 // Each branch mean is L2-normalised before weighting, so g_l and g_p set their shares exactly.
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/frontend/features.h>
 #include <string>
 #include <vector>
@@ -42,9 +34,16 @@ struct LineSegment
     float distanceToSegment(const Eigen::Vector2f& p) const;
 };
 
-struct LineOptions : public mrpt::config::CLoadableOptions
+enum class LineDetectorType
 {
-    std::string detector = "fld";
+    Lsd,
+    Fld,  ///< run with merging off
+    EdLines
+};
+
+struct LineOptions : public core::DeclaredOptions
+{
+    LineDetectorType detector = LineDetectorType::Fld;
     double min_length_px = 25;
     int max_lines = 150;
     int samples_per_line = 16;
@@ -52,8 +51,8 @@ struct LineOptions : public mrpt::config::CLoadableOptions
     double line_branch_weight = 1.0;
     double point_branch_weight = 1.0;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, or both branch weights 0. */
     void check(const std::string& input) const;
 };
 

@@ -8,31 +8,26 @@
 //    builds without libtorch reject this method with an error naming the key). The network sees every keypoint of
 //    both images; the search region then gates its matches.
 //
-//   [PointMatching]
-//   method = mutual_nn          ; mutual_nn | lighterglue (needs libtorch and [Features] type = xfeat)
-//   ratio = 0.9                 ; mutual_nn: best < ratio * second best (distance); 1 disables the test
-//   mutual = true               ; mutual_nn: the train keypoint's best query must be the query
-//   max_distance_l2 = 1.0       ; float descriptors: larger L2 distances never match (unit vectors: 0..2)
-//   max_distance_hamming = 80   ; binary descriptors: larger Hamming distances never match
-//   window_px = 0               ; > 0: a query's match must lie within window_px of the query's position
-//                               ;   (or of its predicted position); 0: anywhere in the image
-//   lighterglue_model =         ; TorchScript file (e.g. ../shared/models/lighterglue/lighterglue_L3_ts.pt);
-//                               ;   required when method = lighterglue
-//   lighterglue_min_score = 0.1 ; lighterglue: a mutual best pair matches when its assignment probability is above this
-#include <mrpt/config/CLoadableOptions.h>
-
+// Options: [PointMatching] (PointMatchingOptions::declare, point_matcher.cpp).
 #include <functional>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/frontend/features.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::frontend
 {
-struct PointMatchingOptions : public mrpt::config::CLoadableOptions
+enum class MatchingMethod
 {
-    std::string method = "mutual_nn";
+    MutualNn,    ///< mutual nearest neighbour + ratio test
+    LighterGlue  ///< the LighterGlue network (libtorch; [Features] type = xfeat)
+};
+
+struct PointMatchingOptions : public core::DeclaredOptions
+{
+    MatchingMethod method = MatchingMethod::MutualNn;
     double ratio = 0.9;
     bool mutual = true;
     double max_distance_l2 = 1.0;
@@ -41,12 +36,11 @@ struct PointMatchingOptions : public mrpt::config::CLoadableOptions
     std::string lighterglue_model;
     double lighterglue_min_score = 0.1;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` and the key for a value that cannot be used: an unknown method, lighterglue in a
-     *  build without libtorch ([PointMatching] method), a missing LighterGlue model file. */
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, or method = lighterglue in a
+     *  build without libtorch ([PointMatching] method) or without a readable model file (lighterglue_model). */
     void check(const std::string& input) const;
-    bool useLighterGlue() const { return method == "lighterglue"; }
+    bool useLighterGlue() const { return method == MatchingMethod::LighterGlue; }
     /** The distance limit for these descriptors. */
     double maxDistance(const Features& f) const { return f.binary() ? max_distance_hamming : max_distance_l2; }
 };

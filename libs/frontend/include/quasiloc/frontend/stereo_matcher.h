@@ -4,17 +4,9 @@
 // (core::StereoRig::rectify); a pair is a candidate when its rectified rows agree within max_epipolar_px and
 // its disparity is in range; among candidates, mutual nearest neighbour + ratio test on the descriptors.
 //
-//   [Stereo]
-//   max_epipolar_px = 1.5     ; |v_left - v_right| in the rectified images
-//   min_disparity_px = 1.0
-//   max_disparity_px = 120
-//   ratio = 0.9               ; ratio test among the epipolar candidates; 1 disables
-//   max_distance_l2 = 1.0     ; descriptor limits (as in [PointMatching])
-//   max_distance_hamming = 80
-//   max_depth_m = 30          ; triangulated points farther than this are dropped
-#include <mrpt/config/CLoadableOptions.h>
-
+// Options: [Stereo] (StereoOptions::declare, stereo_matcher.cpp).
 #include <Eigen/Core>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/stereo_rig.h>
 #include <quasiloc/frontend/point_matcher.h>
 #include <string>
@@ -22,7 +14,7 @@
 
 namespace quasiloc::frontend
 {
-struct StereoOptions : public mrpt::config::CLoadableOptions
+struct StereoOptions : public core::DeclaredOptions
 {
     double max_epipolar_px = 1.5;
     double min_disparity_px = 1.0;
@@ -32,8 +24,9 @@ struct StereoOptions : public mrpt::config::CLoadableOptions
     int max_distance_hamming = 80;
     double max_depth_m = 30;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, or unless max_disparity_px >
+     *  min_disparity_px. */
     void check(const std::string& input) const;
 };
 

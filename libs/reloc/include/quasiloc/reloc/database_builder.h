@@ -5,20 +5,10 @@
 // descriptors and index every view. Rendering and extraction run on `threads` workers, each with its own
 // renderer and extractor (neither is thread-safe); the result does not depend on the thread count.
 //
-//   [BuildDatabase] (library part; the program adds its file keys)
-//   min_valid_fraction = 0.3   ; a view whose quasi-image has fewer valid pixels is dropped (looks at a void)
-//   min_lifted = 30            ; a view with fewer keypoints lifted to the map is dropped (nothing to localize with)
-//   store_lines = true         ; detect and lift line segments too ([Lines] options)
-//   threads = 0                ; workers; 0 = all cores
-//   image_blur_sigma_px = 2.5  ; Gaussian blur of the quasi-image (and of every query, database.h) before feature
-//                              ;   extraction: a quasi-image's pixel-level speckle (one LiDAR point per pixel, each
-//                              ;   with its own reflectivity noise) changes with the viewpoint, so corners on it do
-//                              ;   not repeat between views; blurring leaves the corners of the map's structure
-//                              ;   (simulated room, quasi-image queries: recall 5 % unblurred, 24 % at 1.5, 67 % at 2.5)
-#include <mrpt/config/CLoadableOptions.h>
-
+// Options: [BuildDatabase] (DatabaseBuildOptions::declare, database_builder.cpp; the program adds its file keys).
 #include <functional>
 #include <quasiloc/core/camera_model.h>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/frontend/association.h>
 #include <quasiloc/frontend/features.h>
 #include <quasiloc/frontend/lines.h>
@@ -30,17 +20,18 @@
 
 namespace quasiloc::reloc
 {
-struct DatabaseBuildOptions : public mrpt::config::CLoadableOptions
+struct DatabaseBuildOptions : public core::DeclaredOptions
 {
     double min_valid_fraction = 0.3;
     int min_lifted = 30;
     bool store_lines = true;
     int threads = 0;
+    /** A quasi-image's pixel-level speckle (one LiDAR point per pixel, each with its own reflectivity noise) changes
+     *  with the viewpoint, so corners on it do not repeat between views; blurring (the views and every query,
+     *  database.h) leaves the corners of the map's structure. Why 2.5: docs/experiments_estimation.md. */
     double image_blur_sigma_px = 2.5;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    void check(const std::string& input) const;
+    void declare(core::OptionTable& t) override;
 };
 
 /** Everything the build reads, one struct per INI section. */

@@ -19,43 +19,12 @@
 //     their share is >= min_inlier_ratio and no refined pose farther than 0.3 m or 5 deg from it reaches
 //     ambiguity_ratio of its inliers; otherwise "not localized" with the reason (never a weak guess).
 //
-//   [GeometricLocalization]
-//   field_voxel_m = 0.04        ; distance field (map::DistanceField): voxel and truncation
-//   field_max_distance_m = 0.5
-//   num_disparities = 64        ; stereo (stereo_cloud.h)
-//   block_size = 5
-//   uniqueness_ratio = 10
-//   min_depth_m = 0.3
-//   max_depth_m = 3.5           ; farther SGBM points were biased: a rendered frame of the simulated room
-//                               ;   localized 1.4 cm / 0.75 deg off with 5 m, 1.0 cm / 0.2 deg with 3.5 m
-//   query_voxel_m = 0.08
-//   max_points = 2000
-//   stereo_downscale = 2        ; SGBM on the rectified pair halved: 4x faster, and on the simulated room's test
-//                               ;   frame more exact (0.7 cm / 0.15 deg against 1.0 cm / 0.2 deg at full size)
-//   disparity_sigma_px = 0.25   ; depth noise z^2 / (f b) x this: each point's weight in the refinement, and
-//                               ;   an inlier may lie inlier_m + 2 depth sigmas from the map
-//   grid_spacing_m = 0.25       ; candidate positions (view_sampling.h keys)
-//   heights_m = 0.5 0.8 1.1 1.4 1.7 2.0
-//   clearance_m = 0.2
-//   require_enclosed = true     ; indoors; false outdoors
-//   region = []                 ; optional [xmin ymin xmax ymax]: search only there
-//   num_yaws = 36
-//   score_points = 200
-//   coarse_truncation_m = 0.3
-//   refine_candidates = 16
-//   refine_truncations_m = 0.3 0.15 0.08
-//   refine_iterations = 8       ; Gauss-Newton iterations per truncation
-//   polish_truncations_m = 0.1 0.05 ; point-to-point ICP of the best pose (empty: none)
-//   inlier_m = 0.06
-//   min_inlier_ratio = 0.7       ; half-resolution stereo on the simulated rooms: 0.80-0.91 at the true pose, 0.52-0.64
-//                               ;   at wrong ones (a kidnapped tracker, a wrong fix near the end of V2_02)
-//   ambiguity_ratio = 0.9
+// Options: [GeometricLocalization] (GeometricLocalizationOptions::declare, geometric_localizer_options.cpp).
 //
 // Frames: world z up (gravity along -z), as in the map frames of EuRoC/Vicon and KITTI.
-#include <mrpt/config/CLoadableOptions.h>
-
 #include <Eigen/Geometry>
 #include <memory>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/reloc/view_sampling.h>
@@ -64,9 +33,11 @@
 
 namespace quasiloc::reloc
 {
-struct GeometricLocalizationOptions : public mrpt::config::CLoadableOptions
+struct GeometricLocalizationOptions : public core::DeclaredOptions
 {
     double field_voxel_m = 0.04, field_max_distance_m = 0.5;
+    /** Keys num_disparities ... stereo_downscale of this section. Why max_depth_m = 3.5 (farther SGBM points were
+     *  biased) and stereo_downscale = 2 (4x faster, and more exact): docs/experiments_estimation.md. */
     StereoCloudOptions stereo;
     double grid_spacing_m = 0.25;
     std::vector<double> heights_m{0.5, 0.8, 1.1, 1.4, 1.7, 2.0};
@@ -81,12 +52,13 @@ struct GeometricLocalizationOptions : public mrpt::config::CLoadableOptions
     int refine_iterations = 8;
     std::vector<double> polish_truncations_m{0.1, 0.05};
     double inlier_m = 0.06;
+    /** Between the inlier ratios at true and at wrong poses (docs/experiments_estimation.md). */
     double min_inlier_ratio = 0.7;
     double ambiguity_ratio = 0.9;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` and the key for a value that cannot be used. */
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, or values that do not fit
+     *  together (the stereo keys, the region, empty lists). */
     void check(const std::string& input) const;
 };
 

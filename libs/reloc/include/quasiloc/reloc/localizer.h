@@ -21,39 +21,11 @@
 // Budgets: Fast tries fast_groups groups, and fast_groups_retry when that fails; Full tries full_groups, then
 // full_groups_retry.
 //
-//   [Localization]
-//   retrieval_per_group = 4      ; views retrieved per group asked for
-//   group_radius_m = 1.0
-//   group_heading_deg = 50
-//   views_per_group = 3
-//   fast_groups = 16
-//   fast_groups_retry = 32
-//   full_groups = 40
-//   full_groups_retry = 200
-//   pnp_groups = 4               ; hypotheses (best re-ranked groups) that get a PnP
-//   min_group_matches = 12       ; groups with fewer 2D-3D correspondences get no PnP
-//   match_level = 1              ; a query descriptor is compared only with the view's descriptors under the same
-//                                ;   vocabulary node at this level (1 = the root's children; 0 = all): the
-//                                ;   direct index of DBoW2, about branching^level times fewer comparisons
-//   voting_radius_m = 0.1
-//   min_votes = 1                ; keep only correspondences confirmed by this many of a group's views, when at
-//                                ;   least min_group_matches of them are (else all). 2 lowered the recall on the
-//                                ;   simulated room (19 % vs 86 %): blurred corners lift to different map points
-//                                ;   in different views
-//   pnp_reproj_px = 3.0          ; PnP inlier threshold
-//   pnp_method = usac_default    ; magsac | usac_default | ransac (estimation/absolute_pose.h); on the simulated
-//                                ;   room usac_default was as accurate as magsac at a tenth of the time
-//   pnp_max_iterations = 1000
-//   min_inliers = 15
-//   min_inlier_ratio = 0.1
-//   max_distance_to_views_m = 3.0
-//   ambiguity_distance_m = 0.5
-//   ambiguity_ratio = 0.8
-#include <mrpt/config/CLoadableOptions.h>
-
+// Options: [Localization] (LocalizerOptions::declare, localizer_options.cpp) and [PointMatching].
 #include <Eigen/Geometry>
 #include <memory>
 #include <quasiloc/core/camera_model.h>
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/estimation/absolute_pose.h>
 #include <quasiloc/frontend/point_matcher.h>
 #include <quasiloc/reloc/database.h>
@@ -71,7 +43,7 @@ std::string toString(LocalizationMode m);
 /** "fast" | "full"; InputError naming `input` otherwise. */
 LocalizationMode localizationModeFromString(const std::string& s, const std::string& input);
 
-struct LocalizerOptions : public mrpt::config::CLoadableOptions
+struct LocalizerOptions : public core::DeclaredOptions
 {
     int retrieval_per_group = 4;
     double group_radius_m = 1.0;
@@ -81,11 +53,17 @@ struct LocalizerOptions : public mrpt::config::CLoadableOptions
     int full_groups = 40, full_groups_retry = 200;
     int pnp_groups = 4;
     int min_group_matches = 12;
+    /** A query descriptor is compared only with the view's descriptors under the same vocabulary node at this level
+     *  (1 = the root's children; 0 = all): the direct index of DBoW2, about branching^level times fewer
+     *  comparisons. */
     int match_level = 1;
     double voting_radius_m = 0.1;
+    /** Only correspondences confirmed by this many of a group's views are kept, when at least min_group_matches of
+     *  them are (else all). Why 1: docs/experiments_estimation.md. */
     int min_votes = 1;
     double pnp_reproj_px = 3.0;
-    std::string pnp_method = "usac_default";
+    /** Why usac_default: docs/experiments_estimation.md. */
+    estimation::PnpMethod pnp_method = estimation::PnpMethod::UsacDefault;
     int pnp_max_iterations = 1000;
     int min_inliers = 15;
     double min_inlier_ratio = 0.1;
@@ -100,8 +78,9 @@ struct LocalizerOptions : public mrpt::config::CLoadableOptions
         return m;
     }();
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, retry budgets below their
+     *  first tries, and for [PointMatching] (window_px must be 0). */
     void check(const std::string& input) const;
     estimation::AbsolutePoseOptions pnpOptions() const;
 };

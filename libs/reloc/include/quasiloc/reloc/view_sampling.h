@@ -4,31 +4,20 @@
 // under it, kept only when it is clear of geometry (and, indoors, enclosed by it), then several headings and
 // pitches per position.
 //
-//   [ViewSampling]
-//   grid_spacing_m = 0.5        ; spacing of the horizontal position grid
-//   heights_m = 1.0 1.6         ; camera heights above the floor below the position (the platform's heights)
-//   num_headings = 8            ; headings evenly spread over 360 deg (the first along +x)
-//   pitches_deg = 0             ; camera pitch(es), positive = looking up
-//   clearance_m = 0.3           ; no map point within this distance of a viewpoint
-//   voxel_m = 0.1               ; occupancy grid of the map used for the clearance / floor / enclosure tests
-//   require_enclosed = true     ; indoors: rays in 8 horizontal directions and straight up must all hit the
-//                               ;   map within max_ray_m (rejects positions outside the room); false outdoors
-//   max_ray_m = 30
-//   region = []                 ; optional [xmin ymin xmax ymax] (world metres): sample only there
-//   margin_m = 0.3              ; distance kept from the map's horizontal bounds
+// Options: [ViewSampling] (ViewSamplingOptions::declare, view_sampling.cpp).
 //
 // Frames: world z is up (gravity along -z), as in the EuRoC/Vicon and KITTI map frames. A view's camera looks
 // along its heading, x right, y down (the camera convention of core::CameraModel).
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/poses/CPose3D.h>
 
+#include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/lidar_map.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::reloc
 {
-struct ViewSamplingOptions : public mrpt::config::CLoadableOptions
+struct ViewSamplingOptions : public core::DeclaredOptions
 {
     double grid_spacing_m = 0.5;
     std::vector<double> heights_m{1.0, 1.6};
@@ -41,9 +30,9 @@ struct ViewSamplingOptions : public mrpt::config::CLoadableOptions
     std::vector<double> region;  ///< empty or {xmin, ymin, xmax, ymax}
     double margin_m = 0.3;
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError naming `input` and the key for a value that cannot be used. */
+    void declare(core::OptionTable& t) override;
+    /** InputError naming `input` and the key for a value out of its declared range, an empty list of heights or
+     *  pitches, or a malformed region. */
     void check(const std::string& input) const;
 };
 

@@ -3,19 +3,19 @@
 // whose leaves are the visual words, with an idf weight per word learnt from the training images.
 // Binary descriptors (CV_8U rows, e.g. ORB's 32 bytes) are clustered under the Hamming distance with per-bit
 // majority centres; float descriptors (CV_32F rows, e.g. SIFT, XFeat) under L2 with mean centres.
-#include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <quasiloc/core/declared_options.h>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace quasiloc::reloc
 {
-/** Training options; INI section [Vocabulary]. */
-struct VocabularyOptions : public mrpt::config::CLoadableOptions
+/** Training options; INI section [Vocabulary] (VocabularyOptions::declare, vocabulary.cpp). */
+struct VocabularyOptions : public core::DeclaredOptions
 {
     int branching = 10;                      ///< k of the hierarchical k-means
     int depth = 4;                           ///< levels below the root (at most branching^depth words)
@@ -23,9 +23,9 @@ struct VocabularyOptions : public mrpt::config::CLoadableOptions
     int kmeans_iterations = 10;              ///< Lloyd iterations per node (fewer when assignments settle)
     int seed = 1;                            ///< the only source of randomness: same input + seed = same tree
 
-    void loadFromConfigFile(const mrpt::config::CConfigFileBase& cfg, const std::string& section) override;
-    void saveToConfigFile(mrpt::config::CConfigFileBase& cfg, const std::string& section) const override;
-    /** InputError "<input>: [Vocabulary] <key>" naming the first bad value. */
+    void declare(core::OptionTable& t) override;
+    /** InputError "<input>: [Vocabulary] <key>" for a value out of its declared range, or (depth) when
+     *  branching^depth exceeds the word limit. */
     void check(const std::string& input) const;
 };
 

@@ -1,0 +1,65 @@
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/ini_read.h>
+#include <quasiloc/reloc/geometric_localizer.h>
+
+namespace quasiloc::reloc
+{
+namespace
+{
+void declareStereo(core::OptionTable& t, StereoCloudOptions& s)
+{
+    using core::Range;
+    t.add("num_disparities", s.num_disparities, "px", Range::atLeast(16),
+          "SGBM disparity range (a multiple of 16 x stereo_downscale)");
+    t.add("block_size", s.block_size, "px", Range::atLeast(1), "SGBM block size (odd)");
+    t.add("uniqueness_ratio", s.uniqueness_ratio, "%", Range::between(0, 100),
+          "SGBM: the best cost must beat the second best by this percentage");
+    t.add("min_depth_m", s.min_depth_m, "m", Range::above(0), "nearest stereo point kept");
+    t.add("max_depth_m", s.max_depth_m, "m", Range::above(0), "farthest stereo point kept");
+    t.add("query_voxel_m", s.voxel_m, "m", Range::atLeast(0), "one stereo point per voxel");
+    t.add("max_points", s.max_points, "", Range::atLeast(10), "query points at most");
+    t.add("disparity_sigma_px", s.disparity_sigma_px, "px", Range::atLeast(0),
+          "depth noise z^2 / (f b) x this: each point's weight; an inlier may lie 2 depth sigmas farther");
+    t.add("stereo_downscale", s.downscale, "", Range::between(1, 2), "1: full resolution; 2: SGBM on the halved pair");
+}
+}  // namespace
+
+void GeometricLocalizationOptions::declare(core::OptionTable& t)
+{
+    using core::Range;
+    t.add("field_voxel_m", field_voxel_m, "m", Range::above(0), "distance field (map::DistanceField) voxel");
+    t.add("field_max_distance_m", field_max_distance_m, "m", Range::above(0), "distance field truncation");
+    declareStereo(t, stereo);
+    t.add("grid_spacing_m", grid_spacing_m, "m", Range::above(0), "candidate position grid (view_sampling.h)");
+    t.add("heights_m", heights_m, "m", Range::any(), "candidate heights above the floor");
+    t.add("clearance_m", clearance_m, "m", Range::atLeast(0), "no map point closer to a candidate position");
+    t.add("require_enclosed", require_enclosed, "indoors: positions enclosed by the map; false outdoors");
+    t.add("region", region, "m", Range::any(), "optional [xmin ymin xmax ymax]: search only there");
+    t.add("num_yaws", num_yaws, "", Range::between(1, 720), "headings per candidate position");
+    t.add("score_points", score_points, "", Range::atLeast(10), "query points scored per coarse candidate");
+    t.add("coarse_truncation_m", coarse_truncation_m, "m", Range::above(0), "coarse score truncation");
+    t.add("refine_candidates", refine_candidates, "", Range::atLeast(1), "distinct candidates refined");
+    t.add("refine_truncations_m", refine_truncations_m, "m", Range::above(0),
+          "refinement truncations, shrinking (Gauss-Newton on the distance field)");
+    t.add("refine_iterations", refine_iterations, "", Range::atLeast(1), "Gauss-Newton iterations per truncation");
+    t.add("polish_truncations_m", polish_truncations_m, "m", Range::above(0),
+          "point-to-point ICP of the best pose (empty: none)");
+    t.add("inlier_m", inlier_m, "m", Range::above(0), "a query point this close to the map is an inlier");
+    t.add("min_inlier_ratio", min_inlier_ratio, "", Range{0, 1, true, false}, "answer only with this share of inliers");
+    t.add("ambiguity_ratio", ambiguity_ratio, "", Range{0, 1, true, false},
+          "not localized when another place reaches this share of the answer's inliers");
+}
+
+void GeometricLocalizationOptions::check(const std::string& input) const
+{
+    const std::string s = "GeometricLocalization";
+    const auto key = [&](const char* k) { return input + ": " + core::iniKeyName(s, k); };
+    checkRanges(input, s);
+    stereo.check(input, s);
+    core::require(!heights_m.empty(), key("heights_m"), "needs at least one height");
+    core::require(region.empty() || (region.size() == 4 && region[0] < region[2] && region[1] < region[3]),
+                  key("region"), "must be empty or [xmin ymin xmax ymax] with xmin < xmax, ymin < ymax");
+    core::require(!refine_truncations_m.empty(), key("refine_truncations_m"), "needs at least one truncation");
+}
+
+}  // namespace quasiloc::reloc
