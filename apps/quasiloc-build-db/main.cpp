@@ -21,21 +21,13 @@
 #include <quasiloc/frontend/frontend.h>
 #include <quasiloc/reloc/database_builder.h>
 
+#include "build_options.h"
+
 namespace
 {
 using namespace quasiloc;
+using app::BuildRunOptions;
 
-struct BuildRunOptions : public reloc::DatabaseBuildOptions
-{
-    std::string map_file, calibration_ini, output = "out/db/database.qdb";
-    void declare(core::OptionTable& t) override
-    {
-        DatabaseBuildOptions::declare(t);
-        t.add("map_file", map_file, "the LiDAR map");
-        t.add("calibration_ini", calibration_ini, "StereoRig keys, prefix camera_: the views use the left camera");
-        t.add("output", output, "the database file");
-    }
-};
 
 const char* kUsage =
     "usage: quasiloc-build-db <config.ini> [--set Section.key=value]... [--print-timing]\n"

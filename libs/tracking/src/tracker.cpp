@@ -50,6 +50,9 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       frontend_(frontend),
       stereo_matcher_(rig, frontend.options().stereo)
 {
+    // Options set in code (a library caller) meet the same ranges as loaded ones.
+    options_.checkRanges("Tracker", "Tracking");
+    options_.initialization.checkRanges("Tracker", "Initialization");
     options_.factors.check("Tracker");
     if (options_.map_term == MapTerm::Auto)
     {

@@ -10,8 +10,8 @@ void InitializationOptions::declare(core::OptionTable& t)
     t.addEnum("init", init, {{"groundtruth", InitMode::GroundTruth}, {"global", InitMode::Global}},
               "the start: the first frames' ground truth, or global localization by geometry (no initial guess)");
     t.add("init_sigma_m", init_sigma_m, "m", Range::above(0), "uncertainty of a given start (groundtruth)");
-    t.add("init_sigma_deg", init_sigma_deg, "deg", Range::above(0), "");
-    t.add("init_sigma_v", init_sigma_v, "m/s", Range::above(0), "");
+    t.add("init_sigma_deg", init_sigma_deg, "deg", Range::above(0), "its rotation uncertainty");
+    t.add("init_sigma_v", init_sigma_v, "m/s", Range::above(0), "its velocity uncertainty");
     t.add("init_velocity_interval_s", init_velocity_interval_s, "s", Range::above(0),
           "global: time between the two fixes that give the velocity");
     t.add("init_max_disagreement_deg", init_max_disagreement_deg, "deg", Range::above(0),
@@ -19,8 +19,8 @@ void InitializationOptions::declare(core::OptionTable& t)
     t.add("init_max_speed_m_s", init_max_speed_m_s, "m/s", Range::above(0), "global: faster pairs are rejected");
     t.add("init_global_sigma_m", init_global_sigma_m, "m", Range::above(0),
           "uncertainty of a start (or restart) by global localization");
-    t.add("init_global_sigma_deg", init_global_sigma_deg, "deg", Range::above(0), "");
-    t.add("init_global_sigma_v", init_global_sigma_v, "m/s", Range::above(0), "");
+    t.add("init_global_sigma_deg", init_global_sigma_deg, "deg", Range::above(0), "its rotation uncertainty");
+    t.add("init_global_sigma_v", init_global_sigma_v, "m/s", Range::above(0), "its velocity uncertainty");
     t.add("static_initialization", static_initialization,
           "a platform standing still from the first IMU sample measures its gyroscope bias (static_initialization.h)");
 }
@@ -48,7 +48,8 @@ void MapFactorOptions::declare(core::OptionTable& t)
     t.add("line_window_sigmas", line_window_sigmas, "", Range::above(0),
           "association window: this many predicted pixel sigmas at the median map depth ...");
     t.add("line_window_min_px", line_window_min_px, "px", Range::above(0), "... clamped to [min, max]");
-    t.add("line_window_max_px", line_window_max_px, "px", Range::above(0), "");
+    t.add("line_window_max_px", line_window_max_px, "px", Range::above(0),
+          "the cap binds: the association is made at the aligned pose");
     t.add("line_max_angle_deg", line_max_angle_deg, "deg", Range::strictlyBetween(0, 90),
           "a map line and a camera segment associate within this angle");
     t.add("line_max_candidates", line_max_candidates, "", Range::atLeast(1), "map lines per camera segment at most");
@@ -56,7 +57,7 @@ void MapFactorOptions::declare(core::OptionTable& t)
           "point factors on keyframes: quasi-image keypoints matched by descriptor near their projection (map_points.h)");
     t.add("point_window_px", point_window_px, "px", Range::above(0),
           "a match lies within this of the map point's projection at the aligned pose");
-    t.add("point_sigma_px", point_sigma_px, "px", Range::above(0), "");
+    t.add("point_sigma_px", point_sigma_px, "px", Range::above(0), "a point factor's pixel sigma");
     t.add("map_planes", map_planes,
           "point-to-plane factors with an association distribution on keyframes (map_planes.h)");
     t.add("plane_effective_points", plane_effective_points, "", Range::above(0),
@@ -65,6 +66,7 @@ void MapFactorOptions::declare(core::OptionTable& t)
 
 void MapFactorOptions::check(const std::string& input) const
 {
+    checkRanges(input, "MapFactors");
     core::require(line_window_max_px >= line_window_min_px, input + ": [MapFactors] line_window_max_px",
                   "must be >= line_window_min_px");
 }
@@ -77,10 +79,10 @@ void TrackerOptions::declare(core::OptionTable& t)
               "map edges in the window: factor; none; auto = factor when the map's reflectivity varies, else none");
     t.add("min_prior_sigma_m", min_prior_sigma_m, "m", Range::above(0),
           "the alignment's prior: the predicted sigma, at least this");
-    t.add("min_prior_sigma_deg", min_prior_sigma_deg, "deg", Range::above(0), "");
+    t.add("min_prior_sigma_deg", min_prior_sigma_deg, "deg", Range::above(0), "the same for its rotation");
     t.add("max_correction_m", max_correction_m, "m", Range::above(0),
           "larger map corrections are rejected (the gate is 3 predicted sigmas when wider)");
-    t.add("max_correction_deg", max_correction_deg, "deg", Range::above(0), "");
+    t.add("max_correction_deg", max_correction_deg, "deg", Range::above(0), "the same for the rotation");
     t.add("lost_after_misses", lost_after_misses, "frames", Range::atLeast(1),
           "this many rejected alignments in a row mark the track lost");
     t.add("temporal_landmarks", temporal_landmarks, "stereo landmarks between consecutive frames (odometry)");
@@ -124,6 +126,7 @@ void RelocalizationOptions::declare(core::OptionTable& t)
 
 void RelocalizationOptions::check(const std::string& input) const
 {
+    checkRanges(input, "Relocalization");
     core::require(lost_explained_floor <= lost_explained_ratio, input + ": [Relocalization] lost_explained_floor",
                   "must be <= lost_explained_ratio");
 }

@@ -38,7 +38,7 @@ struct DirectAlignmentOptions : public core::DeclaredOptions
     double canny_low_ratio = 0.4;
     /** Directional chamfer: a map edge is attracted only by camera edges within 180/bins deg of its own
      *  orientation. Up to 8 classes share one fused distance transform (classDistanceTransforms), so the camera
-     *  side costs about one transform per level whatever the bins. Why 6: docs/experiments_estimation.md. */
+     *  side costs about one transform per level whatever the bins. Why 6: docs/experiments.md. */
     int orientation_bins = 6;
     double truncation_px = 12;
     double huber_px = 2;

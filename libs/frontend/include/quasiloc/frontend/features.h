@@ -71,7 +71,7 @@ struct FeatureOptions : public core::DeclaredOptions
     double detect_factor = 2.0;
     int orb_fast_threshold = 12;  ///< camera images: lower than OpenCV's 20
     /** Quasi-images (given with a validity mask) have many weak FAST corners (rendering noise): why 20 and not 12,
-     *  docs/experiments_estimation.md. */
+     *  docs/experiments.md. */
     int orb_fast_threshold_masked = 20;
     int orb_levels = 6;
     double sift_contrast_threshold = 0.02;

@@ -28,7 +28,7 @@ struct DatabaseBuildOptions : public core::DeclaredOptions
     int threads = 0;
     /** A quasi-image's pixel-level speckle (one LiDAR point per pixel, each with its own reflectivity noise) changes
      *  with the viewpoint, so corners on it do not repeat between views; blurring (the views and every query,
-     *  database.h) leaves the corners of the map's structure. Why 2.5: docs/experiments_estimation.md. */
+     *  database.h) leaves the corners of the map's structure. Why 2.5: docs/experiments.md. */
     double image_blur_sigma_px = 2.5;
 
     void declare(core::OptionTable& t) override;

@@ -37,7 +37,7 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
 {
     double field_voxel_m = 0.04, field_max_distance_m = 0.5;
     /** Keys num_disparities ... stereo_downscale of this section. Why max_depth_m = 3.5 (farther SGBM points were
-     *  biased) and stereo_downscale = 2 (4x faster, and more exact): docs/experiments_estimation.md. */
+     *  biased) and stereo_downscale = 2 (4x faster, and more exact): docs/experiments.md. */
     StereoCloudOptions stereo;
     double grid_spacing_m = 0.25;
     std::vector<double> heights_m{0.5, 0.8, 1.1, 1.4, 1.7, 2.0};
@@ -52,7 +52,7 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
     int refine_iterations = 8;
     std::vector<double> polish_truncations_m{0.1, 0.05};
     double inlier_m = 0.06;
-    /** Between the inlier ratios at true and at wrong poses (docs/experiments_estimation.md). */
+    /** Between the inlier ratios at true and at wrong poses (docs/experiments.md). */
     double min_inlier_ratio = 0.7;
     double ambiguity_ratio = 0.9;
 

@@ -59,10 +59,10 @@ struct LocalizerOptions : public core::DeclaredOptions
     int match_level = 1;
     double voting_radius_m = 0.1;
     /** Only correspondences confirmed by this many of a group's views are kept, when at least min_group_matches of
-     *  them are (else all). Why 1: docs/experiments_estimation.md. */
+     *  them are (else all). Why 1: docs/experiments.md. */
     int min_votes = 1;
     double pnp_reproj_px = 3.0;
-    /** Why usac_default: docs/experiments_estimation.md. */
+    /** Why usac_default: docs/experiments.md. */
     estimation::PnpMethod pnp_method = estimation::PnpMethod::UsacDefault;
     int pnp_max_iterations = 1000;
     int min_inliers = 15;

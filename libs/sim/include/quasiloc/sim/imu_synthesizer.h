@@ -23,7 +23,7 @@
 //    else <shared_dir>/data/euroc/groundtruth/body/<sequence>.csv where it exists (V1_02, V1_03, V2_01, V2_02,
 //    V2_03), else (V1_01_easy, own trajectories) the random walk. The file's clock must overlap the simulated one.
 //  - the initial biases default to EuRoC's real ones (V2_01_easy's ground truth), about the same in every
-//    sequence (docs/experiments_io.md).
+//    sequence (docs/experiments.md).
 // ImuSynthesizer itself reads neither source nor bias/bias_file: the simulation resolves them
 // (resolveImuBias, selectRealImu) and hands the synthesizer a bias trajectory or none.
 #include <optional>
