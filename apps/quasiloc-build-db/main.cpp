@@ -8,6 +8,8 @@
 //
 // Outputs, all or nothing: the database, <output>.views.tum (T_world_cam of every kept view, time = view id, for
 // SceneViewer3D / plotting) and <output>.ini (the effective configuration). Progress goes to the console.
+#include <mrpt/system/CTimeLogger.h>
+
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -97,6 +99,17 @@ int run(const core::CommandLine& cmd)
               << std::setprecision(1) << "vocabulary " << st.ms_vocabulary / 1000 << " s, index " << st.ms_index / 1000
               << " s, total " << total_s << " s\n"
               << "outputs     " << o.output << " {,.views.tum,.ini}" << std::endl;
+    if (cmd.print_timing)
+    {
+        mrpt::system::CTimeLogger timer(true, "quasiloc-build-db");
+        for (const auto& [stage, ms] : {std::pair<const char*, double>{"sampling", st.ms_sampling},
+                                        {"views", st.ms_views},
+                                        {"vocabulary", st.ms_vocabulary},
+                                        {"index", st.ms_index}})
+            timer.registerUserMeasure(stage, ms * 1e-3, true);
+        std::cout << timer.getStatsAsText();
+        timer.clear(true);
+    }
     return 0;
 }
 }  // namespace

@@ -12,6 +12,8 @@
 // <mode>_diagnostics.txt (per query: retrieved views with scores and groups, matches, PnP hypotheses), then
 // summary.md / summary.json (Recall@{0.1, 0.3, 1.0 m}, mATE, wrong poses, median time per stage) and
 // quasiloc-localize.ini (the effective configuration).
+#include <mrpt/system/CTimeLogger.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -112,7 +114,19 @@ void report(const QueryRow& row, const dataset::StereoFrame& f, reloc::Localizat
               << ", " << row.report.ms.total << " ms" << std::endl;
 }
 
-Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset::FrameSource& source)
+/** Per-stage wall time of every query (what --print-timing prints). */
+void time(const reloc::LocalizationReport& r, mrpt::system::CTimeLogger& timer)
+{
+    for (const auto& [stage, ms] : {std::pair<const char*, double>{"query.extract", r.ms.extract},
+                                    {"query.retrieval", r.ms.retrieval},
+                                    {"query.rerank", r.ms.rerank},
+                                    {"query.pnp", r.ms.pnp},
+                                    {"query.total", r.ms.total}})
+        timer.registerUserMeasure(stage, ms * 1e-3, true);
+}
+
+Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset::FrameSource& source,
+                        mrpt::system::CTimeLogger& timer)
 {
     const core::CameraModel& camera = source.rig().left;
     std::unique_ptr<map::LidarMap> map;
@@ -145,6 +159,7 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset:
         {
             out.rows[m].push_back(localizeOne(localizer, image, f, camera, o.modes[m]));
             report(out.rows[m].back(), f, o.modes[m], db, out.diagnostics[m]);
+            time(out.rows[m].back().report, timer);
         }
     }
     return out;
@@ -190,7 +205,8 @@ int run(const core::CommandLine& cmd)
     so.groundtruth_tum = o.run.groundtruth;
     so.calibration_ini = o.run.calibration_ini;
     auto source = dataset::openRawlog(o.run.input_rawlog, so);
-    const Queries queries = localizeQueries(o, db, *source);
+    mrpt::system::CTimeLogger timer(true, "quasiloc-localize");
+    const Queries queries = localizeQueries(o, db, *source, timer);
     core::require(queries.count > 0, o.run.input_rawlog,
                   "no query frame (check every_n, and ground truth for query_image = quasi)");
     const std::string image =
@@ -199,6 +215,8 @@ int run(const core::CommandLine& cmd)
                              std::to_string(o.run.every_n) + "th left " + image + " of " + o.run.input_rawlog;
     const std::string md = writeOutputs(o, queries, what);
     std::cout << "\n" << md << "outputs in " << o.run.output_dir << std::endl;
+    if (cmd.print_timing) std::cout << timer.getStatsAsText();
+    timer.clear(true);  // CTimeLogger prints what it holds when destroyed
     return 0;
 }
 }  // namespace

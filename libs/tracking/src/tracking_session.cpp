@@ -146,7 +146,7 @@ void TrackingSession::recordTiming(const FrameReport& r, double ms_check, double
         {"frame.visual", r.ms_visual},   {"frame.window", r.ms_window},    {"frame.tracker_total", r.ms_total},
         {"frame.check", ms_check},       {"frame.search_handover", ms_search}};
     for (const auto& [name, ms] : stages)
-        if (ms > 0) timer_.registerUserMeasure(name, ms * 1e-3);
+        if (ms > 0) timer_.registerUserMeasure(name, ms * 1e-3, true);
 }
 
 bool TrackingSession::nextFrame(dataset::StereoFrame& out)
