@@ -85,7 +85,7 @@ map::GmmSurfaceOptions MapImportOptions::gmmOptions() const
 void MapImportOptions::check(const std::string& config_name) const
 {
     const std::string at = config_name + " [MapImport] ";
-    checkDeclaredRanges(config_name + " [MapImport]");
+    checkRanges(config_name + " [MapImport]");
     core::require(!input.empty(), at + "input", "is required (or --input FILE)");
     core::require(!output.empty(), at + "output", "is required (or --output FILE.map)");
     core::require(std::filesystem::absolute(input).lexically_normal() !=

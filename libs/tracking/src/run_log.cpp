@@ -151,6 +151,7 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     j.key("longest_unverified_s").value(s.longest_unverified_s).key("longest_wait_s").value(s.longest_wait_s);
     j.key("start").beginObject();
     j.key("t").value(traj_.poses.empty() ? NAN : traj_.poses.front().t);
+    j.key("first_frame_t").value(s.t_first_frame ? *s.t_first_frame : NAN);
     if (s.T_world_cam0_start_truth)
         j.key("error_m").value(core::translationDistance(s.T_world_cam0_start, *s.T_world_cam0_start_truth))
             .key("error_deg")

@@ -149,9 +149,16 @@ void TrackingSession::recordTiming(const FrameReport& r, double ms_check, double
         if (ms > 0) timer_.registerUserMeasure(name, ms * 1e-3, true);
 }
 
+bool TrackingSession::readSource(dataset::StereoFrame& out)
+{
+    if (!source_.next(out)) return false;
+    if (!summary_.t_first_frame) summary_.t_first_frame = out.timestamp;
+    return true;
+}
+
 bool TrackingSession::nextFrame(dataset::StereoFrame& out)
 {
-    if (queued_.empty()) return source_.next(out);
+    if (queued_.empty()) return readSource(out);
     out = std::move(queued_.front());
     queued_.pop_front();
     return true;
@@ -163,13 +170,13 @@ void TrackingSession::startFromGroundTruth(const std::string& input)
     // of them, if the platform stood still over them, its gyroscope bias.
     dataset::StereoFrame f0, f1;
     StaticInitializer still(imu_.gyroscope_noise_density);
-    while (source_.next(f0))
+    while (readSource(f0))
     {
         still.add(f0.imu);
         if (f0.T_world_cam0) break;
     }
     core::require(bool(f0.T_world_cam0), input, "no frame with a ground-truth pose");
-    core::require(source_.next(f1) && f1.T_world_cam0, input, "the second frame has no ground-truth pose");
+    core::require(readSource(f1) && f1.T_world_cam0, input, "the second frame has no ground-truth pose");
     const Eigen::Vector3d p0 = (core::toIsometry(*f0.T_world_cam0) * T_body_cam_.inverse()).translation();
     const Eigen::Vector3d p1 = (core::toIsometry(*f1.T_world_cam0) * T_body_cam_.inverse()).translation();
     const Eigen::Isometry3d T_world_cam = core::toIsometry(*f0.T_world_cam0);
@@ -186,7 +193,7 @@ void TrackingSession::startFromGroundTruth(const std::string& input)
 
 void TrackingSession::startGlobally(const std::string& input)
 {
-    auto found = starter_->find([this](dataset::StereoFrame& out) { return source_.next(out); }, "init");
+    auto found = starter_->find([this](dataset::StereoFrame& out) { return readSource(out); }, "init");
     core::require(found.has_value(), input,
                   "global initialisation found no start: no two frames localized by geometry and agreed with the "
                   "IMU (see the printed attempts)");

@@ -22,6 +22,7 @@ struct SessionSummary
     double longest_wait_s = 0;        ///< ... and to when its fix was found (replay time)
     Eigen::Isometry3d T_world_cam0_start = Eigen::Isometry3d::Identity();
     std::optional<Eigen::Isometry3d> T_world_cam0_start_truth;  ///< the start frame's ground truth, if any
+    std::optional<double> t_first_frame;  ///< the first frame read (a global start may come frames later)
 };
 
 class RunLog

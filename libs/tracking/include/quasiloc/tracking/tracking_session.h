@@ -69,6 +69,8 @@ class TrackingSession
     std::string timing() const;
 
    private:
+    /** The source's next frame (its time is the first frame's if none was read yet). */
+    bool readSource(dataset::StereoFrame& out);
     bool nextFrame(dataset::StereoFrame& out);
     void startFromGroundTruth(const std::string& input);
     void startGlobally(const std::string& input);
