@@ -4,58 +4,15 @@
 #include <limits>
 #include <quasiloc/core/error.h>
 #include <quasiloc/map/distance_field.h>
+
+#include "distance_field_detail.h"
 #include <sstream>
 
 namespace quasiloc::map
 {
-namespace
-{
-constexpr float kFar = 1e20f;
+using detail::kFar;
+using detail::squaredDistance1d;
 
-/** 1-D squared distance transform of f (n samples, stride apart) in place: f'(q) = min_p (q - p)^2 + f(p).
- *  The lower envelope of the parabolas rooted at every sample (Felzenszwalb & Huttenlocher, algorithm DT).
- *  v, z, tmp: scratch of size n, n + 1, n. */
-void squaredDistance1d(float* f, int n, size_t stride, std::vector<int>& v, std::vector<float>& z, std::vector<float>& tmp)
-{
-    for (int q = 0; q < n; ++q) tmp[q] = f[size_t(q) * stride];
-    int k = 0;
-    v[0] = 0;
-    z[0] = -kFar;
-    z[1] = kFar;
-    for (int q = 1; q < n; ++q)
-    {
-        if (tmp[q] >= kFar) continue;  // no parabola rooted here
-        if (tmp[v[k]] >= kFar)
-        {  // the envelope so far holds only "infinitely far" roots: start it here
-            v[0] = q, k = 0, z[0] = -kFar, z[1] = kFar;
-            continue;
-        }
-        float s;
-        while (true)
-        {
-            const int p = v[k];
-            s = ((tmp[q] + float(q) * float(q)) - (tmp[p] + float(p) * float(p))) / (2.f * float(q - p));
-            if (s > z[k] || k == 0) break;
-            --k;
-        }
-        if (s <= z[k])
-        {  // k == 0 and the new parabola is lower everywhere
-            v[0] = q, z[0] = -kFar, z[1] = kFar;
-            continue;
-        }
-        ++k;
-        v[k] = q, z[k] = s, z[k + 1] = kFar;
-    }
-    if (tmp[v[0]] >= kFar) return;  // no occupied sample on this line: it stays far
-    k = 0;
-    for (int q = 0; q < n; ++q)
-    {
-        while (z[k + 1] < float(q)) ++k;
-        const float d = float(q - v[k]);
-        f[size_t(q) * stride] = d * d + tmp[v[k]];
-    }
-}
-}  // namespace
 
 void DistanceFieldOptions::check(const std::string& input) const
 {
@@ -77,15 +34,25 @@ DistanceField DistanceField::build(const LidarMap& map, const DistanceFieldOptio
     f.origin_ = b.min - Eigen::Vector3f::Constant(float(o.margin_m));
     const Eigen::Vector3f extent = b.max - b.min + Eigen::Vector3f::Constant(float(2 * o.margin_m));
     const Eigen::Vector3d n = (extent.cast<double>() / o.voxel_m).array().ceil() + 1;
+    core::require(n.maxCoeff() < 1e6, input, "a distance field over 1e6 voxels along an axis: use a larger voxel");
+    f.nx_ = int(n.x()), f.ny_ = int(n.y()), f.nz_ = int(n.z());
     const double voxels = n.x() * n.y() * n.z();
+    const bool sparse = o.layout == DistanceFieldLayout::Sparse ||
+                        (o.layout == DistanceFieldLayout::Auto && voxels > double(o.dense_max_voxels));
+    return sparse ? buildSparse(map, std::move(f)) : buildDense(map, std::move(f), input, o);
+}
+
+DistanceField DistanceField::buildDense(const LidarMap& map, DistanceField f, const std::string& input,
+                                        const DistanceFieldOptions& o)
+{
+    const double voxels = double(f.nx_) * double(f.ny_) * double(f.nz_);
     if (voxels > double(o.max_voxels))
     {
         std::ostringstream s;
-        s << "a distance field of " << n.x() << " x " << n.y() << " x " << n.z() << " voxels of " << o.voxel_m
-          << " m exceeds max_voxels = " << o.max_voxels << ": use a larger voxel";
+        s << "a dense distance field of " << f.nx_ << " x " << f.ny_ << " x " << f.nz_ << " voxels of " << f.voxel_
+          << " m exceeds max_voxels = " << o.max_voxels << ": use a larger voxel, or layout = sparse";
         throw core::InputError(input, s.str());
     }
-    f.nx_ = int(n.x()), f.ny_ = int(n.y()), f.nz_ = int(n.z());
     f.d_.assign(size_t(voxels), kFar);
     for (size_t i = 0; i < map.size(); ++i)
     {
@@ -143,9 +110,19 @@ float DistanceField::distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& g
         return max_distance_;
     const int i = int(g.x()), j = int(g.y()), k = int(g.z());
     const float a = g.x() - float(i), b = g.y() - float(j), c = g.z() - float(k);
-    const size_t o = index(i, j, k), dy = size_t(nx_), dz = size_t(nx_) * size_t(ny_);
-    const float d000 = d_[o], d100 = d_[o + 1], d010 = d_[o + dy], d110 = d_[o + dy + 1];
-    const float d001 = d_[o + dz], d101 = d_[o + dz + 1], d011 = d_[o + dz + dy], d111 = d_[o + dz + dy + 1];
+    float d000, d100, d010, d110, d001, d101, d011, d111;
+    if (!sparse_)
+    {
+        const size_t o = index(i, j, k), dy = size_t(nx_), dz = size_t(nx_) * size_t(ny_);
+        d000 = d_[o], d100 = d_[o + 1], d010 = d_[o + dy], d110 = d_[o + dy + 1];
+        d001 = d_[o + dz], d101 = d_[o + dz + 1], d011 = d_[o + dz + dy], d111 = d_[o + dz + dy + 1];
+    }
+    else
+    {
+        d000 = sparseVoxel(i, j, k), d100 = sparseVoxel(i + 1, j, k), d010 = sparseVoxel(i, j + 1, k);
+        d110 = sparseVoxel(i + 1, j + 1, k), d001 = sparseVoxel(i, j, k + 1), d101 = sparseVoxel(i + 1, j, k + 1);
+        d011 = sparseVoxel(i, j + 1, k + 1), d111 = sparseVoxel(i + 1, j + 1, k + 1);
+    }
     // Bilinear in (x, y) on the two z layers, then linear in z.
     const float l0 = (1 - b) * ((1 - a) * d000 + a * d100) + b * ((1 - a) * d010 + a * d110);
     const float l1 = (1 - b) * ((1 - a) * d001 + a * d101) + b * ((1 - a) * d011 + a * d111);

@@ -97,6 +97,7 @@ TEST(DistanceField, RejectsAGridAboveTheLimitAndAnEmptyMap)
     map::DistanceFieldOptions o;
     o.voxel_m = 0.001;
     o.max_voxels = 1'000'000;
+    o.layout = map::DistanceFieldLayout::Dense;
     try
     {
         map::DistanceField::build(testMap(), o, "room.map");
@@ -111,4 +112,47 @@ TEST(DistanceField, RejectsAGridAboveTheLimitAndAnEmptyMap)
     o = map::DistanceFieldOptions();
     o.voxel_m = 0;
     EXPECT_THROW(map::DistanceField::build(testMap(), o), core::InputError);
+}
+
+TEST(DistanceField, SparseFieldHoldsTheDenseValuesBitForBitWithLessMemory)
+{
+    const map::LidarMap m = testMap();
+    for (double voxel : {0.04, 0.03})
+    {
+        map::DistanceFieldOptions o;
+        o.voxel_m = voxel;
+        o.max_distance_m = 0.3;
+        o.margin_m = 1.5;  // room around the map that the sparse field does not store
+        o.layout = map::DistanceFieldLayout::Dense;
+        const map::DistanceField dense = map::DistanceField::build(m, o);
+        o.layout = map::DistanceFieldLayout::Sparse;
+        const map::DistanceField sparse = map::DistanceField::build(m, o);
+        ASSERT_TRUE(sparse.sparse());
+        ASSERT_EQ(sparse.dimensions(), dense.dimensions());
+        const Eigen::Vector3i n = dense.dimensions();
+        size_t differing = 0;
+        for (int k = 0; k < n.z(); ++k)
+            for (int j = 0; j < n.y(); ++j)
+                for (int i = 0; i < n.x(); ++i) differing += dense.voxel(i, j, k) != sparse.voxel(i, j, k);
+        EXPECT_EQ(differing, 0u) << "voxel " << voxel;
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> u(-2.4f, 2.4f);
+        for (int q = 0; q < 2000; ++q)
+        {
+            const Eigen::Vector3f p(u(rng), u(rng), u(rng) * 0.5f + 0.5f);
+            Eigen::Vector3f gd, gs;
+            ASSERT_EQ(dense.distance(p, gd), sparse.distance(p, gs)) << p.transpose();
+            ASSERT_EQ(gd, gs) << p.transpose();
+        }
+        EXPECT_LT(sparse.memoryBytes(), dense.memoryBytes() / 2)
+            << sparse.allocatedBricks() << " bricks, " << sparse.memoryBytes() << " against " << dense.memoryBytes();
+    }
+}
+
+TEST(DistanceField, AutoLayoutIsDenseForARoomAndSparseBeyondTheLimit)
+{
+    map::DistanceFieldOptions o;
+    EXPECT_FALSE(map::DistanceField::build(testMap(), o).sparse());
+    o.dense_max_voxels = 1000;
+    EXPECT_TRUE(map::DistanceField::build(testMap(), o).sparse());
 }

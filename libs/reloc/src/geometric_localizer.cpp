@@ -58,6 +58,7 @@ std::shared_ptr<const map::DistanceField> GeometricLocalizer::buildField(const m
     map::DistanceFieldOptions f;
     f.voxel_m = o.field_voxel_m;
     f.max_distance_m = o.field_max_distance_m;
+    f.layout = o.field_layout;
     f.margin_m = std::max(1.0, o.field_max_distance_m);
     return std::make_shared<const map::DistanceField>(map::DistanceField::build(map, f, input));
 }

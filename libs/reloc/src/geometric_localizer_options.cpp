@@ -29,6 +29,10 @@ void GeometricLocalizationOptions::declare(core::OptionTable& t)
     using core::Range;
     t.add("field_voxel_m", field_voxel_m, "m", Range::above(0), "distance field (map::DistanceField) voxel");
     t.add("field_max_distance_m", field_max_distance_m, "m", Range::above(0), "distance field truncation");
+    t.addEnum("field_layout", field_layout,
+              {{"auto", map::DistanceFieldLayout::Auto}, {"dense", map::DistanceFieldLayout::Dense},
+               {"sparse", map::DistanceFieldLayout::Sparse}},
+              "distance field storage: auto = a dense grid up to 50 M voxels (a room), sparse bricks beyond (a block)");
     declareStereo(t, stereo);
     t.add("grid_spacing_m", grid_spacing_m, "m", Range::above(0), "candidate position grid (view_sampling.h)");
     t.add("heights_m", heights_m, "m", Range::any(), "candidate heights above the floor");

@@ -36,7 +36,7 @@ std::shared_ptr<const map::DistanceField> MapContext::distanceField(const reloc:
         field_max_distance_m_ = o.field_max_distance_m;
     }
     core::require(o.field_voxel_m == field_voxel_m_ && o.field_max_distance_m == field_max_distance_m_, name_,
-                  "the distance field was built with other field_voxel_m / field_max_distance_m");
+                  "the distance field was built with other field_voxel_m / field_max_distance_m");  // layout: same values
     return field_;
 }
 

@@ -11,20 +11,35 @@
 // max_distance_m. Voxels within one voxel of an occupied one hold the exact distance to the nearby points instead
 // (the distance to voxel centres is biased by up to half a voxel, the same way along a whole wall: measured on the
 // simulated room, 4 cm voxels put a stereo frame 2.5 cm / 1.1 deg off with centres, 1.0 cm / 0.5 deg exact).
-// Memory: 4 bytes per voxel; a grid larger than max_voxels is an InputError (use a larger voxel or a region).
+// Memory: a dense grid holds 4 bytes per voxel of the bounding box (a grid larger than max_voxels is an InputError).
+// A sparse field stores only the 16^3-voxel bricks within max_distance_m of a map point (every other voxel is at the
+// truncation), so its memory grows with the map's surface; a 4-byte brick index covers the bounding box. Its values
+// are those of the dense grid, bit for bit: each tile of bricks is transformed with an apron of max_distance_m, and
+// a distance up to the truncation only depends on points within it. layout = auto takes the dense grid up to
+// dense_max_voxels (a room: faster to build and to query) and the sparse field beyond (a street block, a building).
 #include <Eigen/Core>
 #include <quasiloc/map/lidar_map.h>
+#include <cstddef>
 #include <string>
 #include <vector>
 
 namespace quasiloc::map
 {
+enum class DistanceFieldLayout
+{
+    Auto,   ///< dense up to dense_max_voxels, sparse beyond
+    Dense,
+    Sparse
+};
+
 struct DistanceFieldOptions
 {
     double voxel_m = 0.04;
     double margin_m = 1.0;          ///< the grid extends this far beyond the map's bounds
     double max_distance_m = 0.5;    ///< distances are truncated here (and this is the value outside the grid)
-    size_t max_voxels = 150'000'000;
+    size_t max_voxels = 150'000'000;            ///< a dense grid's cap
+    DistanceFieldLayout layout = DistanceFieldLayout::Auto;
+    size_t dense_max_voxels = 50'000'000;       ///< layout = auto: dense up to this many voxels (200 MB)
 
     /** InputError naming `input` for a value that cannot be used. */
     void check(const std::string& input) const;
@@ -47,15 +62,38 @@ class DistanceField
     Eigen::Vector3i dimensions() const { return {nx_, ny_, nz_}; }
     const Eigen::Vector3f& origin() const { return origin_; }  ///< centre of voxel (0, 0, 0)
     /** The stored value at voxel (i, j, k) (no bounds check). */
-    float voxel(int i, int j, int k) const { return d_[index(i, j, k)]; }
+    float voxel(int i, int j, int k) const { return sparse_ ? sparseVoxel(i, j, k) : d_[index(i, j, k)]; }
+    bool sparse() const { return sparse_; }
+    /** Bytes held: the dense grid, or the bricks and their index. */
+    size_t memoryBytes() const
+    {
+        return (d_.size() + bricks_.size() * size_t(kBrickVoxels)) * sizeof(float) + brick_of_.size() * sizeof(int);
+    }
+    size_t allocatedBricks() const { return bricks_.size(); }
 
    private:
+    static constexpr int kBrick = 16, kBrickVoxels = kBrick * kBrick * kBrick;
+    static DistanceField buildDense(const LidarMap& map, DistanceField f, const std::string& input,
+                                    const DistanceFieldOptions& o);
+    static DistanceField buildSparse(const LidarMap& map, DistanceField f);
+    float sparseVoxel(int i, int j, int k) const
+    {
+        const int b = brick_of_[(size_t(k / kBrick) * size_t(by_) + size_t(j / kBrick)) * size_t(bx_) + size_t(i / kBrick)];
+        if (b < 0) return max_distance_;
+        return bricks_[size_t(b)][size_t(((k % kBrick) * kBrick + j % kBrick) * kBrick + i % kBrick)];
+    }
+
     size_t index(int i, int j, int k) const { return (size_t(k) * size_t(ny_) + size_t(j)) * size_t(nx_) + size_t(i); }
 
     Eigen::Vector3f origin_{0, 0, 0};
     float voxel_ = 1, max_distance_ = 0;
     int nx_ = 0, ny_ = 0, nz_ = 0;
-    std::vector<float> d_;
+    std::vector<float> d_;  ///< dense
+    bool sparse_ = false;
+    int bx_ = 0, by_ = 0, bz_ = 0;  ///< sparse: bricks per axis
+    std::vector<int> brick_of_;     ///< sparse: brick (x fastest) -> index into bricks_, -1: all at the truncation
+    /** sparse: kBrickVoxels values per brick, x fastest (one allocation each: no doubling of the whole). */
+    std::vector<std::vector<float>> bricks_;
 };
 
 }  // namespace quasiloc::map
