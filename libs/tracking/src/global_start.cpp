@@ -41,9 +41,10 @@ GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, co
 GlobalStarter::~GlobalStarter() = default;
 
 std::optional<GlobalInitialState> GlobalStarter::find(const std::function<bool(dataset::StereoFrame&)>& next,
-                                                                const std::string& label)
+                                                                const std::string& label,
+                                                                const std::optional<SearchPrior>& prior)
 {
-    begin(label);
+    begin(label, prior);
     dataset::StereoFrame f;
     while (next(f))
         if (auto start = feed(f)) return start;

@@ -152,6 +152,7 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     j.key("start").beginObject();
     j.key("t").value(traj_.poses.empty() ? NAN : traj_.poses.front().t);
     j.key("first_frame_t").value(s.t_first_frame ? *s.t_first_frame : NAN);
+    j.key("search_s").value(s.start_search_s);
     if (s.T_world_cam0_start_truth)
         j.key("error_m").value(core::translationDistance(s.T_world_cam0_start, *s.T_world_cam0_start_truth))
             .key("error_deg")

@@ -132,7 +132,6 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
             tracker_->setStereoCloud(stereo_cloud_.get());
         }
     }
-    if (starter_ && relocalize) search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
 }
 
 TrackingSession::~TrackingSession() { timer_.clear(true); }  // CTimeLogger dumps what it holds at destruction
@@ -193,7 +192,13 @@ void TrackingSession::startFromGroundTruth(const std::string& input)
 
 void TrackingSession::startGlobally(const std::string& input)
 {
-    auto found = starter_->find([this](dataset::StereoFrame& out) { return readSource(out); }, "init");
+    // A region prior (a large map): the candidate positions within search_radius_m of search_center_m only.
+    const InitializationOptions& o = options_.tracker.initialization;
+    std::optional<SearchPrior> region;
+    if (o.search_radius_m > 0) region = SearchPrior{o.search_center_m, 0.0, o.search_radius_m, 0.0};
+    const auto t0 = std::chrono::steady_clock::now();
+    auto found = starter_->find([this](dataset::StereoFrame& out) { return readSource(out); }, "init", region);
+    summary_.start_search_s = msSince(t0) / 1000;
     core::require(found.has_value(), input,
                   "global initialisation found no start: no two frames localized by geometry and agreed with the "
                   "IMU (see the printed attempts)");
@@ -218,6 +223,9 @@ SessionSummary TrackingSession::run(const std::string& input)
     else
         startGlobally(input);
     last_verified_t_ = t_start_;
+    // After the start: the search thread takes over the starter's console lines (the start's are printed as made).
+    if (starter_ && options_.relocalization.relocalize && options_.tracker.map_updates)
+        search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
     dataset::StereoFrame f;
     core::require(nextFrame(f), input, "no frame after the initial one");
     out_ << "IMU biases at the start: " << describe(start_biases_) << std::endl;

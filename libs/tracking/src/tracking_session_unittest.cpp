@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/tracking/tracking_session.h>
 #include <sstream>
@@ -56,7 +58,7 @@ class TrackingSessionTest : public ::testing::Test
     static tracking::SessionOptions options(const std::vector<std::pair<std::string, std::string>>& overrides)
     {
         auto cfg = configIni();
-        cfg.write("Initialization", "init", "groundtruth");
+        cfg.write("Initialization", "init", "groundtruth");  // unless overridden
         for (const auto& [section_key, value] : overrides)
         {
             const auto dot = section_key.find('.');
@@ -145,4 +147,29 @@ TEST_F(TrackingSessionTest, FalseAlarmIsWithdrawnWhenTheFixConfirmsTheTrack)
     EXPECT_GE(r.summary.withdrawn, 1) << r.console;
     EXPECT_EQ(r.summary.relocalizations, 0) << r.console;
     EXPECT_LT(r.ate_rmse_m, 0.025);
+}
+
+TEST_F(TrackingSessionTest, GlobalStartSearchesOnlyItsRegionPrior)
+{
+    // Around the first camera position: the start is found there. The same radius 20 m away holds no candidate
+    // position of the room: no start, and the error says so.
+    const core::Trajectory gt = core::readTum((kSimDir / "gt.tum").string());
+    ASSERT_FALSE(gt.poses.empty());
+    const Eigen::Vector3d first = core::toIsometry(gt.poses.front().pose).translation();
+    auto region = [](const Eigen::Vector3d& c) {
+        std::ostringstream s;
+        s << "[" << c.x() << " " << c.y() << " " << c.z() << "]";
+        return s.str();
+    };
+    const Run near = run(options({{"Initialization.init", "global"},
+                                  {"Initialization.search_center_m", region(first)},
+                                  {"Initialization.search_radius_m", "1.5"}}));
+    ASSERT_TRUE(near.summary.T_world_cam0_start_truth.has_value());
+    EXPECT_LT(core::translationDistance(near.summary.T_world_cam0_start, *near.summary.T_world_cam0_start_truth), 0.1)
+        << near.console;
+    EXPECT_NE(near.console.find("searched within"), std::string::npos) << near.console;
+    EXPECT_THROW(run(options({{"Initialization.init", "global"},
+                              {"Initialization.search_center_m", region(first + Eigen::Vector3d(20, 0, 0))},
+                              {"Initialization.search_radius_m", "1.5"}})),
+                 core::InputError);
 }

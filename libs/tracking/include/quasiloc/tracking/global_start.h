@@ -30,7 +30,8 @@ class GlobalStarter
     /** Feeds frames from `next` (false: no more) to a fresh GlobalInitializer until a start is found; nullopt when
      *  the frames end first. `label` names the occasion in the record ("initialisation", "relocalization 2"). */
     std::optional<GlobalInitialState> find(const std::function<bool(dataset::StereoFrame&)>& next,
-                                                     const std::string& label);
+                                           const std::string& label,
+                                           const std::optional<SearchPrior>& prior = std::nullopt);
     /** The same one frame at a time, for a caller that goes on tracking meanwhile: begin() starts a search,
      *  feed() returns the start once found (and ends the search); attempt = false: the frame's IMU samples only
      *  (GlobalInitializer::feed). single_fix: the first fix is the start, without velocity

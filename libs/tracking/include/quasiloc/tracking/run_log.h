@@ -23,6 +23,7 @@ struct SessionSummary
     Eigen::Isometry3d T_world_cam0_start = Eigen::Isometry3d::Identity();
     std::optional<Eigen::Isometry3d> T_world_cam0_start_truth;  ///< the start frame's ground truth, if any
     std::optional<double> t_first_frame;  ///< the first frame read (a global start may come frames later)
+    double start_search_s = 0;             ///< init = global: wall time until the start was found
 };
 
 class RunLog
