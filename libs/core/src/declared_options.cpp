@@ -1,7 +1,6 @@
-#include <cctype>
-#include <cerrno>
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>

@@ -11,7 +11,6 @@
 namespace quasiloc::map
 {
 using detail::kFar;
-using detail::squaredDistance1d;
 
 
 void DistanceFieldOptions::check(const std::string& input) const
@@ -60,38 +59,14 @@ DistanceField DistanceField::buildDense(const LidarMap& map, DistanceField f, co
         const int x = int(std::lround(g.x())), y = int(std::lround(g.y())), z = int(std::lround(g.z()));
         f.d_[f.index(x, y, z)] = 0.f;
     }
-    const int longest = std::max({f.nx_, f.ny_, f.nz_});
-    std::vector<int> v(static_cast<size_t>(longest));
-    std::vector<float> z(static_cast<size_t>(longest) + 1), tmp(static_cast<size_t>(longest));
-    const size_t sx = 1, sy = size_t(f.nx_), sz = size_t(f.nx_) * size_t(f.ny_);
-    for (int k = 0; k < f.nz_; ++k)
-        for (int j = 0; j < f.ny_; ++j) squaredDistance1d(&f.d_[f.index(0, j, k)], f.nx_, sx, v, z, tmp);
-    for (int k = 0; k < f.nz_; ++k)
-        for (int i = 0; i < f.nx_; ++i) squaredDistance1d(&f.d_[f.index(i, 0, k)], f.ny_, sy, v, z, tmp);
-    for (int j = 0; j < f.ny_; ++j)
-        for (int i = 0; i < f.nx_; ++i) squaredDistance1d(&f.d_[f.index(i, j, 0)], f.nz_, sz, v, z, tmp);
-    // Near the surface the distance to occupied voxel centres is off by up to half a voxel, always the same way
-    // for a surface that does not cut through the centres (a bias an alignment would follow): voxels within one
-    // voxel (Chebyshev) of an occupied one take the exact distance to the points of their 3 x 3 x 3 neighbourhood.
+    const detail::Box grid{Eigen::Vector3i::Zero(), Eigen::Vector3i(f.nx_, f.ny_, f.nz_)};
+    detail::transform(f.d_, grid.size());
+    // Voxels within one voxel (Chebyshev) of an occupied one take the exact distance to the points of their
+    // 3 x 3 x 3 neighbourhood (detail::nearestInNeighbourhood says why).
     std::vector<float> near(f.d_.size(), kFar);
     for (size_t n = 0; n < map.size(); ++n)
-    {
-        const Eigen::Vector3f g = (map.point(n) - f.origin_) / f.voxel_;
-        const int x = int(std::lround(g.x())), y = int(std::lround(g.y())), z = int(std::lround(g.z()));
-        for (int k = std::max(0, z - 1); k <= std::min(f.nz_ - 1, z + 1); ++k)
-            for (int j = std::max(0, y - 1); j <= std::min(f.ny_ - 1, y + 1); ++j)
-                for (int i = std::max(0, x - 1); i <= std::min(f.nx_ - 1, x + 1); ++i)
-                {
-                    const float d2 = (Eigen::Vector3f(float(i), float(j), float(k)) - g).squaredNorm();
-                    float& best = near[f.index(i, j, k)];
-                    best = std::min(best, d2);
-                }
-    }
-    for (size_t v = 0; v < f.d_.size(); ++v)
-    {
-        const float d2 = near[v] < kFar ? near[v] : f.d_[v];
-        f.d_[v] = std::min(f.max_distance_, std::sqrt(d2) * f.voxel_);
-    }
+        detail::nearestInNeighbourhood((map.point(n) - f.origin_) / f.voxel_, grid, near);
+    for (size_t v = 0; v < f.d_.size(); ++v) f.d_[v] = detail::finalDistance(near[v], f.d_[v], f.voxel_, f.max_distance_);
     return f;
 }
 

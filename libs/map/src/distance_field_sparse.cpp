@@ -13,39 +13,10 @@ namespace quasiloc::map
 {
 namespace
 {
+using detail::Box;
 using detail::kFar;
 constexpr int kTile = 8;  ///< bricks per tile side: a 128^3-voxel core (the apron costs 1.8x its volume)
 
-struct Box
-{
-    Eigen::Vector3i lo, hi;  ///< voxel bounds, hi exclusive
-    Eigen::Vector3i size() const { return hi - lo; }
-    size_t index(int i, int j, int k) const
-    {
-        const Eigen::Vector3i s = size();
-        return (size_t(k - lo.z()) * size_t(s.y()) + size_t(j - lo.y())) * size_t(s.x()) + size_t(i - lo.x());
-    }
-    bool contains(int i, int j, int k) const
-    {
-        return i >= lo.x() && j >= lo.y() && k >= lo.z() && i < hi.x() && j < hi.y() && k < hi.z();
-    }
-};
-
-/** The 3-pass exact squared distance transform of a box's buffer (occupied: 0, else kFar). */
-void transform(std::vector<float>& d, const Eigen::Vector3i& n)
-{
-    const int longest = n.maxCoeff();
-    std::vector<int> v(static_cast<size_t>(longest));
-    std::vector<float> z(static_cast<size_t>(longest) + 1), tmp(static_cast<size_t>(longest));
-    const size_t sy = size_t(n.x()), sz = size_t(n.x()) * size_t(n.y());
-    auto at = [&](int i, int j, int k) { return &d[size_t(k) * sz + size_t(j) * sy + size_t(i)]; };
-    for (int k = 0; k < n.z(); ++k)
-        for (int j = 0; j < n.y(); ++j) detail::squaredDistance1d(at(0, j, k), n.x(), 1, v, z, tmp);
-    for (int k = 0; k < n.z(); ++k)
-        for (int i = 0; i < n.x(); ++i) detail::squaredDistance1d(at(i, 0, k), n.y(), sy, v, z, tmp);
-    for (int j = 0; j < n.y(); ++j)
-        for (int i = 0; i < n.x(); ++i) detail::squaredDistance1d(at(i, j, 0), n.z(), sz, v, z, tmp);
-}
 }  // namespace
 
 DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
@@ -78,69 +49,62 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
             for (int y = lo.y(); y <= hi.y(); ++y)
                 for (int x = lo.x(); x <= hi.x(); ++x) needed[brickIndex({x, y, z})] = 1;
     }
-    std::vector<float> buffer, near;
+    std::vector<float> buffer, near;  // a tile's: the padded box's transform, the core's exact near distances
+    // The occupied voxels of the padded box, and the points within one voxel of the core.
+    const auto markPoints = [&](const Box& core, const Box& padded) {
+        buffer.assign(size_t(padded.size().prod()), kFar);
+        near.assign(size_t(core.size().prod()), kFar);
+        const Eigen::Vector3i b0 = padded.lo / kBrick, b1 = ((padded.hi.array() - 1) / kBrick).matrix();
+        for (int z = b0.z(); z <= b1.z(); ++z)
+            for (int y = b0.y(); y <= b1.y(); ++y)
+                for (int x = b0.x(); x <= b1.x(); ++x)
+                {
+                    const auto it = points_of_brick.find(brickIndex({x, y, z}));
+                    if (it == points_of_brick.end()) continue;
+                    for (const Eigen::Vector3f& g : it->second)
+                    {
+                        const Eigen::Vector3i v(int(std::lround(g.x())), int(std::lround(g.y())), int(std::lround(g.z())));
+                        if (padded.contains(v.x(), v.y(), v.z())) buffer[padded.index(v.x(), v.y(), v.z())] = 0.f;
+                        detail::nearestInNeighbourhood(g, core, near);
+                    }
+                }
+    };
+    // A needed brick's final values, kept when any is below the truncation.
+    const auto keepBrick = [&](const Eigen::Vector3i& b, const Box& core, const Box& padded) {
+        std::vector<float> values(size_t(kBrickVoxels), f.max_distance_);
+        bool below = false;
+        for (int k = 0; k < kBrick; ++k)
+            for (int j = 0; j < kBrick; ++j)
+                for (int i = 0; i < kBrick; ++i)
+                {
+                    const Eigen::Vector3i v = b * kBrick + Eigen::Vector3i(i, j, k);
+                    if (!core.contains(v.x(), v.y(), v.z())) continue;  // beyond the grid
+                    const float d = detail::finalDistance(near[core.index(v.x(), v.y(), v.z())],
+                                                          buffer[padded.index(v.x(), v.y(), v.z())], f.voxel_,
+                                                          f.max_distance_);
+                    values[size_t((k * kBrick + j) * kBrick + i)] = d;
+                    below = below || d < f.max_distance_;
+                }
+        if (!below) return;
+        f.brick_of_[brickIndex(b)] = int(f.bricks_.size());
+        f.bricks_.push_back(std::move(values));
+    };
     for (int tz = 0; tz < f.bz_; tz += kTile)
         for (int ty = 0; ty < f.by_; ty += kTile)
             for (int tx = 0; tx < f.bx_; tx += kTile)
             {
                 const Eigen::Vector3i t0(tx, ty, tz), t1 = (t0.array() + kTile).min(bricks.array());
-                bool any = false;
-                for (int z = t0.z(); z < t1.z() && !any; ++z)
-                    for (int y = t0.y(); y < t1.y() && !any; ++y)
-                        for (int x = t0.x(); x < t1.x() && !any; ++x) any = needed[brickIndex({x, y, z})];
-                if (!any) continue;
-                const Box core{t0 * kBrick, (t1 * kBrick).cwiseMin(grid)};
-                const Box padded{(core.lo.array() - reach).max(0), (core.hi.array() + reach).min(grid.array())};
-                // The occupied voxels of the padded box, and the points within one voxel of the core.
-                buffer.assign(size_t(padded.size().prod()), kFar);
-                near.assign(size_t(core.size().prod()), kFar);
-                const Eigen::Vector3i b0 = (padded.lo / kBrick), b1 = ((padded.hi.array() - 1) / kBrick).matrix();
-                for (int z = b0.z(); z <= b1.z(); ++z)
-                    for (int y = b0.y(); y <= b1.y(); ++y)
-                        for (int x = b0.x(); x <= b1.x(); ++x)
-                        {
-                            const auto it = points_of_brick.find(brickIndex({x, y, z}));
-                            if (it == points_of_brick.end()) continue;
-                            for (const Eigen::Vector3f& g : it->second)
-                            {
-                                const int vx = int(std::lround(g.x())), vy = int(std::lround(g.y())),
-                                          vz = int(std::lround(g.z()));
-                                if (padded.contains(vx, vy, vz)) buffer[padded.index(vx, vy, vz)] = 0.f;
-                                for (int k = std::max(core.lo.z(), vz - 1); k <= std::min(core.hi.z() - 1, vz + 1); ++k)
-                                    for (int j = std::max(core.lo.y(), vy - 1); j <= std::min(core.hi.y() - 1, vy + 1); ++j)
-                                        for (int i = std::max(core.lo.x(), vx - 1); i <= std::min(core.hi.x() - 1, vx + 1); ++i)
-                                        {
-                                            const float d2 = (Eigen::Vector3f(float(i), float(j), float(k)) - g).squaredNorm();
-                                            float& best = near[core.index(i, j, k)];
-                                            best = std::min(best, d2);
-                                        }
-                            }
-                        }
-                transform(buffer, padded.size());
-                // Each needed brick of the tile: its final values, kept when any is below the truncation.
+                std::vector<Eigen::Vector3i> tile_needed;
                 for (int z = t0.z(); z < t1.z(); ++z)
                     for (int y = t0.y(); y < t1.y(); ++y)
                         for (int x = t0.x(); x < t1.x(); ++x)
-                        {
-                            if (!needed[brickIndex({x, y, z})]) continue;
-                            std::vector<float> values(size_t(kBrickVoxels), f.max_distance_);
-                            bool below = false;
-                            for (int k = 0; k < kBrick; ++k)
-                                for (int j = 0; j < kBrick; ++j)
-                                    for (int i = 0; i < kBrick; ++i)
-                                    {
-                                        const int gi = x * kBrick + i, gj = y * kBrick + j, gk = z * kBrick + k;
-                                        if (!core.contains(gi, gj, gk)) continue;  // beyond the grid
-                                        const float nd = near[core.index(gi, gj, gk)];
-                                        const float d2 = nd < kFar ? nd : buffer[padded.index(gi, gj, gk)];
-                                        const float d = std::min(f.max_distance_, std::sqrt(d2) * f.voxel_);
-                                        values[size_t((k * kBrick + j) * kBrick + i)] = d;
-                                        below = below || d < f.max_distance_;
-                                    }
-                            if (!below) continue;
-                            f.brick_of_[brickIndex({x, y, z})] = int(f.bricks_.size());
-                            f.bricks_.push_back(std::move(values));
-                        }
+                            if (needed[brickIndex({x, y, z})]) tile_needed.emplace_back(x, y, z);
+                if (tile_needed.empty()) continue;
+                const Box core{t0 * kBrick, (t1 * kBrick).cwiseMin(grid)};
+                const Box padded{(core.lo.array() - reach).max(0), (core.hi.array() + reach).min(grid.array())};
+                markPoints(core, padded);
+                detail::transform(buffer, padded.size());
+                for (const Eigen::Vector3i& b : tile_needed) keepBrick(b, core, padded);
             }
     return f;
 }

@@ -14,12 +14,6 @@ MapContext::MapContext(map::LidarMap map, const quasi::QuasiOptions& quasi, cons
     renderer_ = std::make_unique<quasi::QuasiRenderer>(map_, quasi_);
 }
 
-bool MapContext::hasReflectivity() const
-{
-    const auto [lo, hi] = map_.reflectivityRange();
-    return hi - lo > 1e-3f;
-}
-
 quasi::QuasiRenderer& MapContext::searchRenderer()
 {
     if (!search_renderer_)
@@ -29,14 +23,10 @@ quasi::QuasiRenderer& MapContext::searchRenderer()
 
 std::shared_ptr<const map::DistanceField> MapContext::distanceField(const reloc::GeometricLocalizationOptions& o)
 {
-    if (!field_)
-    {
-        field_ = reloc::GeometricLocalizer::buildField(map_, o, name_);
-        field_voxel_m_ = o.field_voxel_m;
-        field_max_distance_m_ = o.field_max_distance_m;
-    }
-    core::require(o.field_voxel_m == field_voxel_m_ && o.field_max_distance_m == field_max_distance_m_, name_,
-                  "the distance field was built with other field_voxel_m / field_max_distance_m");  // layout: same values
+    if (!field_) field_ = reloc::GeometricLocalizer::buildField(map_, o, name_);
+    // The layout may differ: a dense and a sparse field hold the same values.
+    core::require(float(o.field_voxel_m) == field_->voxelSize() && float(o.field_max_distance_m) == field_->maxDistance(),
+                  name_, "the distance field was built with other field_voxel_m / field_max_distance_m");
     return field_;
 }
 

@@ -97,23 +97,19 @@ std::string RunLog::csv() const
     return out;
 }
 
-namespace
-{
-/** The figures both summaries report. */
-struct Figures
+struct RunLog::Figures
 {
     size_t keyframes = 0, updates = 0, lost_frames = 0;
     eval::AteResult ate;
     double ms_median = NAN, ms_p90 = NAN, ms_max = NAN;
 };
-}  // namespace
 
-static Figures figuresOf(const std::vector<RunLog::Row>& rows)
+RunLog::Figures RunLog::figures() const
 {
     Figures f;
     std::vector<eval::PosePair> pairs;
     std::vector<double> ms;
-    for (const RunLog::Row& r : rows)
+    for (const Row& r : rows_)
     {
         if (r.estimate && r.truth) pairs.push_back({r.t, r.t, *r.estimate, *r.truth});
         ms.push_back(r.ms);
@@ -126,7 +122,7 @@ static Figures figuresOf(const std::vector<RunLog::Row>& rows)
 
 std::string RunLog::summary(const SessionSummary& s) const
 {
-    const Figures f = figuresOf(rows_);
+    const Figures f = figures();
     const eval::ErrorStats& e = f.ate.trans_m;
     std::ostringstream o;
     o << std::fixed << std::setprecision(3) << "frames      " << s.frames << " (keyframes " << f.keyframes
@@ -142,7 +138,7 @@ std::string RunLog::summary(const SessionSummary& s) const
 
 std::string RunLog::summaryJson(const SessionSummary& s) const
 {
-    const Figures f = figuresOf(rows_);
+    const Figures f = figures();
     eval::JsonWriter j;
     j.beginObject();
     j.key("frames").value(s.frames).key("keyframes").value(f.keyframes).key("map_updates").value(f.updates);

@@ -110,14 +110,13 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
     const estimation::ImuNoise noise = imuNoise(imu_);
     tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting,
                                          source.rig(), noise, context.renderer(), *frontend_);
+    // auto resolves to factor when the map's reflectivity varies (Tracker's constructor), else to none.
     out_ << "map term: " << mapTermName(tracker_->mapTerm())
-         << (o.map_term != MapTerm::Auto ? ""
-             : context.hasReflectivity() ? " (auto: the map's reflectivity varies)"
-                                         : " (auto: the map's reflectivity is constant)")
+         << (o.map_term != MapTerm::Auto                  ? ""
+             : tracker_->mapTerm() == MapTerm::Factor ? " (auto: the map's reflectivity varies)"
+                                                      : " (auto: the map's reflectivity is constant)")
          << std::endl;
-    // Relocalization is a use of the map: the no-map baselines (map_updates = false) stay pure.
-    const bool relocalize = options_.relocalization.relocalize && o.map_updates;
-    if (o.initialization.init == InitMode::Global || relocalize)
+    if (o.initialization.init == InitMode::Global || relocalizes())
     {
         starter_ = std::make_unique<GlobalStarter>(context, source.rig(), o.initialization, options_.localization,
                                                    options_.refinement, *frontend_, noise, out_);
@@ -146,6 +145,12 @@ void TrackingSession::recordTiming(const FrameReport& r, double ms_check, double
         {"frame.check", ms_check},       {"frame.search_handover", ms_search}};
     for (const auto& [name, ms] : stages)
         if (ms > 0) timer_.registerUserMeasure(name, ms * 1e-3, true);
+}
+
+bool TrackingSession::relocalizes() const
+{
+    // Relocalization is a use of the map: the no-map baselines (map_updates = false) stay pure.
+    return options_.relocalization.relocalize && options_.tracker.map_updates;
 }
 
 bool TrackingSession::readSource(dataset::StereoFrame& out)
@@ -224,7 +229,7 @@ SessionSummary TrackingSession::run(const std::string& input)
         startGlobally(input);
     last_verified_t_ = t_start_;
     // After the start: the search thread takes over the starter's console lines (the start's are printed as made).
-    if (starter_ && options_.relocalization.relocalize && options_.tracker.map_updates)
+    if (starter_ && relocalizes())
         search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
     dataset::StereoFrame f;
     core::require(nextFrame(f), input, "no frame after the initial one");

@@ -23,8 +23,6 @@ class MapContext
 
     const map::LidarMap& map() const { return map_; }
     const std::string& name() const { return name_; }
-    /** Whether the map carries reflectivity (it varies): a map sampled from a GMM has none. */
-    bool hasReflectivity() const;
 
     /** The tracking thread's renderer. */
     quasi::QuasiRenderer& renderer() { return *renderer_; }
@@ -35,7 +33,6 @@ class MapContext
      *  for a room): the stereo surface factor, the loss check and the relocalization read the same field. A later
      *  call with other field options is an InputError. */
     std::shared_ptr<const map::DistanceField> distanceField(const reloc::GeometricLocalizationOptions& o);
-    bool hasDistanceField() const { return bool(field_); }
 
    private:
     map::LidarMap map_;
@@ -43,7 +40,6 @@ class MapContext
     quasi::QuasiOptions quasi_;
     std::unique_ptr<quasi::QuasiRenderer> renderer_, search_renderer_;
     std::shared_ptr<const map::DistanceField> field_;
-    double field_voxel_m_ = 0, field_max_distance_m_ = 0;
 };
 
 }  // namespace quasiloc::tracking

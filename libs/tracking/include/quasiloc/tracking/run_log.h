@@ -54,7 +54,12 @@ class RunLog
     /** The same figures as JSON (summary.json), for scripts and tests. */
     std::string summaryJson(const SessionSummary& session) const;
 
-    /** One tracked frame (public for the summaries' helpers in run_log.cpp). */
+   private:
+    /** The figures both summaries report (run_log.cpp). */
+    struct Figures;
+    Figures figures() const;
+
+    /** One tracked frame. */
     struct Row
     {
         double t = 0;
@@ -64,7 +69,6 @@ class RunLog
         bool map_update = false, keyframe = false, lost = false;
         std::string csv;
     };
-   private:
     core::Trajectory traj_, gt_traj_;
     std::vector<Row> rows_;
 };

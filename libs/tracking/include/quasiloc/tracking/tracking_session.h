@@ -69,6 +69,8 @@ class TrackingSession
     std::string timing() const;
 
    private:
+    /** A loss is checked for and relocalized from (relocalize, and map updates on). */
+    bool relocalizes() const;
     /** The source's next frame (its time is the first frame's if none was read yet). */
     bool readSource(dataset::StereoFrame& out);
     bool nextFrame(dataset::StereoFrame& out);
