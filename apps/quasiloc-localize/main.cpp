@@ -115,7 +115,7 @@ void report(const QueryRow& row, const dataset::StereoFrame& f, reloc::Localizat
 }
 
 /** Per-stage wall time of every query (what --print-timing prints). */
-void time(const reloc::LocalizationReport& r, mrpt::system::CTimeLogger& timer)
+void recordStageTimes(const reloc::LocalizationReport& r, mrpt::system::CTimeLogger& timer)
 {
     for (const auto& [stage, ms] : {std::pair<const char*, double>{"query.extract", r.ms.extract},
                                     {"query.retrieval", r.ms.retrieval},
@@ -159,7 +159,7 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset:
         {
             out.rows[m].push_back(localizeOne(localizer, image, f, camera, o.modes[m]));
             report(out.rows[m].back(), f, o.modes[m], db, out.diagnostics[m]);
-            time(out.rows[m].back().report, timer);
+            recordStageTimes(out.rows[m].back().report, timer);
         }
     }
     return out;
