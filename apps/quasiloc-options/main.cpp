@@ -21,6 +21,7 @@
 #include <quasiloc/reloc/database_builder.h>
 #include <quasiloc/reloc/localizer.h>
 #include <quasiloc/sim/imu_synthesizer.h>
+#include <quasiloc/sim/large_world.h>
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/sim/stereo_renderer.h>
@@ -67,6 +68,9 @@ std::vector<Section> sections()
     add("sim-rawlog", "Appearance", make<sim::AppearanceOptions>());
     add("sim-rawlog", "Lidar", make<sim::LidarOptions>());
     add("sim-rawlog", "IMU", make<sim::ImuNoiseOptions>());
+    add("sim-large-world", "LargeWorld", make<sim::LargeWorldOptions>());
+    add("sim-large-world", "World", make<sim::WorldOptions>());
+    add("sim-large-world", "Lidar", make<sim::LidarOptions>());
     add("map-import", "MapImport", make<map_import::MapImportOptions>());
     add("euroc2rawlog", "Euroc2Rawlog", make<dataset::Euroc2RawlogOptions>());
     add("rawlog-quasi", "RawlogQuasi", make<quasi::RawlogQuasiOptions>());

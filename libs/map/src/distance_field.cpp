@@ -30,8 +30,12 @@ DistanceField DistanceField::build(const LidarMap& map, const DistanceFieldOptio
     DistanceField f;
     f.voxel_ = float(o.voxel_m);
     f.max_distance_ = float(o.max_distance_m);
-    f.origin_ = b.min - Eigen::Vector3f::Constant(float(o.margin_m));
-    const Eigen::Vector3f extent = b.max - b.min + Eigen::Vector3f::Constant(float(2 * o.margin_m));
+    f.step_ = f.max_distance_ / 65535.f;
+    // Voxel centres on the world lattice of multiples of the voxel: a place's values do not depend on how far the
+    // map extends elsewhere (a room alone and the same room inside a campus share their voxels).
+    const Eigen::Vector3d lo = ((b.min.cast<double>().array() - o.margin_m) / o.voxel_m).floor() * o.voxel_m;
+    f.origin_ = lo.cast<float>();
+    const Eigen::Vector3f extent = b.max + Eigen::Vector3f::Constant(float(o.margin_m)) - f.origin_;
     const Eigen::Vector3d n = (extent.cast<double>() / o.voxel_m).array().ceil() + 1;
     core::require(n.maxCoeff() < 1e6, input, "a distance field over 1e6 voxels along an axis: use a larger voxel");
     f.nx_ = int(n.x()), f.ny_ = int(n.y()), f.nz_ = int(n.z());
@@ -52,21 +56,22 @@ DistanceField DistanceField::buildDense(const LidarMap& map, DistanceField f, co
           << " m exceeds max_voxels = " << o.max_voxels << ": use a larger voxel, or layout = sparse";
         throw core::InputError(input, s.str());
     }
-    f.d_.assign(size_t(voxels), kFar);
+    std::vector<float> d(size_t(voxels), kFar);
     for (size_t i = 0; i < map.size(); ++i)
     {
         const Eigen::Vector3f g = (map.point(i) - f.origin_) / f.voxel_;
         const int x = int(std::lround(g.x())), y = int(std::lround(g.y())), z = int(std::lround(g.z()));
-        f.d_[f.index(x, y, z)] = 0.f;
+        d[f.index(x, y, z)] = 0.f;
     }
     const detail::Box grid{Eigen::Vector3i::Zero(), Eigen::Vector3i(f.nx_, f.ny_, f.nz_)};
-    detail::transform(f.d_, grid.size());
+    detail::transform(d, grid.size());
     // Voxels within one voxel (Chebyshev) of an occupied one take the exact distance to the points of their
     // 3 x 3 x 3 neighbourhood (detail::nearestInNeighbourhood says why).
-    std::vector<float> near(f.d_.size(), kFar);
+    std::vector<float> near(d.size(), kFar);
     for (size_t n = 0; n < map.size(); ++n)
         detail::nearestInNeighbourhood((map.point(n) - f.origin_) / f.voxel_, grid, near);
-    for (size_t v = 0; v < f.d_.size(); ++v) f.d_[v] = detail::finalDistance(near[v], f.d_[v], f.voxel_, f.max_distance_);
+    f.d_.resize(d.size());
+    for (size_t v = 0; v < d.size(); ++v) f.d_[v] = f.quantize(detail::finalDistance(near[v], d[v], f.voxel_, f.max_distance_));
     return f;
 }
 
@@ -89,8 +94,9 @@ float DistanceField::distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& g
     if (!sparse_)
     {
         const size_t o = index(i, j, k), dy = size_t(nx_), dz = size_t(nx_) * size_t(ny_);
-        d000 = d_[o], d100 = d_[o + 1], d010 = d_[o + dy], d110 = d_[o + dy + 1];
-        d001 = d_[o + dz], d101 = d_[o + dz + 1], d011 = d_[o + dz + dy], d111 = d_[o + dz + dy + 1];
+        d000 = value(d_[o]), d100 = value(d_[o + 1]), d010 = value(d_[o + dy]), d110 = value(d_[o + dy + 1]);
+        d001 = value(d_[o + dz]), d101 = value(d_[o + dz + 1]), d011 = value(d_[o + dz + dy]);
+        d111 = value(d_[o + dz + dy + 1]);
     }
     else
     {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/map/visibility_index.h>
@@ -64,6 +65,12 @@ struct BlockGrid
         return s * static_cast<uint64_t>(S * S * S) + l;
     }
     uint64_t superOf(uint64_t key) const { return key / static_cast<uint64_t>(S * S * S); }
+    /** Super-block cell of world coordinate v along axis a (not clamped to the grid). */
+    int64_t superCell(double v, int a) const
+    {
+        const double b = std::floor(v * inv) - double(lo[a]);
+        return static_cast<int64_t>(std::floor(std::clamp(b, -1e15, 1e15) / double(S)));
+    }
 };
 
 BlockGrid makeGrid(const LidarMap& map, const VisibilityIndex::Options& o)
@@ -95,29 +102,48 @@ VisibilityIndex::VisibilityIndex(const LidarMap& map, const Options& options) : 
     core::require(n < (size_t(1) << 32), "VisibilityIndex", "more than 2^32 points");
     if (n == 0) return;
     const BlockGrid grid = makeGrid(map, options);
-    std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
-    for (size_t i = 0; i < n; ++i) keyed[i] = {grid.key(map.xs()[i], map.ys()[i], map.zs()[i]), uint32_t(i)};
-    std::sort(keyed.begin(), keyed.end());  // ties keep the map order (index is the second key)
+    inv_block_ = grid.inv;
+    superblocks_per_edge_ = grid.S;
+    for (int a = 0; a < 3; ++a) block_lo_[a] = grid.lo[a], n_super_[a] = grid.n_super[a];
+    // Points by block key, map order within a block: a counting sort over the occupied blocks (far fewer than the
+    // points), so the only temporary the size of the map is the 4-byte order (a 100 M-point map: 0.4 GB, where
+    // sorting (key, index) pairs took 1.6 GB).
+    std::unordered_map<uint64_t, uint32_t> count_of;
+    for (size_t i = 0; i < n; ++i) ++count_of[grid.key(map.xs()[i], map.ys()[i], map.zs()[i])];
+    std::vector<std::pair<uint64_t, uint32_t>> block_starts(count_of.begin(), count_of.end());
+    std::sort(block_starts.begin(), block_starts.end());
+    uint32_t start = 0;
+    for (auto& [key, c] : block_starts) std::swap(c, start), start += c;  // count -> first position
+    std::unordered_map<uint64_t, uint32_t> next(block_starts.begin(), block_starts.end());
+    count_of.clear();
+    std::vector<uint32_t> order(n);
+    for (size_t i = 0; i < n; ++i) order[next[grid.key(map.xs()[i], map.ys()[i], map.zs()[i])]++] = uint32_t(i);
+    next.clear();
+    std::vector<uint64_t> keys;
+    keys.reserve(block_starts.size());
+    for (const auto& [key, first] : block_starts) keys.push_back(key);
 
     x_.resize(n);
     y_.resize(n);
     z_.resize(n);
     refl_.resize(n);
     map_index_.resize(n);
+    size_t block = 0;  // keys[block]: the key of the block point k is in
     for (size_t k = 0; k < n; ++k)
     {
-        const uint32_t i = keyed[k].second;
+        const uint32_t i = order[k];
         const Eigen::Vector3f p(map.xs()[i], map.ys()[i], map.zs()[i]);
         x_[k] = p.x();
         y_[k] = p.y();
         z_[k] = p.z();
         refl_[k] = map.reflectivities()[i];
         map_index_[k] = i;
-        const bool new_block = k == 0 || keyed[k].first != keyed[k - 1].first;
+        const bool new_block = k == 0 || (block + 1 < keys.size() && k == block_starts[block + 1].second);
         if (new_block)
         {
-            if (k == 0 || grid.superOf(keyed[k].first) != grid.superOf(keyed[k - 1].first))
-                superblocks_.push_back({p, p, uint32_t(blocks_.size()), uint32_t(blocks_.size())});
+            if (k > 0) ++block;
+            if (k == 0 || grid.superOf(keys[block]) != grid.superOf(keys[block - 1]))
+                superblocks_.push_back({p, p, uint32_t(blocks_.size()), uint32_t(blocks_.size()), grid.superOf(keys[block])});
             blocks_.push_back({p, p, {uint32_t(k), uint32_t(k)}});
             ++superblocks_.back().end_block;
         }
@@ -239,9 +265,8 @@ void VisibilityIndex::query(const mrpt::poses::CPose3D& T_world_cam, const ViewC
     flo.array() -= 1e-4 * (1.0 + max_range_m);
     fhi.array() += 1e-4 * (1.0 + max_range_m);
 
-    for (const Superblock& s : superblocks_)
-    {
-        if (!boxesOverlap(s.min, s.max, flo, fhi) || boxOutside(s.min, s.max, planes)) continue;
+    const auto visit = [&](const Superblock& s) {
+        if (!boxesOverlap(s.min, s.max, flo, fhi) || boxOutside(s.min, s.max, planes)) return;
         for (uint32_t b = s.first_block; b < s.end_block; ++b)
         {
             const Block& blk = blocks_[b];
@@ -251,7 +276,61 @@ void VisibilityIndex::query(const mrpt::poses::CPose3D& T_world_cam, const ViewC
             else
                 out.push_back(blk.range);
         }
+    };
+    forSuperblocksIn(flo, fhi, visit);
+}
+
+template <typename F>
+void VisibilityIndex::forSuperblocksIn(const Eigen::Vector3d& flo, const Eigen::Vector3d& fhi, F&& visit) const
+{
+    // The super-block cells the box covers, clamped to the grid. When they are fewer than the stored
+    // super-blocks (a camera in a large map), only those cells are looked up; otherwise all are scanned. Both
+    // visit in key order, so the ranges come out the same.
+    BlockGrid grid;
+    grid.inv = inv_block_;
+    grid.S = superblocks_per_edge_;
+    int64_t c0[3], c1[3];
+    double cells = 1;
+    for (int a = 0; a < 3; ++a)
+    {
+        grid.lo[a] = block_lo_[a];
+        c0[a] = std::max<int64_t>(0, grid.superCell(flo[a], a));
+        c1[a] = std::min<int64_t>(n_super_[a] - 1, grid.superCell(fhi[a], a));
+        if (c1[a] < c0[a]) return;
+        cells *= double(c1[a] - c0[a] + 1);
     }
+    if (cells >= double(superblocks_.size()))
+    {
+        for (const Superblock& s : superblocks_) visit(s);
+        return;
+    }
+    const auto keyOf = [&](int64_t x, int64_t y, int64_t z) { return uint64_t((x * n_super_[1] + y) * n_super_[2] + z); };
+    const auto byKey = [](const Superblock& s, uint64_t key) { return s.key < key; };
+    for (int64_t x = c0[0]; x <= c1[0]; ++x)
+        for (int64_t y = c0[1]; y <= c1[1]; ++y)
+        {
+            const uint64_t last = keyOf(x, y, c1[2]);
+            auto it = std::lower_bound(superblocks_.begin(), superblocks_.end(), keyOf(x, y, c0[2]), byKey);
+            for (; it != superblocks_.end() && it->key <= last; ++it) visit(*it);
+        }
+}
+
+void VisibilityIndex::queryBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Range>& out) const
+{
+    out.clear();
+    if (blocks_.empty()) return;
+    forSuperblocksIn(lo, hi, [&](const Superblock& s) {
+        if (!boxesOverlap(s.min, s.max, lo, hi)) return;
+        for (uint32_t b = s.first_block; b < s.end_block; ++b)
+        {
+            const Block& blk = blocks_[b];
+            if (!boxesOverlap(blk.min, blk.max, lo, hi)) continue;
+            if (!out.empty() && out.back().end == blk.range.begin)
+                out.back().end = blk.range.end;
+            else
+                out.push_back(blk.range);
+        }
+    });
 }
 
 size_t VisibilityIndex::countPoints(const std::vector<Range>& ranges)

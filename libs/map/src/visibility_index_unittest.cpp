@@ -223,3 +223,30 @@ TEST(VisibilityIndex, ViewConeOfAPinholeIsItsImageRectangle)
     EXPECT_NEAR(cone.xn_max.y(), 240.0 / 400, 0.01);
     EXPECT_FALSE(VisibilityIndex::viewCone(core::CameraModel()).bounded);
 }
+
+TEST(VisibilityIndex, AQueryInALargeSparseWorldFindsEveryVisiblePointOfItsOwnCluster)
+{
+    // Rooms 100 m apart over 1 km: a query looks up only the super-block cells its range covers (not every
+    // super-block of the map); it must still miss nothing, and return nothing from the other rooms.
+    LidarMap map;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> U(-4.f, 4.f);
+    for (int gy = 0; gy < 11; ++gy)
+        for (int gx = 0; gx < 11; ++gx)
+            for (int k = 0; k < 2000; ++k)
+                map.addPoint(100.f * gx + U(rng), 100.f * gy + U(rng), 1.5f + 0.3f * U(rng), 0.5f);
+    const VisibilityIndex index(map, {});
+    const core::CameraModel cam = testCameras()[1];
+    for (const auto& [eye, target] : {std::pair<Eigen::Vector3d, Eigen::Vector3d>{{500, 500, 1}, {503, 501, 1.5}},
+                                      {{-3, 2, 1.5}, {4, -1, 1}},
+                                      {{1000, 996, 2}, {1000, 1003, 1}}})
+    {
+        const auto T = lookAt(eye, target);
+        std::vector<VisibilityIndex::Range> ranges;
+        index.query(T, cam, 15, ranges);
+        size_t visible = 0;
+        EXPECT_EQ(missedVisiblePoints(index, T, cam, 15, coverage(index, ranges), &visible), 0u);
+        EXPECT_GT(visible, 100u);
+        EXPECT_LE(VisibilityIndex::countPoints(ranges), 2000u) << "only the camera's own room is in range";
+    }
+}

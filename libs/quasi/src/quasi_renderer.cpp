@@ -75,14 +75,16 @@ size_t sum(const std::vector<size_t>& v)
 }
 }  // namespace
 
-QuasiRenderer::QuasiRenderer(const map::LidarMap& map, map::VisibilityIndex index, const QuasiOptions& options)
+QuasiRenderer::QuasiRenderer(const map::LidarMap& map, std::shared_ptr<const map::VisibilityIndex> index,
+                             const QuasiOptions& options)
     : map_(map), index_(std::move(index)), options_(options), buf_(std::make_unique<Buffers>())
 {
+    core::require(index_ != nullptr, "QuasiRenderer visibility index", "is missing");
     options_.check("QuasiRenderer options");
     core::require(!map.empty(), "QuasiRenderer map", "the map is empty");
     core::require(map.size() < (size_t(1) << 31), "QuasiRenderer map", "more than 2^31 points");
-    core::require(index_.size() == map.size(), "QuasiRenderer visibility index",
-                  "holds " + std::to_string(index_.size()) + " points but the map " + std::to_string(map.size()));
+    core::require(index_->size() == map.size(), "QuasiRenderer visibility index",
+                  "holds " + std::to_string(index_->size()) + " points but the map " + std::to_string(map.size()));
     buf_->num_threads = options_.num_threads > 0 ? options_.num_threads : std::max(1, cv::getNumThreads());
     buf_->hue = detail::HueTable::make(options_);
     buf_->histograms.assign(4 * buf_->num_threads, std::vector<uint32_t>(detail::kReflHistogramBins, 0));
@@ -90,14 +92,16 @@ QuasiRenderer::QuasiRenderer(const map::LidarMap& map, map::VisibilityIndex inde
     buf_->hidden.resize(4 * buf_->num_threads);
 
     std::vector<uint32_t> hist(detail::kReflHistogramBins, 0);
-    const float* r = index_.reflectivities();
-    for (size_t i = 0; i < index_.size(); ++i)
+    const float* r = index_->reflectivities();
+    for (size_t i = 0; i < index_->size(); ++i)
         ++hist[std::min(detail::kReflHistogramBins - 1, std::max(0, int(r[i] * detail::kReflHistogramBins)))];
     detail::reflectivityPercentiles(hist, options_, map_refl_lo_, map_refl_hi_);
 }
 
 QuasiRenderer::QuasiRenderer(const map::LidarMap& map, const QuasiOptions& options)
-    : QuasiRenderer(map, map::VisibilityIndex(map, {options.visibility_block_size_m}), options)
+    : QuasiRenderer(map, std::make_shared<const map::VisibilityIndex>(
+                                     map, map::VisibilityIndex::Options{options.visibility_block_size_m}),
+                                 options)
 {
 }
 
@@ -131,7 +135,7 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     out.stats = RenderStats{};
     RenderStats& st = out.stats;
 
-    index_.query(T_world_cam, b.cone, o.max_depth_m, b.ranges);
+    index_->query(T_world_cam, b.cone, o.max_depth_m, b.ranges);
     st.candidate_points = map::VisibilityIndex::countPoints(b.ranges);
     clock.lap(st.ms_culling, st.cpu_ms_culling);
 
@@ -144,7 +148,7 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     const float min_depth = float(o.min_depth_m), max_depth = float(o.max_depth_m);
     if (S == 1)
     {
-        b.counts[0] = detail::projectPoints(index_, b.ranges, 0, n_cand, *b.cam, pose, min_depth, max_depth, 0, n_pix,
+        b.counts[0] = detail::projectPoints(*index_, b.ranges, 0, n_cand, *b.cam, pose, min_depth, max_depth, 0, n_pix,
                                             b.zbs[0]);
         detail::mergeZBuffers(b.zbs, 0, H, b.sparse);
     }
@@ -154,20 +158,20 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
         // before, with headroom so that this stays rare.
         if (b.proj_pix.size() < n_cand)
         {
-            const size_t n = std::min(index_.size(), n_cand + n_cand / 4);
+            const size_t n = std::min(index_->size(), n_cand + n_cand / 4);
             b.proj_pix.resize(n), b.proj_depth.resize(n);
         }
         cv::parallel_for_(
             cv::Range(0, S),
             [&](const cv::Range& r) {
                 for (int s = r.start; s < r.end; ++s)
-                    detail::projectToBuffer(index_, b.ranges, n_cand * s / S, n_cand * (s + 1) / S, *b.cam, pose,
+                    detail::projectToBuffer(*index_, b.ranges, n_cand * s / S, n_cand * (s + 1) / S, *b.cam, pose,
                                             min_depth, max_depth, b.proj_pix.data(), b.proj_depth.data());
             },
             S);
         // Each thread's block of rows: z-buffer test, then the sparse planes of those rows (still in cache).
         parallelRows(H, S, [&](int y0, int y1, int s) {
-            b.counts[s] = detail::zTestBuffer(index_, b.ranges, b.proj_pix.data(), b.proj_depth.data(), y0 * W,
+            b.counts[s] = detail::zTestBuffer(*index_, b.ranges, b.proj_pix.data(), b.proj_depth.data(), y0 * W,
                                               y1 * W, b.zbs[0]);
             detail::mergeZBuffers(b.zbs, y0, y1, b.sparse);
         });

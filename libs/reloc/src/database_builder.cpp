@@ -25,7 +25,7 @@ const Eigen::Vector3f kNaN3 = Eigen::Vector3f::Constant(std::numeric_limits<floa
 /** One worker's renderer, extractor and detector (none of them is thread-safe). */
 struct Worker
 {
-    Worker(const map::LidarMap& map, const map::VisibilityIndex& index, const DatabaseBuildConfig& cfg)
+    Worker(const map::LidarMap& map, std::shared_ptr<const map::VisibilityIndex> index, const DatabaseBuildConfig& cfg)
         : renderer(map, index, cfg.quasi),
           extractor(frontend::createFeatureExtractor(cfg.features)),
           lines(cfg.lines)
@@ -129,7 +129,8 @@ Database buildDatabase(const map::LidarMap& map, const core::CameraModel& camera
     st.threads = std::min<int>(st.threads, int(poses.size()));
 
     t0 = Clock::now();
-    const map::VisibilityIndex index(map, map::VisibilityIndex::Options{cfg.quasi.visibility_block_size_m});
+    const auto index = std::make_shared<const map::VisibilityIndex>(
+        map, map::VisibilityIndex::Options{cfg.quasi.visibility_block_size_m});
     std::vector<DatabaseView> views(poses.size());
     std::vector<char> keep(poses.size(), 0), dropped_valid(poses.size(), 0);
     std::atomic<size_t> next{0}, done{0};

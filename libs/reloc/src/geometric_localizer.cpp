@@ -5,6 +5,8 @@
 #include <quasiloc/estimation/pose_parametrization.h>
 #include <quasiloc/reloc/geometric_localizer.h>
 
+#include "near_points.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -65,18 +67,21 @@ std::shared_ptr<const map::DistanceField> GeometricLocalizer::buildField(const m
 
 GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig,
                                        const GeometricLocalizationOptions& o, const std::string& input)
-    : GeometricLocalizer(map, rig, o, buildField(map, o, input), input)
+    : GeometricLocalizer(map, rig, o, buildField(map, o, input),
+                         std::make_shared<const map::VisibilityIndex>(map, map::VisibilityIndex::Options{}), input)
 {
 }
 
 GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig,
                                        const GeometricLocalizationOptions& o,
-                                       std::shared_ptr<const map::DistanceField> field, const std::string& input)
-    : map_(&map),
-      options_(o),
+                                       std::shared_ptr<const map::DistanceField> field,
+                                       std::shared_ptr<const map::VisibilityIndex> index, const std::string& input)
+    : options_(o),
       field_(std::move(field)),
+      index_(std::move(index)),
       stereo_(rig, o.stereo)
 {
+    core::require(index_ && index_->size() == map.size(), input, "the visibility index is not the map's");
     ViewSamplingOptions vs;
     vs.grid_spacing_m = o.grid_spacing_m;
     vs.heights_m = o.heights_m;
@@ -87,11 +92,6 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
     vs.region = o.region;
     for (const auto& p : sampleViewpoints(map, vs)) positions_.emplace_back(p.x(), p.y(), p.z());
     core::require(!positions_.empty(), input, "no free camera position for global localization by geometry");
-    if (!o.polish_truncations_m.empty())
-    {  // build the k-d tree now, not inside the first query
-        float x, y, z, d2;
-        map.points().kdTreeClosestPoint3D(0, 0, 0, x, y, z, d2);
-    }
 }
 
 GeometricLocalizer::~GeometricLocalizer() = default;
@@ -170,7 +170,20 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
 {
     using Matrix6d = Eigen::Matrix<double, 6, 6>;
     using Vector6d = Eigen::Matrix<double, 6, 1>;
+    if (options_.polish_truncations_m.empty() || points_cam.empty()) return;
     const std::vector<double> weight = pointWeights(points_cam);
+    // The map points near the query, gathered once: exact while no query point moves more than the margin.
+    const float max_truncation =
+        float(*std::max_element(options_.polish_truncations_m.begin(), options_.polish_truncations_m.end()));
+    constexpr float kMargin = 0.15f;
+    std::vector<Eigen::Vector3f> gathered_at;
+    std::unique_ptr<NearPoints> near;
+    const auto gather = [&] {
+        gathered_at.clear();
+        for (const auto& p : points_cam) gathered_at.push_back((T_world_cam * p.cast<double>()).cast<float>());
+        near = std::make_unique<NearPoints>(*index_, gathered_at, max_truncation + kMargin, max_truncation);
+    };
+    gather();
     for (double truncation : options_.polish_truncations_m)
         for (int it = 0; it < options_.refine_iterations; ++it)
         {
@@ -178,15 +191,22 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
             Matrix6d H = Matrix6d::Zero();
             Vector6d g = Vector6d::Zero();
             const Eigen::Matrix3d R = T_world_cam.linear();
+            std::vector<Eigen::Vector3f> q_world(points_cam.size());
+            float moved2 = 0;
+            for (size_t i = 0; i < points_cam.size(); ++i)
+            {
+                q_world[i] = (T_world_cam * points_cam[i].cast<double>()).cast<float>();
+                moved2 = std::max(moved2, (q_world[i] - gathered_at[i]).squaredNorm());
+            }
+            if (moved2 > kMargin * kMargin) gather();
             int used = 0;
             for (size_t i = 0; i < points_cam.size(); ++i)
             {
+                Eigen::Vector3f m;
+                float d2;
+                if (!near->nearest(q_world[i], float(truncation), m, d2)) continue;
                 const Eigen::Vector3d p = points_cam[i].cast<double>();
-                const Eigen::Vector3d q = T_world_cam * p;
-                float mx, my, mz, d2;
-                map_->points().kdTreeClosestPoint3D(float(q.x()), float(q.y()), float(q.z()), mx, my, mz, d2);
-                if (double(d2) >= truncation * truncation) continue;
-                const Eigen::Vector3d e = q - Eigen::Vector3d(mx, my, mz);
+                const Eigen::Vector3d e = T_world_cam * p - m.cast<double>();
                 Eigen::Matrix<double, 3, 6> J;
                 J.leftCols<3>() = -R * estimation::hat(p);
                 J.rightCols<3>() = R;

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
+#include <cstdint>
 
 namespace quasiloc::reloc
 {
@@ -157,15 +158,15 @@ std::vector<mrpt::poses::CPose3D> sampleViewpoints(const map::LidarMap& map, con
     }
     constexpr double kPi = 3.14159265358979323846;
     std::vector<mrpt::poses::CPose3D> views;
-    const int nx = x1 >= x0 ? int(std::floor((x1 - x0) / options.grid_spacing_m)) + 1 : 0;
-    const int ny = y1 >= y0 ? int(std::floor((y1 - y0) / options.grid_spacing_m)) + 1 : 0;
-    // Centre the grid in the sampled rectangle, so that a smaller region is not biased to one side.
-    const double ox = x0 + 0.5 * ((x1 - x0) - (nx - 1) * options.grid_spacing_m);
-    const double oy = y0 + 0.5 * ((y1 - y0) - (ny - 1) * options.grid_spacing_m);
-    for (int j = 0; j < ny; ++j)
-        for (int i = 0; i < nx; ++i)
+    // The grid is the world lattice of multiples of the spacing: the positions in a place do not depend on how far
+    // the map extends elsewhere (a room alone and the same room inside a campus get the same candidates).
+    const double s = options.grid_spacing_m;
+    const int64_t i0 = int64_t(std::ceil(x0 / s - 1e-9)), i1 = int64_t(std::floor(x1 / s + 1e-9));
+    const int64_t j0 = int64_t(std::ceil(y0 / s - 1e-9)), j1 = int64_t(std::floor(y1 / s + 1e-9));
+    for (int64_t j = j0; j <= j1; ++j)
+        for (int64_t i = i0; i <= i1; ++i)
         {
-            const double x = ox + i * options.grid_spacing_m, y = oy + j * options.grid_spacing_m;
+            const double x = double(i) * s, y = double(j) * s;
             ++st.grid_positions;
             double floor_z = 0;
             if (!grid.floorZ(x, y, floor_z))

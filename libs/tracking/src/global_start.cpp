@@ -22,7 +22,8 @@ GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, co
 {
     const auto t0 = std::chrono::steady_clock::now();
     localizer_ = std::make_unique<reloc::GeometricLocalizer>(context.map(), rig, localization,
-                                                             context.distanceField(localization), context.name());
+                                                             context.distanceField(localization),
+                                                             context.renderer().sharedVisibilityIndex(), context.name());
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     init_options_.velocity_interval_s = o.init_velocity_interval_s;
     init_options_.max_disagreement_deg = o.init_max_disagreement_deg;

@@ -17,7 +17,7 @@ MapContext::MapContext(map::LidarMap map, const quasi::QuasiOptions& quasi, cons
 quasi::QuasiRenderer& MapContext::searchRenderer()
 {
     if (!search_renderer_)
-        search_renderer_ = std::make_unique<quasi::QuasiRenderer>(map_, renderer_->visibilityIndex(), quasi_);
+        search_renderer_ = std::make_unique<quasi::QuasiRenderer>(map_, renderer_->sharedVisibilityIndex(), quasi_);
     return *search_renderer_;
 }
 

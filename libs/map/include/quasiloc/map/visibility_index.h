@@ -53,6 +53,10 @@ class VisibilityIndex
     void query(const mrpt::poses::CPose3D& T_world_cam, const ViewCone& cone, double max_range_m,
                std::vector<Range>& out) const;
 
+    /** Ranges of all points of the blocks whose bounds intersect the world box [lo, hi] (a superset of the points
+     *  inside it). Clears `out` first. Its work grows with the box, not with the map. */
+    void queryBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<Range>& out) const;
+
     /** Number of points in `ranges`. */
     static size_t countPoints(const std::vector<Range>& ranges);
 
@@ -76,10 +80,17 @@ class VisibilityIndex
     {
         Eigen::Vector3f min, max;  ///< tight bounds of its blocks
         uint32_t first_block = 0, end_block = 0;
+        uint64_t key = 0;  ///< super-block cell (x slowest, z fastest): the order they are stored in
     };
+    /** Calls visit(s) for every super-block whose cell the world box [flo, fhi] covers, in key order: the work of
+     *  a query grows with its range, not with the map. */
+    template <typename F>
+    void forSuperblocksIn(const Eigen::Vector3d& flo, const Eigen::Vector3d& fhi, F&& visit) const;
     Options options_;
     std::vector<Block> blocks_;
     std::vector<Superblock> superblocks_;
+    double inv_block_ = 1;  ///< the grid of super-block cells: 1 / block size, lowest block, cells per axis
+    int64_t superblocks_per_edge_ = 1, block_lo_[3] = {0, 0, 0}, n_super_[3] = {1, 1, 1};
     std::vector<float> x_, y_, z_, refl_;
     std::vector<uint32_t> map_index_;
 };

@@ -32,9 +32,11 @@ namespace quasiloc::quasi
 class QuasiRenderer
 {
    public:
-    /** Uses `index`, which must have been built from `map`. `map` must outlive the renderer.
-     *  InputError for an empty map, an index of another size, or bad options. */
-    QuasiRenderer(const map::LidarMap& map, map::VisibilityIndex index, const QuasiOptions& options);
+    /** Uses `index`, which must have been built from `map` (renderers of one map on several threads share it: on a
+     *  large map it is as big as the points). `map` must outlive the renderer. InputError for an empty map, an
+     *  index of another size, or bad options. */
+    QuasiRenderer(const map::LidarMap& map, std::shared_ptr<const map::VisibilityIndex> index,
+                  const QuasiOptions& options);
     /** Builds the VisibilityIndex with options.visibility_block_size_m. */
     QuasiRenderer(const map::LidarMap& map, const QuasiOptions& options);
     ~QuasiRenderer();
@@ -47,12 +49,13 @@ class QuasiRenderer
 
     const QuasiOptions& options() const { return options_; }
     const map::LidarMap& map() const { return map_; }
-    const map::VisibilityIndex& visibilityIndex() const { return index_; }
+    const map::VisibilityIndex& visibilityIndex() const { return *index_; }
+    std::shared_ptr<const map::VisibilityIndex> sharedVisibilityIndex() const { return index_; }
 
    private:
     struct Buffers;
     const map::LidarMap& map_;
-    map::VisibilityIndex index_;
+    std::shared_ptr<const map::VisibilityIndex> index_;
     QuasiOptions options_;
     float map_refl_lo_ = 0, map_refl_hi_ = 1;  ///< map-wide percentiles (reflectivity_scope = map)
     std::unique_ptr<Buffers> buf_;

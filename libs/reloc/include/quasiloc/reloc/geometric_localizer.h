@@ -12,8 +12,8 @@
 //  3. the best refine_candidates candidates that differ (> 0.5 m or > 20 deg apart) are refined over 6 DoF by
 //     Gauss-Newton on the distance field, with the truncation shrinking (refine_truncations_m): query points the
 //     map does not explain (people, clutter, stereo errors) stop pulling;
-//  4. the best refined pose is polished by point-to-point ICP against the map points themselves (k-d tree,
-//     polish_truncations_m): the field's trilinear interpolant has its minima at voxel centres, which biased the
+//  4. the best refined pose is polished by point-to-point ICP against the map points themselves (those near the query,
+//     gathered through the visibility index, near_points.h; polish_truncations_m): the field's trilinear interpolant has its minima at voxel centres, which biased the
 //     answer by a fraction of a voxel (simulated room, 4 cm voxels: 2 cm / 1 deg before polishing);
 //  5. decision: the refined pose with the most inliers (points within inlier_m + 2 depth sigmas of the map) is the answer when
 //     their share is >= min_inlier_ratio and no refined pose farther than 0.3 m or 5 deg from it reaches
@@ -26,6 +26,7 @@
 #include <memory>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/distance_field.h>
+#include <quasiloc/map/visibility_index.h>
 #include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/reloc/view_sampling.h>
 #include <string>
@@ -92,13 +93,15 @@ struct GeometricLocalization
 class GeometricLocalizer
 {
    public:
-    /** Builds the distance field, the map's k-d tree and the candidate positions. InputError naming `input` (the
-     *  map) for an empty map, a field too large, or no free position. `map` must outlive the localizer. */
+    /** Builds the distance field, a visibility index of the map and the candidate positions. InputError naming
+     *  `input` (the map) for an empty map, a field too large, or no free position. `map` must outlive the localizer. */
     GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig, const GeometricLocalizationOptions& o,
                        const std::string& input = "map");
-    /** The same with a distance field built by buildField() and shared with others (tracking::MapContext). */
+    /** The same with a distance field built by buildField() and the map's visibility index, shared with others
+     *  (tracking::MapContext): on a large map each is as big as the points. */
     GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig, const GeometricLocalizationOptions& o,
-                       std::shared_ptr<const map::DistanceField> field, const std::string& input = "map");
+                       std::shared_ptr<const map::DistanceField> field,
+                       std::shared_ptr<const map::VisibilityIndex> index, const std::string& input = "map");
     /** The distance field of `o` (field_voxel_m, field_max_distance_m). InputError naming `input` as the
      *  constructor. */
     static std::shared_ptr<const map::DistanceField> buildField(const map::LidarMap& map,
@@ -128,16 +131,16 @@ class GeometricLocalizer
     const map::DistanceField& field() const { return *field_; }
     size_t positions() const { return positions_.size(); }
 
-    /** Point-to-point ICP of T_world_cam against the map points (the polish stage alone). Not thread-safe. */
+    /** Point-to-point ICP of T_world_cam against the map points (the polish stage alone). */
     void polish(const std::vector<Eigen::Vector3f>& points_cam, Eigen::Isometry3d& T_world_cam) const;
 
    private:
     std::vector<double> pointWeights(const std::vector<Eigen::Vector3f>& points_cam) const;
 
-    const map::LidarMap* map_;
 
     GeometricLocalizationOptions options_;
     std::shared_ptr<const map::DistanceField> field_;
+    std::shared_ptr<const map::VisibilityIndex> index_;
     StereoCloud stereo_;
     std::vector<Eigen::Vector3d> positions_;  ///< candidate camera positions (world)
 };
