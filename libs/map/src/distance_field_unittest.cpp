@@ -35,61 +35,72 @@ float bruteForce(const map::LidarMap& m, const Eigen::Vector3f& p)
 
 TEST(DistanceField, MatchesBruteForceWithinHalfAVoxel)
 {
-    const map::LidarMap m = testMap();
-    map::DistanceFieldOptions o;
-    o.voxel_m = 0.04;
-    o.margin_m = 0.3;
-    o.max_distance_m = 0.6;
-    const map::DistanceField f = map::DistanceField::build(m, o);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(-1.2f, 1.2f);
-    double worst = 0;
-    for (int n = 0; n < 2000; ++n)
+    for (const auto layout : {map::DistanceFieldLayout::Dense, map::DistanceFieldLayout::Sparse})
     {
-        const Eigen::Vector3f p(u(rng), u(rng), 0.6f * u(rng) + 0.6f);
-        const float truth = std::min(0.6f, bruteForce(m, p));
-        // Voxel centres stand for the points (<= half a diagonal away) and trilinear interpolation of a distance
-        // adds at most about another half diagonal near a surface.
-        worst = std::max(worst, double(std::abs(f.distance(p) - truth)));
+        SCOPED_TRACE(layout == map::DistanceFieldLayout::Dense ? "dense" : "sparse");
+        const map::LidarMap m = testMap();
+        map::DistanceFieldOptions o;
+        o.layout = layout;
+        o.voxel_m = 0.04;
+        o.margin_m = 0.3;
+        o.max_distance_m = 0.6;
+        const map::DistanceField f = map::DistanceField::build(m, o);
+        std::mt19937 rng(3);
+        std::uniform_real_distribution<float> u(-1.2f, 1.2f);
+        double worst = 0;
+        for (int n = 0; n < 2000; ++n)
+        {
+            const Eigen::Vector3f p(u(rng), u(rng), 0.6f * u(rng) + 0.6f);
+            const float truth = std::min(0.6f, bruteForce(m, p));
+            // Voxel centres stand for the points (<= half a diagonal away) and trilinear interpolation of a distance
+            // adds at most about another half diagonal near a surface.
+            worst = std::max(worst, double(std::abs(f.distance(p) - truth)));
+        }
+        EXPECT_LT(worst, 0.04 * std::sqrt(3.0));
+        // Farther than max_distance_m: truncated; outside the grid: the truncation value.
+        EXPECT_FLOAT_EQ(f.distance(Eigen::Vector3f(-0.2f, 0.9f, 1.25f)), 0.6f);
+        EXPECT_GT(bruteForce(m, {-0.2f, 0.9f, 1.25f}), 0.6f + 0.04f);
+        EXPECT_FLOAT_EQ(f.distance(Eigen::Vector3f(50, 0, 0)), 0.6f);
+        EXPECT_EQ(f.sparse(), layout == map::DistanceFieldLayout::Sparse);
     }
-    EXPECT_LT(worst, 0.04 * std::sqrt(3.0));
-    // Farther than max_distance_m: truncated; outside the grid: the truncation value.
-    EXPECT_FLOAT_EQ(f.distance(Eigen::Vector3f(-0.2f, 0.9f, 1.25f)), 0.6f);
-    EXPECT_GT(bruteForce(m, {-0.2f, 0.9f, 1.25f}), 0.6f + 0.04f);
-    EXPECT_FLOAT_EQ(f.distance(Eigen::Vector3f(50, 0, 0)), 0.6f);
 }
 
 TEST(DistanceField, GradientIsTheInterpolantsDerivative)
 {
-    const map::LidarMap m = testMap();
-    map::DistanceFieldOptions o;
-    o.voxel_m = 0.05;
-    const map::DistanceField f = map::DistanceField::build(m, o);
-    std::mt19937 rng(5);
-    std::uniform_int_distribution<int> cell(5, 35);
-    std::uniform_real_distribution<float> inside(0.1f, 0.9f);
-    for (int n = 0; n < 200; ++n)
+    for (const auto layout : {map::DistanceFieldLayout::Dense, map::DistanceFieldLayout::Sparse})
     {
-        // Inside a cell: the trilinear interpolant is smooth there (its derivative jumps across cell faces).
-        const Eigen::Vector3f p = f.origin() + 0.05f * Eigen::Vector3f(float(cell(rng)) + inside(rng),
-                                                                       float(cell(rng)) + inside(rng),
-                                                                       float(cell(rng)) + inside(rng));
-        Eigen::Vector3f g;
-        f.distance(p, g);
-        for (int a = 0; a < 3; ++a)
+        SCOPED_TRACE(layout == map::DistanceFieldLayout::Dense ? "dense" : "sparse");
+        const map::LidarMap m = testMap();
+        map::DistanceFieldOptions o;
+        o.layout = layout;
+        o.voxel_m = 0.05;
+        const map::DistanceField f = map::DistanceField::build(m, o);
+        std::mt19937 rng(5);
+        std::uniform_int_distribution<int> cell(5, 35);
+        std::uniform_real_distribution<float> inside(0.1f, 0.9f);
+        for (int n = 0; n < 200; ++n)
         {
-            const float h = 1e-3f;
-            Eigen::Vector3f e = Eigen::Vector3f::Zero();
-            e[a] = h;
-            const float numeric = (f.distance(p + e) - f.distance(p - e)) / (2 * h);
-            EXPECT_NEAR(g[a], numeric, 0.05) << "axis " << a << " at " << p.transpose();
+            // Inside a cell: the trilinear interpolant is smooth there (its derivative jumps across cell faces).
+            const Eigen::Vector3f p = f.origin() + 0.05f * Eigen::Vector3f(float(cell(rng)) + inside(rng),
+                                                                           float(cell(rng)) + inside(rng),
+                                                                           float(cell(rng)) + inside(rng));
+            Eigen::Vector3f g;
+            f.distance(p, g);
+            for (int a = 0; a < 3; ++a)
+            {
+                const float h = 1e-3f;
+                Eigen::Vector3f e = Eigen::Vector3f::Zero();
+                e[a] = h;
+                const float numeric = (f.distance(p + e) - f.distance(p - e)) / (2 * h);
+                EXPECT_NEAR(g[a], numeric, 0.05) << "axis " << a << " at " << p.transpose();
+            }
         }
+        // Above the floor and away from the rest, the field rises along +z.
+        Eigen::Vector3f g;
+        f.distance(Eigen::Vector3f(-0.2f, 0.6f, 0.2f), g);
+        EXPECT_NEAR(g.z(), 1.0, 0.1);
+        EXPECT_NEAR(g.head<2>().norm(), 0.0, 0.1);
     }
-    // Above the floor and away from the rest, the field rises along +z.
-    Eigen::Vector3f g;
-    f.distance(Eigen::Vector3f(-0.2f, 0.6f, 0.2f), g);
-    EXPECT_NEAR(g.z(), 1.0, 0.1);
-    EXPECT_NEAR(g.head<2>().norm(), 0.0, 0.1);
 }
 
 TEST(DistanceField, RejectsAGridAboveTheLimitAndAnEmptyMap)
