@@ -25,6 +25,7 @@ GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, co
                                                              context.distanceField(localization),
                                                              context.renderer().sharedVisibilityIndex(), context.name());
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    setup_s_ = ms / 1000;
     init_options_.velocity_interval_s = o.init_velocity_interval_s;
     init_options_.max_disagreement_deg = o.init_max_disagreement_deg;
     init_options_.max_speed_m_s = o.init_max_speed_m_s;

@@ -1,17 +1,42 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/tracking/map_context.h>
 
+#include <chrono>
+
 namespace quasiloc::tracking
 {
-MapContext::MapContext(const std::string& map_file, const quasi::QuasiOptions& quasi)
-    : MapContext(map::LidarMap::load(map_file), quasi, map_file)
+namespace
 {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+map::LidarMap loadTimed(const std::string& map_file, double& seconds)
+{
+    const auto t0 = Clock::now();
+    map::LidarMap map = map::LidarMap::load(map_file);
+    seconds = secondsSince(t0);
+    return map;
+}
+}  // namespace
+
+MapContext::MapContext(const std::string& map_file, const quasi::QuasiOptions& quasi)
+    : map_(loadTimed(map_file, figures_.load_s)), name_(map_file), quasi_(quasi)
+{
+    buildRenderer();
 }
 
 MapContext::MapContext(map::LidarMap map, const quasi::QuasiOptions& quasi, const std::string& name)
     : map_(std::move(map)), name_(name), quasi_(quasi)
 {
+    buildRenderer();
+}
+
+void MapContext::buildRenderer()
+{
+    const auto t0 = Clock::now();
     renderer_ = std::make_unique<quasi::QuasiRenderer>(map_, quasi_);
+    figures_.points = map_.size();
+    figures_.index_s = secondsSince(t0);
 }
 
 quasi::QuasiRenderer& MapContext::searchRenderer()
@@ -23,7 +48,14 @@ quasi::QuasiRenderer& MapContext::searchRenderer()
 
 std::shared_ptr<const map::DistanceField> MapContext::distanceField(const reloc::GeometricLocalizationOptions& o)
 {
-    if (!field_) field_ = reloc::GeometricLocalizer::buildField(map_, o, name_);
+    if (!field_)
+    {
+        const auto t0 = Clock::now();
+        field_ = reloc::GeometricLocalizer::buildField(map_, o, name_);
+        figures_.field_s = secondsSince(t0);
+        figures_.field_mb = double(field_->memoryBytes()) / 1048576.0;
+        figures_.field_sparse = field_->sparse();
+    }
     // The layout may differ: a dense and a sparse field hold the same values.
     core::require(float(o.field_voxel_m) == field_->voxelSize() && float(o.field_max_distance_m) == field_->maxDistance(),
                   name_, "the distance field was built with other field_voxel_m / field_max_distance_m");

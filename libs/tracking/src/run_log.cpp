@@ -132,7 +132,11 @@ std::string RunLog::summary(const SessionSummary& s) const
       << " s of replay)\n"
       << "ATE         RMSE " << 100 * (e.count ? e.rmse : 0.0) << " cm, median " << 100 * e.median << " cm, max "
       << 100 * e.max << " cm (map frame, no alignment, vs ground truth at " << e.count << " frames)\n"
-      << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, max " << f.ms_max << " ms\n";
+      << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, max " << f.ms_max << " ms\n"
+      << std::setprecision(1) << "map         " << s.map.points << " points: load " << s.map.load_s << " s, index "
+      << s.map.index_s << " s, distance field " << s.map.field_s << " s (" << std::setprecision(0) << s.map.field_mb
+      << " MB, " << (s.map.field_sparse ? "sparse" : "dense") << "), global localizer set-up " << std::setprecision(1)
+      << s.localizer_setup_s << " s, start search " << s.start_search_s << " s\n";
     return o.str();
 }
 
@@ -154,6 +158,10 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
             .key("error_deg")
             .value(core::rotationDistanceRad(s.T_world_cam0_start, *s.T_world_cam0_start_truth) * 180 / M_PI);
     j.endObject();
+    j.key("map").beginObject().key("points").value(s.map.points).key("load_s").value(s.map.load_s);
+    j.key("index_s").value(s.map.index_s).key("field_s").value(s.map.field_s).key("field_mb").value(s.map.field_mb);
+    j.key("field_layout").value(s.map.field_sparse ? "sparse" : "dense");
+    j.key("localizer_setup_s").value(s.localizer_setup_s).endObject();
     j.key("ate").beginObject().key("frame").value("map, no alignment").key("count").value(f.ate.trans_m.count);
     j.key("rmse_m").value(f.ate.trans_m.rmse).key("median_m").value(f.ate.trans_m.median);
     j.key("max_m").value(f.ate.trans_m.max).key("rmse_deg").value(f.ate.rot_deg.rmse).endObject();

@@ -251,6 +251,8 @@ SessionSummary TrackingSession::run(const std::string& input)
              << std::setprecision(3) << last_verified_t_ << ")" << std::endl;
     }
     summary_.frames = n_;
+    summary_.map = context_.figures();
+    summary_.localizer_setup_s = starter_ ? starter_->setupSeconds() : 0;
     return summary_;
 }
 

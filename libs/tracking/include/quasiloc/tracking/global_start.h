@@ -45,6 +45,8 @@ class GlobalStarter
     std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
 
     const map::DistanceField& field() const { return localizer_->field(); }
+    /** Wall time of the localizer's set-up (its distance field, if this built it, and the candidate positions). */
+    double setupSeconds() const { return setup_s_; }
 
     /** What the frame's stereo geometry says of a tracked pose. */
     struct TrackCheck
@@ -85,6 +87,7 @@ class GlobalStarter
     bool defer_console_ = false;
     std::string console_;
     std::ostream& out_;
+    double setup_s_ = 0;
     // The search under way (begin() .. a start).
     std::unique_ptr<GlobalInitializer> init_;
     std::string label_;

@@ -12,6 +12,17 @@
 
 namespace quasiloc::tracking
 {
+/** What loading the map and building from it took (a large map: tens of seconds, GBs). */
+struct MapBuildFigures
+{
+    size_t points = 0;
+    double load_s = 0;     ///< reading the map file
+    double index_s = 0;    ///< the visibility index and the tracker's renderer
+    double field_s = 0;    ///< the distance field (0 until built)
+    double field_mb = 0;
+    bool field_sparse = false;
+};
+
 class MapContext
 {
    public:
@@ -34,7 +45,12 @@ class MapContext
      *  call with other field options is an InputError. */
     std::shared_ptr<const map::DistanceField> distanceField(const reloc::GeometricLocalizationOptions& o);
 
+    const MapBuildFigures& figures() const { return figures_; }
+
    private:
+    void buildRenderer();
+
+    MapBuildFigures figures_;  // first: the map's load time is recorded while map_ is initialised
     map::LidarMap map_;
     std::string name_;
     quasi::QuasiOptions quasi_;

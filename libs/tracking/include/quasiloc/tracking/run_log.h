@@ -3,6 +3,7 @@
 // and the summary figures (printed, and as summary.json; the ATE through libs/eval, map frame, no alignment).
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/frame.h>
+#include <quasiloc/tracking/map_context.h>
 #include <quasiloc/tracking/tracker.h>
 #include <cmath>
 #include <optional>
@@ -24,6 +25,8 @@ struct SessionSummary
     std::optional<Eigen::Isometry3d> T_world_cam0_start_truth;  ///< the start frame's ground truth, if any
     std::optional<double> t_first_frame;  ///< the first frame read (a global start may come frames later)
     double start_search_s = 0;             ///< init = global: wall time until the start was found
+    MapBuildFigures map;                   ///< loading the map and building from it
+    double localizer_setup_s = 0;          ///< the global localizer's set-up (distance field and candidates)
 };
 
 class RunLog
