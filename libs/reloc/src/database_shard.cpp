@@ -299,10 +299,11 @@ std::vector<DatabaseShard> loadShardsForMerge(const std::string& output, const S
         missing += (missing.empty() ? "" : ", ") + std::to_string(i);
         missing_files += (missing_files.empty() ? "'" : ", '") + paths.back() + "'";
     }
-    core::require(missing.empty(), missing_files,
-                  "shard" + std::string(missing.find(',') == std::string::npos ? " " : "s ") + missing + " of " +
-                      std::to_string(n) + " missing (build with quasiloc-build-db " + expected.config_name +
-                      " --shard i/" + std::to_string(n) + ")");
+    const bool several = missing.find(',') != std::string::npos;
+    core::require(missing.empty(), output + " (merge of " + std::to_string(n) + " shards)",
+                  std::string(several ? "shards " : "shard ") + missing + " missing: " + missing_files +
+                      " not found (build " + (several ? "them" : "it") + " with quasiloc-build-db " +
+                      expected.config_name + " --shard i/" + std::to_string(n) + ")");
 
     // Every header first: a wrong shard is found before any view is read.
     uint64_t sampled = 0;

@@ -198,7 +198,7 @@ TEST(DatabaseShard, MergeNamesEveryMissingShardAndItsFile)
     const std::string output = dir + "/db.qdb";
     for (int i : {0, 2}) headerShard({i, 4}, 40, "o").save(reloc::shardPath(output, {i, 4}));
     const std::string e = inputError([&] { reloc::loadShardsForMerge(output, expectation(4, "o")); });
-    EXPECT_NE(e.find("shards 1, 3 of 4 missing"), std::string::npos) << e;
+    EXPECT_NE(e.find("db.qdb (merge of 4 shards): shards 1, 3 missing"), std::string::npos) << e;
     EXPECT_NE(e.find("db.qdb.shard-1-of-4"), std::string::npos) << e;
     EXPECT_NE(e.find("db.qdb.shard-3-of-4"), std::string::npos) << e;
     EXPECT_NE(e.find("--shard i/4"), std::string::npos) << e;
