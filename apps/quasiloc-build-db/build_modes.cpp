@@ -2,6 +2,7 @@
 
 #include <mrpt/system/CTimeLogger.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -78,6 +79,23 @@ std::string viewsTime(const reloc::DatabaseBuildStats& st)
     s << std::fixed << std::setprecision(1) << "views " << st.ms_views / 1000 << " s (" << st.threads
       << " workers, " << std::setprecision(2) << st.ms_per_view_cpu << " ms per view each)";
     return s.str();
+}
+
+/** ", x [a, b] y [c, d] m" over the shard's kept views; empty when it kept none. */
+std::string tileExtent(const reloc::DatabaseShard& s)
+{
+    if (s.views.empty()) return "";
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (const auto& v : s.views)
+    {
+        x0 = std::min(x0, v.T_world_cam.x());
+        x1 = std::max(x1, v.T_world_cam.x());
+        y0 = std::min(y0, v.T_world_cam.y());
+        y1 = std::max(y1, v.T_world_cam.y());
+    }
+    std::ostringstream text;
+    text << std::fixed << std::setprecision(1) << ": x [" << x0 << ", " << x1 << "] y [" << y0 << ", " << y1 << "] m";
+    return text.str();
 }
 
 void printStageTimes(const char* program, const std::vector<std::pair<const char*, double>>& stages_ms)
@@ -165,7 +183,7 @@ int buildShard(const BuildInputs& in, reloc::ShardSelection shard)
 
     printSampling(st.sampling);
     std::cout << "shard       " << shard.text() << ": " << st.rendered << " of " << st.sampled
-              << " sampled views (its tile)\n";
+              << " sampled views (its tile" << tileExtent(s) << ")\n";
     printViews(st, in.run);
     std::cout << std::fixed << std::setprecision(1) << "time        map " << s_load << " s, sampling "
               << st.ms_sampling / 1000 << " s, " << viewsTime(st) << ", map identity " << s_identify << " s, write "

@@ -31,5 +31,13 @@ for i in 0 1 2 3; do [ -s "$WORK/db/room.qdb.shard-$i-of-4" ] || fail "shard fil
 for f in room.qdb room.qdb.views.tum room.qdb.ini; do
   cmp "$WORK/single/$f" "$WORK/db/$f" || fail "$f of the Slurm build differs from the single-process build's"
 done
+# A build whose shards fail: the script names each failed shard with its error, the merge never runs, exit non-zero.
+expect_failure "$WORK/fail.log" bash scripts/cluster/build_db_slurm.sh --shards 4 --bin "$BIN" --logs "$WORK/fail_logs" \
+  --timeout 60 "${ARGS[@]}" --set BuildDatabase.map_file="$WORK/missing.map" --set BuildDatabase.output="$WORK/fail/room.qdb"
+cat "$WORK/fail.log"
+for i in 0 1 2 3; do expect_contains "$WORK/fail.log" "shard $i/4 FAILED"; done
+expect_contains "$WORK/fail.log" "missing.map' does not exist"
+expect_contains "$WORK/fail.log" "no merge: a shard failed"
+[ ! -e "$WORK/fail" ] || fail "the failed build wrote something"
 echo "merged database == single-process database (room.qdb, .views.tum, .ini byte for byte); test took $(( $(date +%s) - start )) s"
 echo "OK"

@@ -148,23 +148,38 @@ std::vector<size_t> tileOrder(const std::vector<mrpt::poses::CPose3D>& poses, do
         x0 = std::min(x0, p.x());
         y0 = std::min(y0, p.y());
     }
-    // Interleave the bits of the cell's column and row (Morton code): sorting by it walks the cells quadrant by
-    // quadrant, so any contiguous run of the order stays within a few neighbouring quadtree blocks.
-    const auto spread = [](uint64_t v) {
-        v &= 0xffffffffULL;
-        v = (v | (v << 16)) & 0x0000ffff0000ffffULL;
-        v = (v | (v << 8)) & 0x00ff00ff00ff00ffULL;
-        v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0fULL;
-        v = (v | (v << 2)) & 0x3333333333333333ULL;
-        v = (v | (v << 1)) & 0x5555555555555555ULL;
-        return v;
-    };
     const auto cell = [&](double v, double v0) {
-        return uint64_t(std::min(std::floor((v - v0) / cell_m + 0.5), double(0xffffffffULL)));
+        return uint64_t(std::min(std::floor((v - v0) / cell_m + 0.5), double(uint64_t(1) << 31)));
+    };
+    std::vector<std::pair<uint64_t, uint64_t>> cells(poses.size());
+    uint64_t side = 1;  // the curve's grid: a power of two covering every cell
+    for (size_t i = 0; i < poses.size(); ++i)
+    {
+        cells[i] = {cell(poses[i].x(), x0), cell(poses[i].y(), y0)};
+        while (side <= std::max(cells[i].first, cells[i].second)) side *= 2;
+    }
+    // Position along a Hilbert curve over the cells: consecutive cells are neighbours, so a contiguous run of the
+    // order is one connected, compact region (a Z-order run can jump across the map).
+    const auto hilbert = [side](uint64_t x, uint64_t y) {
+        uint64_t d = 0;
+        for (uint64_t s = side / 2; s > 0; s /= 2)
+        {
+            const uint64_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+            d += s * s * ((3 * rx) ^ ry);
+            if (ry == 0)
+            {
+                if (rx == 1)
+                {
+                    x = side - 1 - x;
+                    y = side - 1 - y;
+                }
+                std::swap(x, y);
+            }
+        }
+        return d;
     };
     std::vector<std::pair<uint64_t, size_t>> keyed(poses.size());
-    for (size_t i = 0; i < poses.size(); ++i)
-        keyed[i] = {spread(cell(poses[i].x(), x0)) | (spread(cell(poses[i].y(), y0)) << 1), i};
+    for (size_t i = 0; i < poses.size(); ++i) keyed[i] = {hilbert(cells[i].first, cells[i].second), i};
     std::sort(keyed.begin(), keyed.end());
     std::vector<size_t> order(poses.size());
     for (size_t i = 0; i < keyed.size(); ++i) order[i] = keyed[i].second;

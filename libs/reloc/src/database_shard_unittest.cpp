@@ -1,8 +1,9 @@
 // The sharded database build (issue 22): shards rendered separately and merged save the same bytes as a
-// single-process build; a shard is a compact tile of nearly equal size; the merge names a missing shard, a shard of
+// single-process build; a shard is a compact, connected tile of nearly equal size; the merge names a missing shard, a shard of
 // another map, a shard built with other options and a copied shard file, and reads nothing half-written.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -154,7 +155,7 @@ TEST(DatabaseShard, MergedShardsSaveTheSameBytesAsASingleProcessBuild)
     fs::remove_all(dir);
 }
 
-TEST(DatabaseShard, ShardsAreCompactTilesOfNearlyEqualSize)
+TEST(DatabaseShard, ShardsAreConnectedCompactTilesOfNearlyEqualSize)
 {
     // An 8 x 8 grid of positions, 3 views each: 4 shards are the 4 quadrants; 5 shards differ by one view at most.
     std::vector<mrpt::poses::CPose3D> poses;
@@ -190,6 +191,24 @@ TEST(DatabaseShard, ShardsAreCompactTilesOfNearlyEqualSize)
     }
     EXPECT_EQ(total, poses.size());
     EXPECT_EQ(reloc::shardViews(poses, 0.5, {0, 1}).size(), poses.size());
+    // Any cut of the order gives connected tiles (the Hilbert curve's consecutive cells are grid neighbours).
+    for (int n : {3, 5, 7})
+        for (int i = 0; i < n; ++i)
+        {
+            std::set<std::pair<int, int>> cells, reached;
+            for (size_t v : reloc::shardViews(poses, 0.5, {i, n}))
+                cells.insert({int(std::lround(poses[v].x() * 2)), int(std::lround(poses[v].y() * 2))});
+            std::vector<std::pair<int, int>> todo{*cells.begin()};
+            while (!todo.empty())
+            {
+                const auto c = todo.back();
+                todo.pop_back();
+                if (!cells.count(c) || !reached.insert(c).second) continue;
+                for (const auto& [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}})
+                    todo.push_back({c.first + dx, c.second + dy});
+            }
+            EXPECT_EQ(reached.size(), cells.size()) << "shard " << i << "/" << n << " is not one connected tile";
+        }
 }
 
 TEST(DatabaseShard, MergeNamesEveryMissingShardAndItsFile)

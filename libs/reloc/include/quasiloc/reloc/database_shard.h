@@ -53,8 +53,9 @@ std::string resultOptionsText(const DatabaseBuildConfig& config, const core::Cam
 std::string optionsDifference(const std::string& a, const std::string& a_name, const std::string& b,
                               const std::string& b_name);
 
-/** The sampled views' indices in tile order: views sorted by the Morton (Z-order) code of their horizontal grid
- *  cell (cell_m wide), then by index, so that a contiguous run of the order covers one compact region. */
+/** The sampled views' indices in tile order: views sorted by the position of their horizontal grid cell (cell_m
+ *  wide) along a Hilbert curve, then by index, so that a contiguous run of the order covers one connected, compact
+ *  region. */
 std::vector<size_t> tileOrder(const std::vector<mrpt::poses::CPose3D>& poses, double cell_m);
 /** How many of `num_views` tile-ordered views shard `s` renders: the s.index-th of s.count contiguous parts
  *  of nearly equal size (they differ by at most one view). */
