@@ -52,9 +52,10 @@ Mode parseMode(const std::vector<std::string>& flags)
         else
         {
             m.merge = true;
-            core::require(!value.empty() && value.size() < 7 && value.find_first_not_of("0123456789") == std::string::npos &&
-                              std::stoi(value) >= 1,
-                          "command line (--merge " + value + ")", "the shard count N must be a whole number >= 1");
+            const bool number = !value.empty() && value.size() < 7 &&
+                                value.find_first_not_of("0123456789") == std::string::npos;
+            core::require(number && std::stoi(value) >= 1, "command line (--merge " + value + ")",
+                          "the shard count N must be a whole number >= 1");
             m.merge_count = std::stoi(value);
         }
     }

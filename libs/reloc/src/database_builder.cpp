@@ -89,23 +89,7 @@ bool processView(Worker& w, const map::LidarMap& map, const core::CameraModel& c
     }
     return true;
 }
-}  // namespace
 
-void DatabaseBuildOptions::declare(core::OptionTable& t)
-{
-    using core::Range;
-    t.add("min_valid_fraction", min_valid_fraction, "", Range::between(0, 1),
-          "a view whose quasi-image has fewer valid pixels is dropped (looks at a void)");
-    t.add("min_lifted", min_lifted, "", Range::atLeast(0),
-          "a view with fewer keypoints lifted to the map is dropped (nothing to localize with)");
-    t.add("store_lines", store_lines, "detect and lift line segments too ([Lines] options)");
-    t.add("threads", threads, "", Range::atLeast(0), "workers; 0 = all cores");
-    t.add("image_blur_sigma_px", image_blur_sigma_px, "px", Range::between(0, 10),
-          "Gaussian blur of the quasi-image (and of every query) before feature extraction (0: none)");
-}
-
-namespace
-{
 struct RenderedViews
 {
     std::vector<DatabaseView> views;  ///< one per selected view
@@ -168,7 +152,93 @@ RenderedViews renderViews(const map::LidarMap& map, const core::CameraModel& cam
     r.ms_per_view_cpu = cpu_ms.load() / double(n);
     return r;
 }
+
+/** The build's options as the workers use them. */
+DatabaseBuildConfig workerConfig(const DatabaseBuildConfig& config)
+{
+    DatabaseBuildConfig cfg = config;
+    // Workers render single-threaded: views are the parallel unit.
+    cfg.quasi.num_threads = 1;
+    // Views are extracted with the quasi-image's validity mask, queries without one: both must use the same
+    // detector threshold or the two sides find different corners (15 vs 9 of 20 between-view queries localized
+    // in reloc_unittests when the masked threshold was 20 and the query's 12).
+    cfg.features.orb_fast_threshold_masked = cfg.features.orb_fast_threshold;
+    return cfg;
+}
+
+/** Moves the kept views into the shard (id = sample index) and counts the dropped ones. */
+void keepViews(RenderedViews& r, const std::vector<size_t>& selected, DatabaseShard& s, DatabaseBuildStats& st)
+{
+    for (size_t i = 0; i < selected.size(); ++i)
+    {
+        if (!r.keep[i])
+        {
+            (r.dropped_valid[i] ? st.dropped_valid : st.dropped_lifted)++;
+            continue;
+        }
+        r.views[i].id = int(selected[i]);
+        s.views.push_back(std::move(r.views[i]));
+    }
+    s.dropped_valid = st.dropped_valid;
+    s.dropped_lifted = st.dropped_lifted;
+    st.kept = s.views.size();
+}
+
+/** The shards' views in the order of the sampled views, whichever shard rendered them, with ids 0..: the ids and
+ *  the order of a single-process build. */
+Database joinShards(std::vector<DatabaseShard>& shards, DatabaseBuildStats& st)
+{
+    const int n = int(shards.size());
+    const DatabaseShard& first = shards.front();
+    std::vector<std::tuple<int, int, size_t>> order;  // (sample index, shard, position in the shard)
+    for (int k = 0; k < n; ++k)
+    {
+        const DatabaseShard& s = shards[size_t(k)];
+        core::require(s.selection == ShardSelection{k, n} && s.sampled_views == first.sampled_views,
+                      "shard " + std::to_string(k) + " of " + std::to_string(n),
+                      "holds shard " + s.selection.text() + " of " + std::to_string(s.sampled_views) +
+                          " sampled views: shards must be given in order, all N of them, of one build");
+        st.rendered += s.rendered;
+        st.dropped_valid += s.dropped_valid;
+        st.dropped_lifted += s.dropped_lifted;
+        for (size_t j = 0; j < s.views.size(); ++j) order.emplace_back(s.views[j].id, k, j);
+    }
+    st.sampled = first.sampled_views;
+    std::sort(order.begin(), order.end());
+    for (size_t i = 1; i < order.size(); ++i)
+        core::require(std::get<0>(order[i]) != std::get<0>(order[i - 1]),
+                      "shards " + std::to_string(std::get<1>(order[i - 1])) + " and " +
+                          std::to_string(std::get<1>(order[i])) + " of " + std::to_string(n),
+                      "both hold view " + std::to_string(std::get<0>(order[i])));
+
+    Database db;
+    db.camera = first.camera;
+    db.features = first.features;
+    db.image_blur_sigma_px = first.image_blur_sigma_px;
+    db.map_points = first.map_points;
+    db.views.reserve(order.size());
+    for (const auto& [sample, k, j] : order)
+    {
+        db.views.push_back(std::move(shards[size_t(k)].views[j]));
+        db.views.back().id = int(db.views.size()) - 1;
+    }
+    st.kept = db.views.size();
+    return db;
+}
 }  // namespace
+
+void DatabaseBuildOptions::declare(core::OptionTable& t)
+{
+    using core::Range;
+    t.add("min_valid_fraction", min_valid_fraction, "", Range::between(0, 1),
+          "a view whose quasi-image has fewer valid pixels is dropped (looks at a void)");
+    t.add("min_lifted", min_lifted, "", Range::atLeast(0),
+          "a view with fewer keypoints lifted to the map is dropped (nothing to localize with)");
+    t.add("store_lines", store_lines, "detect and lift line segments too ([Lines] options)");
+    t.add("threads", threads, "", Range::atLeast(0), "workers; 0 = all cores");
+    t.add("image_blur_sigma_px", image_blur_sigma_px, "px", Range::between(0, 10),
+          "Gaussian blur of the quasi-image (and of every query) before feature extraction (0: none)");
+}
 
 DatabaseShard buildDatabaseShard(const map::LidarMap& map, const core::CameraModel& camera,
                                  const DatabaseBuildConfig& config, ShardSelection shard, DatabaseBuildStats* stats,
@@ -190,23 +260,16 @@ DatabaseShard buildDatabaseShard(const map::LidarMap& map, const core::CameraMod
                   std::to_string(shard.count) + " shards for " + std::to_string(poses.size()) +
                       " sampled views: use at most one shard per view");
     const std::vector<size_t> selected = shardViews(poses, config.sampling.grid_spacing_m, shard);
-
-    // Workers render single-threaded: views are the parallel unit.
-    DatabaseBuildConfig cfg = config;
-    cfg.quasi.num_threads = 1;
-    // Views are extracted with the quasi-image's validity mask, queries without one: both must use the same
-    // detector threshold or the two sides find different corners (15 vs 9 of 20 between-view queries localized
-    // in reloc_unittests when the masked threshold was 20 and the query's 12).
-    cfg.features.orb_fast_threshold_masked = cfg.features.orb_fast_threshold;
+    st.sampled = poses.size();
+    st.rendered = selected.size();
     st.threads = config.build.threads > 0 ? config.build.threads
                                           : std::max(1, int(std::thread::hardware_concurrency()));
     st.threads = std::max(1, std::min<int>(st.threads, int(selected.size())));
 
+    const DatabaseBuildConfig cfg = workerConfig(config);
     t0 = Clock::now();
     RenderedViews r = renderViews(map, camera, cfg, poses, selected, st.threads, progress);
     st.ms_views = msSince(t0);
-    st.sampled = poses.size();
-    st.rendered = selected.size();
     st.ms_per_view_cpu = r.ms_per_view_cpu;
 
     DatabaseShard s;
@@ -218,19 +281,7 @@ DatabaseShard buildDatabaseShard(const map::LidarMap& map, const core::CameraMod
     s.camera = camera;
     s.features = cfg.features;
     s.image_blur_sigma_px = config.build.image_blur_sigma_px;
-    for (size_t i = 0; i < selected.size(); ++i)
-    {
-        if (!r.keep[i])
-        {
-            (r.dropped_valid[i] ? st.dropped_valid : st.dropped_lifted)++;
-            continue;
-        }
-        r.views[i].id = int(selected[i]);
-        s.views.push_back(std::move(r.views[i]));
-    }
-    s.dropped_valid = st.dropped_valid;
-    s.dropped_lifted = st.dropped_lifted;
-    st.kept = s.views.size();
+    keepViews(r, selected, s, st);
     if (stats) *stats = st;
     return s;
 }
@@ -239,42 +290,8 @@ Database finishDatabase(std::vector<DatabaseShard> shards, const VocabularyOptio
                         DatabaseBuildStats* stats)
 {
     core::require(!shards.empty(), "the database", "has no shard to finish");
-    const int n = int(shards.size());
-    const DatabaseShard& first = shards.front();
     DatabaseBuildStats st;
-    // (sample index, shard, position in the shard): the views in the order of the sampled views, whichever shard
-    // rendered them, so ids and order are those of a single-process build.
-    std::vector<std::tuple<int, int, size_t>> order;
-    for (int k = 0; k < n; ++k)
-    {
-        const DatabaseShard& s = shards[size_t(k)];
-        core::require(s.selection == ShardSelection{k, n} && s.sampled_views == first.sampled_views,
-                      "shard " + std::to_string(k) + " of " + std::to_string(n),
-                      "holds shard " + s.selection.text() + " of " + std::to_string(s.sampled_views) +
-                          " sampled views: shards must be given in order, all N of them, of one build");
-        st.rendered += s.rendered;
-        st.dropped_valid += s.dropped_valid;
-        st.dropped_lifted += s.dropped_lifted;
-        for (size_t j = 0; j < s.views.size(); ++j) order.emplace_back(s.views[j].id, k, j);
-    }
-    st.sampled = first.sampled_views;
-    std::sort(order.begin(), order.end());
-    for (size_t i = 1; i < order.size(); ++i)
-        core::require(std::get<0>(order[i]) != std::get<0>(order[i - 1]), "shards " + std::to_string(std::get<1>(order[i - 1])) + " and " + std::to_string(std::get<1>(order[i])),
-                      "both hold view " + std::to_string(std::get<0>(order[i])));
-
-    Database db;
-    db.camera = first.camera;
-    db.features = first.features;
-    db.image_blur_sigma_px = first.image_blur_sigma_px;
-    db.map_points = first.map_points;
-    db.views.reserve(order.size());
-    for (const auto& [sample, k, j] : order)
-    {
-        db.views.push_back(std::move(shards[size_t(k)].views[j]));
-        db.views.back().id = int(db.views.size()) - 1;
-    }
-    st.kept = db.views.size();
+    Database db = joinShards(shards, st);
     core::require(!db.views.empty(), "[BuildDatabase]",
                   "every sampled view was dropped (min_valid_fraction / min_lifted too strict, or the map is too "
                   "sparse for the camera)");
