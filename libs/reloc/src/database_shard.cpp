@@ -306,19 +306,29 @@ std::vector<DatabaseShard> loadShardsForMerge(const std::string& output, const S
     core::require(expected.count >= 1, "the merge", "needs a shard count N >= 1");
     const int n = expected.count;
     std::vector<std::string> paths;
-    std::string missing, missing_files;
+    std::vector<int> missing;
     for (int i = 0; i < n; ++i)
     {
         paths.push_back(shardPath(output, {i, n}));
-        if (std::filesystem::is_regular_file(paths.back())) continue;
-        missing += (missing.empty() ? "" : ", ") + std::to_string(i);
-        missing_files += (missing_files.empty() ? "'" : ", '") + paths.back() + "'";
+        if (!std::filesystem::is_regular_file(paths.back())) missing.push_back(i);
     }
-    const bool several = missing.find(',') != std::string::npos;
-    core::require(missing.empty(), output + " (merge of " + std::to_string(n) + " shards)",
-                  std::string(several ? "shards " : "shard ") + missing + " missing: " + missing_files +
-                      " not found (build " + (several ? "them" : "it") + " with quasiloc-build-db " +
-                      expected.config_name + " --shard i/" + std::to_string(n) + ")");
+    if (!missing.empty())
+    {
+        // Every missing index, and the files of the first few (a whole failed array job would give N of them).
+        constexpr size_t kFilesNamed = 8;
+        std::string indices, files;
+        for (size_t k = 0; k < missing.size(); ++k)
+        {
+            indices += (k ? ", " : "") + std::to_string(missing[k]);
+            if (k < kFilesNamed) files += (k ? ", '" : "'") + paths[size_t(missing[k])] + "'";
+        }
+        if (missing.size() > kFilesNamed) files += " and " + std::to_string(missing.size() - kFilesNamed) + " more";
+        const bool several = missing.size() > 1;
+        throw core::InputError(output + " (merge of " + std::to_string(n) + " shards)",
+                               std::string(several ? "shards " : "shard ") + indices + " missing: " + files +
+                                   " not found (build " + (several ? "them" : "it") + " with quasiloc-build-db " +
+                                   expected.config_name + " --shard i/" + std::to_string(n) + ")");
+    }
 
     // Every header first: a wrong shard is found before any view is read.
     uint64_t sampled = 0;

@@ -221,6 +221,10 @@ TEST(DatabaseShard, MergeNamesEveryMissingShardAndItsFile)
     EXPECT_NE(e.find("db.qdb.shard-1-of-4"), std::string::npos) << e;
     EXPECT_NE(e.find("db.qdb.shard-3-of-4"), std::string::npos) << e;
     EXPECT_NE(e.find("--shard i/4"), std::string::npos) << e;
+    // A whole failed array job: every index, the first files.
+    const std::string all = inputError([&] { reloc::loadShardsForMerge(dir + "/none.qdb", expectation(12, "o")); });
+    EXPECT_NE(all.find("shards 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11 missing"), std::string::npos) << all;
+    EXPECT_NE(all.find("none.qdb.shard-7-of-12' and 4 more not found"), std::string::npos) << all;
     fs::remove_all(dir);
 }
 
