@@ -63,12 +63,16 @@ std::string shardName(const std::string& path, ShardSelection s) { return "shard
 
 ShardSelection ShardSelection::parse(const std::string& text, const std::string& input)
 {
+    const auto slash = text.find('/');
+    const auto number = [&](const std::string& part) {
+        return !part.empty() && part.size() <= 9 && part.find_first_not_of("0123456789") == std::string::npos;
+    };
+    core::require(slash != std::string::npos && number(text.substr(0, slash)) && number(text.substr(slash + 1)),
+                  input, "'" + text + "' is not a shard i/N (for example 2/8)");
     ShardSelection s;
-    char slash = 0, extra = 0;
-    const int n = std::sscanf(text.c_str(), "%d%c%d%c", &s.index, &slash, &s.count, &extra);
-    core::require(n == 3 && slash == '/' && text.find_first_not_of("0123456789/") == std::string::npos, input,
-                  "'" + text + "' is not a shard i/N (for example 2/8)");
-    core::require(s.count >= 1 && s.index >= 0 && s.index < s.count, input,
+    s.index = std::stoi(text.substr(0, slash));
+    s.count = std::stoi(text.substr(slash + 1));
+    core::require(s.count >= 1 && s.index < s.count, input,
                   "'" + text + "': the shard index i of i/N must be in [0, N) and N >= 1");
     return s;
 }

@@ -333,7 +333,7 @@ TEST(ShardSelection, ParsesIOfNAndRejectsTheRest)
     EXPECT_EQ(s.index, 3);
     EXPECT_EQ(s.count, 8);
     EXPECT_EQ(s.text(), "3/8");
-    for (const char* bad : {"8/8", "-1/4", "1/0", "1", "1/2/3", "a/4", "1/4x", "", "/4"})
+    for (const char* bad : {"8/8", "-1/4", "1/0", "1", "1/2/3", "a/4", "1/4x", "", "/4", "1/", " 1/4", "1/99999999999"})
         EXPECT_NE(inputError([&] { reloc::ShardSelection::parse(bad, "--shard"); }).find("--shard"), std::string::npos)
             << bad;
 }
