@@ -9,6 +9,10 @@ PACKAGES=(
   libmrpt-img-dev libmrpt-obs-dev libmrpt-maps-dev mrpt-apps
   libgtest-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-opencv python3-scipy
+  # The sharded database build's Slurm scripts (scripts/cluster/) and their e2e test, which starts its own
+  # single-node Slurm with its own munge key and slurm.conf (scripts/cluster/local_slurm.sh); the packages' system
+  # services are left unconfigured.
+  slurm-wlm munge
   # Optional for the build (the LighterGlue matcher; see libs/frontend/CMakeLists.txt), installed so that the
   # tests exercise it: ~33 MB download, ~270 MB on disk, ~17 s to install.
   libtorch-dev

@@ -1,17 +1,15 @@
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 
 #include <opencv2/imgproc.hpp>
 
 #include <filesystem>
-#include <functional>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/reloc/database.h>
 #include <sstream>
 
-#include "archive_io.h"
+#include "database_io.h"
 
 namespace quasiloc::reloc
 {
@@ -19,65 +17,6 @@ namespace
 {
 const std::string kMagic = "quasiloc-reloc-database";
 constexpr uint32_t kVersion = 3;
-
-/** What a view's keypoint stores (cv::KeyPoint is not guaranteed trivially copyable across versions). */
-struct StoredKeypoint
-{
-    float x, y, size, angle, response;
-    int32_t octave;
-};
-
-void writeView(mrpt::serialization::CArchive& out, const DatabaseView& v)
-{
-    out.WriteAs<int32_t>(v.id);
-    const auto m = v.T_world_cam.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) out << m(r, c);
-    std::vector<StoredKeypoint> kps;
-    kps.reserve(v.points.keypoints.size());
-    for (const auto& k : v.points.keypoints) kps.push_back({k.pt.x, k.pt.y, k.size, k.angle, k.response, k.octave});
-    detail::writeVector(out, kps);
-    detail::writeMat(out, v.points.descriptors);
-    detail::writeVector(out, v.words);
-    detail::writeVector(out, v.points_world);
-    detail::writeVector(out, v.lines);
-    detail::writeVector(out, v.lines_world);
-    out << v.valid_fraction;
-    detail::writeVector(out, v.bow);
-}
-
-DatabaseView readView(mrpt::serialization::CArchive& in)
-{
-    DatabaseView v;
-    v.id = in.ReadAs<int32_t>();
-    mrpt::math::CMatrixDouble44 m = mrpt::math::CMatrixDouble44::Identity();
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) in >> m(r, c);
-    v.T_world_cam = mrpt::poses::CPose3D(m);
-    for (const auto& k : detail::readVector<StoredKeypoint>(in))
-        v.points.keypoints.emplace_back(cv::Point2f(k.x, k.y), k.size, k.angle, k.response, k.octave);
-    v.points.descriptors = detail::readMat(in);
-    v.words = detail::readVector<WordId>(in);
-    v.points_world = detail::readVector<Eigen::Vector3f>(in);
-    v.lines = detail::readVector<frontend::LineSegment>(in);
-    v.lines_world = detail::readVector<std::array<Eigen::Vector3f, 2>>(in);
-    in >> v.valid_fraction;
-    v.bow = detail::readVector<std::pair<WordId, float>>(in);
-    const size_t n = v.points.keypoints.size();
-    if (v.points_world.size() != n || size_t(v.points.descriptors.rows) != n || v.words.size() != n ||
-        v.lines_world.size() != v.lines.size())
-        throw std::runtime_error("view " + std::to_string(v.id) + " has inconsistent array sizes");
-    return v;
-}
-
-std::string iniText(const std::function<void(mrpt::config::CConfigFileBase&)>& save)
-{
-    mrpt::config::CConfigFileMemory mem;
-    save(mem);
-    std::string text;
-    mem.getContent(text);
-    return text;
-}
 }  // namespace
 
 void preprocessImage(const cv::Mat& gray, double sigma_px, cv::Mat& out)
@@ -106,12 +45,11 @@ void Database::save(const std::string& path) const
             auto out = mrpt::serialization::archiveFrom(stream);
             out.WriteBuffer(kMagic.data(), kMagic.size());
             out.WriteAs<uint32_t>(kVersion);
-            out << iniText([&](auto& c) { camera.saveToIni(c, "camera"); });
-            out << iniText([&](auto& c) { features.saveToConfigFile(c, "Features"); });
+            detail::writeCameraAndFeatures(out, camera, features);
             out << image_blur_sigma_px << map_file;
             out.WriteAs<uint64_t>(map_points);
             out.WriteAs<uint64_t>(views.size());
-            for (const auto& v : views) writeView(out, v);
+            for (const auto& v : views) detail::writeView(out, v);
             vocabulary.write(out);
             index.write(out);
         }
@@ -141,15 +79,13 @@ Database Database::load(const std::string& path)
         core::require(version == kVersion, path,
                       "database format version " + std::to_string(version) + ", this program reads version " +
                           std::to_string(kVersion) + ": rebuild it with quasiloc-build-db");
-        std::string camera_ini, features_ini;
-        in >> camera_ini >> features_ini >> db.image_blur_sigma_px >> db.map_file;
-        db.camera = core::CameraModel::loadFromIni(mrpt::config::CConfigFileMemory(camera_ini), "camera");
-        db.features.loadFromConfigFile(mrpt::config::CConfigFileMemory(features_ini), "Features");
+        detail::readCameraAndFeatures(in, db.camera, db.features);
+        in >> db.image_blur_sigma_px >> db.map_file;
         db.map_points = in.ReadAs<uint64_t>();
         const uint64_t n = in.ReadAs<uint64_t>();
         core::require(n < (uint64_t(1) << 24), path, "corrupt view count " + std::to_string(n));
         db.views.reserve(n);
-        for (uint64_t i = 0; i < n; ++i) db.views.push_back(readView(in));
+        for (uint64_t i = 0; i < n; ++i) db.views.push_back(detail::readView(in, true));
         for (auto& v : db.views)
         {
             v.points.type = db.features.type;

@@ -5,6 +5,9 @@
 // descriptors and index every view. Rendering and extraction run on `threads` workers, each with its own
 // renderer and extractor (neither is thread-safe); the result does not depend on the thread count.
 //
+// In shards (database_shard.h): buildDatabaseShard() renders one tile of the sampled views, finishDatabase() joins
+// all shards of a build and trains the vocabulary on the union. buildDatabase() is exactly shard 0/1 + finish.
+//
 // Options: [BuildDatabase] (DatabaseBuildOptions::declare, database_builder.cpp; the program adds its file keys).
 #include <functional>
 #include <quasiloc/core/camera_model.h>
@@ -15,6 +18,7 @@
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/quasi/quasi_options.h>
 #include <quasiloc/reloc/database.h>
+#include <quasiloc/reloc/database_shard.h>
 #include <quasiloc/reloc/view_sampling.h>
 #include <quasiloc/reloc/vocabulary.h>
 
@@ -49,7 +53,9 @@ struct DatabaseBuildConfig
 struct DatabaseBuildStats
 {
     ViewSamplingStats sampling;
-    size_t rendered = 0, dropped_valid = 0, dropped_lifted = 0, kept = 0;
+    size_t sampled = 0;   ///< views sampled over the whole map
+    size_t rendered = 0;  ///< views rendered (a shard's tile; all sampled views in a whole build)
+    size_t dropped_valid = 0, dropped_lifted = 0, kept = 0;
     double ms_sampling = 0, ms_views = 0, ms_vocabulary = 0, ms_index = 0;
     double ms_per_view_cpu = 0;  ///< render + extraction + lifting, per view, summed over workers
     int threads = 1;
@@ -58,7 +64,22 @@ struct DatabaseBuildStats
 /** Progress: (views processed, views sampled); called from the workers, serialised, about every 1 %. */
 using BuildProgress = std::function<void(size_t done, size_t total)>;
 
-/** InputError for an empty map, an unusable camera or options, or when no view survives. */
+/** Samples the views of the whole map and renders shard `shard`'s tile of them (shardViews()). The shard's `map`
+ *  identity is left for the caller (it knows the map's file). InputError for an empty map, an unusable camera or
+ *  options, no sampled view, or more shards than sampled views. */
+DatabaseShard buildDatabaseShard(const map::LidarMap& map, const core::CameraModel& camera,
+                                 const DatabaseBuildConfig& config, ShardSelection shard,
+                                 DatabaseBuildStats* stats = nullptr, const BuildProgress& progress = {});
+
+/** Joins the shards 0/N .. N-1/N of one build (in that order) into the database: the views in sample order with
+ *  ids 0.., the vocabulary trained on all of them, the index. Fills the stats' view counts and vocabulary and index
+ *  times. InputError for shards out of order or from different builds (loadShardsForMerge() checks files
+ *  fully), a view in two shards, or when no view survives. */
+Database finishDatabase(std::vector<DatabaseShard> shards, const VocabularyOptions& vocabulary,
+                        DatabaseBuildStats* stats = nullptr);
+
+/** The whole database in one process: buildDatabaseShard(0/1) + finishDatabase(). InputError for an empty map, an
+ *  unusable camera or options, or when no view survives. */
 Database buildDatabase(const map::LidarMap& map, const core::CameraModel& camera, const DatabaseBuildConfig& config,
                        DatabaseBuildStats* stats = nullptr, const BuildProgress& progress = {});
 
