@@ -3,6 +3,10 @@
 // side: a distance up to the truncation comes from an occupied voxel at most `reach` voxels away, which the apron
 // holds, so every stored value is the dense grid's to the bit.
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <quasiloc/map/distance_field.h>
 #include <unordered_map>
@@ -58,11 +62,16 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
             for (int y = lo.y(); y <= hi.y(); ++y)
                 for (int x = lo.x(); x <= hi.x(); ++x) needed[brickIndex({x, y, z})] = 1;
     }
-    std::vector<float> buffer, near;  // a tile's: the padded box's transform, the core's exact near distances
-    // The occupied voxels of the padded box, and the points within one voxel of the core.
-    const auto markPoints = [&](const Box& core, const Box& padded) {
-        buffer.assign(size_t(padded.size().prod()), kFar);
-        near.assign(size_t(core.size().prod()), kFar);
+    // One tile's work: the occupied voxels of the padded box and the points within one voxel of the core, the
+    // transform, then the final values of its needed bricks (those with a value below the truncation are kept).
+    struct TileBuffers
+    {
+        std::vector<float> buffer, near;  // the padded box's transform, the core's exact near distances
+    };
+    using Bricks = std::vector<std::pair<size_t, std::vector<uint16_t>>>;  // (brick index, values)
+    const auto markPoints = [&](const Box& core, const Box& padded, TileBuffers& t) {
+        t.buffer.assign(size_t(padded.size().prod()), kFar);
+        t.near.assign(size_t(core.size().prod()), kFar);
         const Eigen::Vector3i b0 = padded.lo / kBrick, b1 = ((padded.hi.array() - 1) / kBrick).matrix();
         for (int z = b0.z(); z <= b1.z(); ++z)
             for (int y = b0.y(); y <= b1.y(); ++y)
@@ -74,13 +83,13 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
                     {
                         const Eigen::Vector3f g = gridOf(order[k]);
                         const Eigen::Vector3i v(int(std::lround(g.x())), int(std::lround(g.y())), int(std::lround(g.z())));
-                        if (padded.contains(v.x(), v.y(), v.z())) buffer[padded.index(v.x(), v.y(), v.z())] = 0.f;
-                        detail::nearestInNeighbourhood(g, core, near);
+                        if (padded.contains(v.x(), v.y(), v.z())) t.buffer[padded.index(v.x(), v.y(), v.z())] = 0.f;
+                        detail::nearestInNeighbourhood(g, core, t.near);
                     }
                 }
     };
-    // A needed brick's final values, kept when any is below the truncation.
-    const auto keepBrick = [&](const Eigen::Vector3i& b, const Box& core, const Box& padded) {
+    const auto keepBrick = [&](const Eigen::Vector3i& b, const Box& core, const Box& padded, const TileBuffers& t,
+                               Bricks& out) {
         std::vector<uint16_t> values(size_t(kBrickVoxels), f.quantize(f.max_distance_));
         bool below = false;
         for (int k = 0; k < kBrick; ++k)
@@ -89,33 +98,67 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
                 {
                     const Eigen::Vector3i v = b * kBrick + Eigen::Vector3i(i, j, k);
                     if (!core.contains(v.x(), v.y(), v.z())) continue;  // beyond the grid
-                    const float d = detail::finalDistance(near[core.index(v.x(), v.y(), v.z())],
-                                                          buffer[padded.index(v.x(), v.y(), v.z())], f.voxel_,
+                    const float d = detail::finalDistance(t.near[core.index(v.x(), v.y(), v.z())],
+                                                          t.buffer[padded.index(v.x(), v.y(), v.z())], f.voxel_,
                                                           f.max_distance_);
                     values[size_t((k * kBrick + j) * kBrick + i)] = f.quantize(d);
                     below = below || d < f.max_distance_;
                 }
-        if (!below) return;
-        f.brick_of_[brickIndex(b)] = int(f.bricks_.size());
-        f.bricks_.push_back(std::move(values));
+        if (below) out.emplace_back(brickIndex(b), std::move(values));
     };
+    const auto buildTile = [&](const Eigen::Vector3i& t0, TileBuffers& t, Bricks& out) {
+        const Eigen::Vector3i t1 = (t0.array() + kTile).min(bricks.array());
+        const Box core{t0 * kBrick, (t1 * kBrick).cwiseMin(grid)};
+        const Box padded{(core.lo.array() - reach).max(0), (core.hi.array() + reach).min(grid.array())};
+        markPoints(core, padded, t);
+        detail::transform(t.buffer, padded.size());
+        for (int z = t0.z(); z < t1.z(); ++z)
+            for (int y = t0.y(); y < t1.y(); ++y)
+                for (int x = t0.x(); x < t1.x(); ++x)
+                    if (needed[brickIndex({x, y, z})]) keepBrick({x, y, z}, core, padded, t, out);
+    };
+    // The tiles with a needed brick, transformed on every core; their bricks are stored in tile order, so the
+    // field does not depend on the number of threads.
+    std::vector<Eigen::Vector3i> tiles;
     for (int tz = 0; tz < f.bz_; tz += kTile)
         for (int ty = 0; ty < f.by_; ty += kTile)
             for (int tx = 0; tx < f.bx_; tx += kTile)
             {
                 const Eigen::Vector3i t0(tx, ty, tz), t1 = (t0.array() + kTile).min(bricks.array());
-                std::vector<Eigen::Vector3i> tile_needed;
-                for (int z = t0.z(); z < t1.z(); ++z)
-                    for (int y = t0.y(); y < t1.y(); ++y)
-                        for (int x = t0.x(); x < t1.x(); ++x)
-                            if (needed[brickIndex({x, y, z})]) tile_needed.emplace_back(x, y, z);
-                if (tile_needed.empty()) continue;
-                const Box core{t0 * kBrick, (t1 * kBrick).cwiseMin(grid)};
-                const Box padded{(core.lo.array() - reach).max(0), (core.hi.array() + reach).min(grid.array())};
-                markPoints(core, padded);
-                detail::transform(buffer, padded.size());
-                for (const Eigen::Vector3i& b : tile_needed) keepBrick(b, core, padded);
+                bool any = false;
+                for (int z = t0.z(); z < t1.z() && !any; ++z)
+                    for (int y = t0.y(); y < t1.y() && !any; ++y)
+                        for (int x = t0.x(); x < t1.x() && !any; ++x) any = needed[brickIndex({x, y, z})] != 0;
+                if (any) tiles.push_back(t0);
             }
+    std::vector<Bricks> tile_bricks(tiles.size());
+    std::atomic<size_t> next{0};
+    std::mutex failure_mutex;
+    std::exception_ptr failure;
+    const auto work = [&] {
+        try
+        {
+            TileBuffers t;
+            for (size_t i = next++; i < tiles.size(); i = next++) buildTile(tiles[i], t, tile_bricks[i]);
+        }
+        catch (...)
+        {
+            std::lock_guard<std::mutex> lock(failure_mutex);
+            if (!failure) failure = std::current_exception();
+            next = tiles.size();
+        }
+    };
+    std::vector<std::thread> pool;
+    for (unsigned k = 1; k < std::max(1u, std::thread::hardware_concurrency()); ++k) pool.emplace_back(work);
+    work();
+    for (auto& th : pool) th.join();
+    if (failure) std::rethrow_exception(failure);
+    for (Bricks& tb : tile_bricks)
+        for (auto& [b, values] : tb)
+        {
+            f.brick_of_[b] = int(f.bricks_.size());
+            f.bricks_.push_back(std::move(values));
+        }
     return f;
 }
 
