@@ -8,6 +8,9 @@ PACKAGES=(
   libmrpt-system-dev libmrpt-io-dev libmrpt-config-dev libmrpt-math-dev libmrpt-poses-dev
   libmrpt-img-dev libmrpt-obs-dev libmrpt-maps-dev mrpt-apps
   libgtest-dev libbenchmark-dev
+  libyaml-cpp-dev
+  # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros is skipped without them).
+  librosbag-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev
   python3-numpy python3-matplotlib python3-opencv python3-scipy
   # Optional for the build (the LighterGlue matcher; see libs/frontend/CMakeLists.txt), installed so that the
   # tests exercise it: ~33 MB download, ~270 MB on disk, ~17 s to install.
