@@ -22,6 +22,7 @@
 #include <quasiloc/dataset/kalibr.h>
 #include <quasiloc/dataset/rawlog_writer.h>
 #include <quasiloc/dataset/timestamps.h>
+#include <quasiloc/ros/bag_images.h>
 #include <quasiloc/ros/rawlog2bag.h>
 
 namespace fs = std::filesystem;
