@@ -85,7 +85,9 @@ class Converter
     std::unique_ptr<dataset::StereoPairer> pairer_;
     std::unordered_map<std::size_t, cv::Mat> images_;
     std::size_t next_id_ = 0;
-    std::multimap<std::int64_t, Pending> buffer_;
+    /** Keyed by (time, 0 for IMU / 1 for stereo): an IMU sample stamped with a frame's time goes first, as
+     *  euroc2rawlog and the simulator write them, whatever order the bag's index gives messages of equal time. */
+    std::multimap<std::pair<std::int64_t, int>, Pending> buffer_;
     std::int64_t newest_ns_ = std::numeric_limits<std::int64_t>::min();
     std::int64_t last_written_ns_ = std::numeric_limits<std::int64_t>::min();
     core::Trajectory gt_;
@@ -177,7 +179,7 @@ void Converter::takePairs()
         images_.erase(p.right_id);
         r_.max_pair_offset_ms = std::max(r_.max_pair_offset_ms, std::abs(double(p.right_ns - p.left_ns)) * 1e-6);
         newest_ns_ = std::max(newest_ns_, p.left_ns);
-        buffer_.emplace(p.left_ns, std::move(item));
+        buffer_.emplace(std::make_pair(p.left_ns, 1), std::move(item));
     }
     for (const auto& u : pairer_->takeUnpaired())
     {
@@ -248,7 +250,7 @@ void Converter::handle(const rosbag::MessageInstance& m)
         require(item.imu.acc.allFinite() && item.imu.gyro.allFinite(), where(topic, t_ns), "non-finite IMU value");
         ++r_.imu_msgs;
         newest_ns_ = std::max(newest_ns_, t_ns);
-        buffer_.emplace(t_ns, std::move(item));
+        buffer_.emplace(std::make_pair(t_ns, 0), std::move(item));
     }
     if (!o_.groundtruth_topic.empty() && topic == o_.groundtruth_topic) handleGroundTruth(m);
     flush(newest_ns_ - std::int64_t(o_.reorder_window_s * 1e9));
@@ -256,10 +258,10 @@ void Converter::handle(const rosbag::MessageInstance& m)
 
 void Converter::flush(std::int64_t horizon_ns)
 {
-    while (!buffer_.empty() && buffer_.begin()->first <= horizon_ns)
+    while (!buffer_.empty() && buffer_.begin()->first.first <= horizon_ns)
     {
         const auto node = buffer_.extract(buffer_.begin());
-        const std::int64_t t_ns = node.key();
+        const std::int64_t t_ns = node.key().first;
         const Pending& item = node.mapped();
         const bool frames_done = o_.max_frames > 0 && r_.stereo_written >= std::size_t(o_.max_frames);
         if (t_ns < last_written_ns_)
