@@ -46,8 +46,8 @@ to_rawlog "$WORK/sim.bag" "$WORK/rt/seq.rawlog" --set Bag2Rawlog.groundtruth_top
 for f in seq.rawlog seq_calib.ini seq_gt_cam0.tum seq_bag2rawlog.ini; do [ -s "$WORK/rt/$f" ] || fail "$f missing"; done
 expect_contains "$WORK/rt/seq.rawlog.log" "unpaired images:       0 left, 0 right"
 same_images "$SIM/V1_01_easy_Images" "$WORK/rt/seq_Images"
-cmp "$SIM/calib.ini" "$WORK/rt/seq_calib.ini" 2>/dev/null || diff <(grep -v '^#' "$SIM/calib.ini") \
-  <(grep -v '^#' "$WORK/rt/seq_calib.ini") || fail "the calibration changed through the Kalibr files"
+diff <(grep -v '^#' "$SIM/calib.ini") <(grep -v '^#' "$WORK/rt/seq_calib.ini") \
+  || fail "the calibration changed through the Kalibr files"  # the header comments name the sources
 # Every observation: both rawlogs exported again (without ground truth) give the same bag, byte for byte.
 to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/a.bag"
 to_bag "$WORK/rt/seq.rawlog" "$WORK/rt/seq_calib.ini" "$WORK/b.bag"
