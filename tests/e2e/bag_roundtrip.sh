@@ -1,8 +1,9 @@
 # A simulated sequence through a ROS 1 bag and back: sim rawlog -> rawlog2bag (+ Kalibr YAML) -> bag2rawlog gives the
 # same observations (images pixel for pixel, IMU values exact, timestamps to the nanosecond: exporting both rawlogs
 # again gives byte-identical bags) and quasiloc-track gives the same trajectory on both. Then png-compressed and
-# mono16 images round-trip exactly, jpeg converts; a missing topic and a truncated bag are errors that name the topic
-# or the file, exit non-zero and leave nothing written.
+# mono16 images round-trip exactly, jpeg converts; right images 3 ms late pair within a 5 ms tolerance. No pair within
+# the tolerance, a missing topic and a truncated bag are errors that name the topics or the file, exit non-zero and
+# leave nothing written.
 source "$(dirname "$0")/common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=3 \
@@ -80,7 +81,19 @@ for enc in png mono16 jpeg; do
 done
 expect_contains "$WORK/png/seq.rawlog.log" "(sensor_msgs/CompressedImage)"
 
-# 4. Bad input: each error names the topic or the file, exits non-zero, leaves nothing.
+# 4. Right images 3 ms late: paired with a 5 ms tolerance (every frame, at the left image's time); with the default
+# 2 ms none pairs, an error naming both topics and the key.
+to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/late.bag" --set Rawlog2Bag.right_delay_ms=3
+to_rawlog "$WORK/late.bag" "$WORK/late/seq.rawlog" --set Bag2Rawlog.pair_tolerance_ms=5
+expect_contains "$WORK/late/seq.rawlog.log" "stereo frames written: 61 (largest left-right offset 3.000 ms)"
+same_images "$SIM/V1_01_easy_Images" "$WORK/late/seq_Images"
+expect_failure "$WORK/late2.txt" "$BIN/bag2rawlog" config.ini --set Bag2Rawlog.input_bag="$WORK/late.bag" \
+  --set Bag2Rawlog.output="$WORK/bad0/seq.rawlog" \
+  --set Bag2Rawlog.kalibr_camchain="$WORK/late_camchain.yaml" --set Bag2Rawlog.kalibr_imu="$WORK/late_imu.yaml"
+expect_contains "$WORK/late2.txt" "topics /cam0/image_raw and /cam1/image_raw: no stereo pair"
+[ -z "$(ls -A "$WORK/bad0" 2>/dev/null)" ] || fail "output left behind when nothing pairs"
+
+# 5. Bad input: each error names the topic or the file, exits non-zero, leaves nothing.
 expect_failure "$WORK/missing.txt" "$BIN/bag2rawlog" config.ini --set Bag2Rawlog.input_bag="$WORK/sim.bag" \
   --set Bag2Rawlog.output="$WORK/bad1/seq.rawlog" --set Bag2Rawlog.imu_topic=/imu_missing \
   --set Bag2Rawlog.kalibr_camchain="$WORK/sim_camchain.yaml" --set Bag2Rawlog.kalibr_imu="$WORK/sim_imu.yaml"
@@ -93,5 +106,5 @@ expect_failure "$WORK/cut.txt" "$BIN/bag2rawlog" config.ini --set Bag2Rawlog.inp
   --set Bag2Rawlog.kalibr_camchain="$WORK/cut_camchain.yaml" --set Bag2Rawlog.kalibr_imu="$WORK/cut_imu.yaml"
 expect_contains "$WORK/cut.txt" "cut.bag"
 [ -z "$(ls -A "$WORK/bad2" 2>/dev/null)" ] || fail "output left behind for a truncated bag"
-cat "$WORK/missing.txt" "$WORK/cut.txt"
+cat "$WORK/late2.txt" "$WORK/missing.txt" "$WORK/cut.txt"
 echo "OK"

@@ -104,6 +104,8 @@ void Rawlog2BagOptions::declare(core::OptionTable& t)
     t.addEnum("compression", compression,
               {{"none", BagCompression::None}, {"bz2", BagCompression::Bz2}, {"lz4", BagCompression::Lz4}},
               "chunk compression of the bag");
+    t.add("right_delay_ms", right_delay_ms, "ms", Range::any(),
+          "added to the right images' stamps: emulates cameras that are not triggered together (tests of pairing)");
     t.add("progress", progress, "print the progress on stderr");
 }
 

@@ -4,6 +4,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <mrpt/core/format.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/Imu.h>
@@ -363,7 +364,7 @@ Bag2RawlogResult Converter::run()
     if (timer_) timer_->leave("read bag, write rawlog");
     require(r_.stereo_written > 0, o_.input_bag + " topics " + o_.left_topic + " and " + o_.right_topic,
             "no stereo pair: " + std::to_string(r_.left_msgs) + " left and " + std::to_string(r_.right_msgs) +
-                " right images, none within " + std::to_string(o_.pair_tolerance_ms) + " ms of each other (" +
+                " right images, none within " + mrpt::format("%g", o_.pair_tolerance_ms) + " ms of each other (" +
                 key("pair_tolerance_ms") + ")");
     require(r_.imu_written > 0, o_.input_bag + " topic " + o_.imu_topic, "no IMU message");
     dataset::saveCalibration(calib_, calib_tmp,

@@ -11,6 +11,7 @@
 #include <sensor_msgs/Imu.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -62,7 +63,7 @@ class BagWriter
     void stereo(std::int64_t t_ns, const cv::Mat& left, const cv::Mat& right)
     {
         image(o_.left_topic, "cam0", t_ns, left);
-        image(o_.right_topic, "cam1", t_ns, right);
+        image(o_.right_topic, "cam1", t_ns + std::llround(o_.right_delay_ms * 1e6), right);
         ++r.stereo_written;
     }
 

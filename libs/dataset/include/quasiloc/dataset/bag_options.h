@@ -75,6 +75,7 @@ struct Rawlog2BagOptions : public core::DeclaredOptions
     BagImageEncoding image_encoding = BagImageEncoding::Mono8;
     int jpeg_quality = 95;
     BagCompression compression = BagCompression::None;
+    double right_delay_ms = 0;
     bool progress = true;
 
     void declare(core::OptionTable& t) override;
