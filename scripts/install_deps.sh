@@ -8,6 +8,9 @@ PACKAGES=(
   libmrpt-system-dev libmrpt-io-dev libmrpt-config-dev libmrpt-math-dev libmrpt-poses-dev
   libmrpt-img-dev libmrpt-obs-dev libmrpt-maps-dev mrpt-apps
   libgtest-dev libbenchmark-dev
+  libyaml-cpp-dev
+  # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros is skipped without them).
+  librosbag-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev
   python3-numpy python3-matplotlib python3-opencv python3-scipy
   # The sharded database build's Slurm scripts (scripts/cluster/) and their e2e test, which starts its own
   # single-node Slurm with its own munge key and slurm.conf (scripts/cluster/local_slurm.sh); the packages' system

@@ -14,6 +14,7 @@
 #include <memory>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/program_options.h>
+#include <quasiloc/dataset/bag_options.h>
 #include <quasiloc/dataset/euroc_conversion.h>
 #include <quasiloc/eval/eval_config.h>
 #include <quasiloc/quasi/quasi_options.h>
@@ -73,6 +74,8 @@ std::vector<Section> sections()
     add("sim-large-world", "Lidar", make<sim::LidarOptions>());
     add("map-import", "MapImport", make<map_import::MapImportOptions>());
     add("euroc2rawlog", "Euroc2Rawlog", make<dataset::Euroc2RawlogOptions>());
+    add("bag2rawlog", "Bag2Rawlog", make<dataset::Bag2RawlogOptions>());
+    add("rawlog2bag", "Rawlog2Bag", make<dataset::Rawlog2BagOptions>());
     add("rawlog-quasi", "RawlogQuasi", make<quasi::RawlogQuasiOptions>());
     add("rawlog-quasi", "QuasiImage", make<quasi::QuasiOptions>());
     // quasiloc-track: the session's own list, so this reference cannot drift from what the program reads.

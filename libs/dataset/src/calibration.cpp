@@ -9,6 +9,7 @@
 #include <quasiloc/core/ini_read.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/dataset/calibration.h>
+#include <quasiloc/dataset/kalibr.h>
 #include <set>
 #include <sstream>
 
@@ -145,29 +146,8 @@ void saveCalibration(const SensorCalibration& calibration, const std::string& pa
 
 ImuCalibration imuCalibrationFromYaml(const std::string& yaml_path)
 {
-    cv::FileStorage fs;
-    try
-    {
-        fs.open(yaml_path, cv::FileStorage::READ);
-    }
-    catch (const cv::Exception& e)
-    {
-        throw core::InputError(yaml_path, std::string("cannot parse as YAML: ") + e.what());
-    }
-    core::require(fs.isOpened(), yaml_path, "cannot open the IMU sensor.yaml");
-    const auto value = [&](const char* key) {
-        const cv::FileNode n = fs[key];
-        core::require(!n.empty() && (n.isReal() || n.isInt()), yaml_path + ": " + key, "missing or not a number");
-        return double(n);
-    };
-    ImuCalibration imu;
-    imu.rate_hz = value("rate_hz");
-    imu.gyroscope_noise_density = value("gyroscope_noise_density");
-    imu.gyroscope_random_walk = value("gyroscope_random_walk");
-    imu.accelerometer_noise_density = value("accelerometer_noise_density");
-    imu.accelerometer_random_walk = value("accelerometer_random_walk");
-    imu.check(yaml_path);
-    return imu;
+    // EuRoC's sensor.yaml and Kalibr's IMU files are read by the same reader (kalibr.h).
+    return imuCalibrationFromKalibr(yaml_path);
 }
 
 }  // namespace quasiloc::dataset
