@@ -34,32 +34,17 @@ int DatabaseView::numLifted() const
 
 void Database::save(const std::string& path) const
 {
-    core::StagedOutputs staged;
-    const std::string tmp = staged.addFile(path);
-    {
-        mrpt::io::CFileGZOutputStream stream;
-        std::string err;
-        core::require(stream.open(tmp, 1, err), path, "cannot open for writing: " + err);
-        try
-        {
-            auto out = mrpt::serialization::archiveFrom(stream);
-            out.WriteBuffer(kMagic.data(), kMagic.size());
-            out.WriteAs<uint32_t>(kVersion);
-            detail::writeCameraAndFeatures(out, camera, features);
-            out << image_blur_sigma_px << map_file;
-            out.WriteAs<uint64_t>(map_points);
-            out.WriteAs<uint64_t>(views.size());
-            for (const auto& v : views) detail::writeView(out, v);
-            vocabulary.write(out);
-            index.write(out);
-        }
-        catch (const std::exception& e)
-        {
-            throw core::InputError(path, "write failed: " + mrpt::exception_to_str(e));
-        }
-        stream.close();
-    }
-    staged.commit();
+    detail::writeArchiveAtomically(path, [&](mrpt::serialization::CArchive& out) {
+        out.WriteBuffer(kMagic.data(), kMagic.size());
+        out.WriteAs<uint32_t>(kVersion);
+        detail::writeCameraAndFeatures(out, camera, features);
+        out << image_blur_sigma_px << map_file;
+        out.WriteAs<uint64_t>(map_points);
+        out.WriteAs<uint64_t>(views.size());
+        for (const auto& v : views) detail::writeView(out, v);
+        vocabulary.write(out);
+        index.write(out);
+    });
 }
 
 Database Database::load(const std::string& path)

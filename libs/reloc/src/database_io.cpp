@@ -1,6 +1,10 @@
 #include "database_io.h"
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/io/CFileGZOutputStream.h>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/staged_output.h>
 
 #include <cstdint>
 #include <functional>
@@ -86,6 +90,28 @@ void readCameraAndFeatures(mrpt::serialization::CArchive& in, core::CameraModel&
     in >> camera_ini >> features_ini;
     camera = core::CameraModel::loadFromIni(mrpt::config::CConfigFileMemory(camera_ini), "camera");
     features.loadFromConfigFile(mrpt::config::CConfigFileMemory(features_ini), "Features");
+}
+
+void writeArchiveAtomically(const std::string& path, const std::function<void(mrpt::serialization::CArchive&)>& write)
+{
+    core::StagedOutputs staged;
+    const std::string tmp = staged.addFile(path);
+    {
+        mrpt::io::CFileGZOutputStream stream;
+        std::string err;
+        core::require(stream.open(tmp, 1, err), path, "cannot open for writing: " + err);
+        try
+        {
+            auto out = mrpt::serialization::archiveFrom(stream);
+            write(out);
+        }
+        catch (const std::exception& e)
+        {
+            throw core::InputError(path, "write failed: " + mrpt::exception_to_str(e));
+        }
+        stream.close();
+    }
+    staged.commit();
 }
 
 }  // namespace quasiloc::reloc::detail

@@ -4,6 +4,7 @@
 // single-process build stores.
 #include <mrpt/serialization/CArchive.h>
 
+#include <functional>
 #include <quasiloc/reloc/database.h>
 #include <string>
 
@@ -19,5 +20,9 @@ void writeCameraAndFeatures(mrpt::serialization::CArchive& out, const core::Came
                             const frontend::FeatureOptions& features);
 void readCameraAndFeatures(mrpt::serialization::CArchive& in, core::CameraModel& camera,
                            frontend::FeatureOptions& features);
+
+/** Writes a gz-compressed archive to `path`, all or nothing (a temporary renamed when `write` has finished);
+ *  InputError naming `path` when it cannot be opened or a write fails. */
+void writeArchiveAtomically(const std::string& path, const std::function<void(mrpt::serialization::CArchive&)>& write);
 
 }  // namespace quasiloc::reloc::detail

@@ -207,40 +207,25 @@ std::vector<size_t> shardViews(const std::vector<mrpt::poses::CPose3D>& poses, d
 
 void DatabaseShard::save(const std::string& path) const
 {
-    core::StagedOutputs staged;
-    const std::string tmp = staged.addFile(path);
-    {
-        mrpt::io::CFileGZOutputStream stream;
-        std::string err;
-        core::require(stream.open(tmp, 1, err), path, "cannot open for writing: " + err);
-        try
-        {
-            auto out = mrpt::serialization::archiveFrom(stream);
-            out.WriteBuffer(kMagic.data(), kMagic.size());
-            out.WriteAs<uint32_t>(kVersion);
-            out.WriteAs<int32_t>(selection.index);
-            out.WriteAs<int32_t>(selection.count);
-            out.WriteAs<uint64_t>(map.file_bytes);
-            out.WriteAs<uint64_t>(map.file_hash);
-            out << map_file << options;
-            out.WriteAs<uint64_t>(map_points);
-            out.WriteAs<uint64_t>(sampled_views);
-            out.WriteAs<uint64_t>(rendered);
-            out.WriteAs<uint64_t>(dropped_valid);
-            out.WriteAs<uint64_t>(dropped_lifted);
-            out << build_seconds;
-            detail::writeCameraAndFeatures(out, camera, features);
-            out << image_blur_sigma_px;
-            out.WriteAs<uint64_t>(views.size());
-            for (const auto& v : views) detail::writeView(out, v);
-        }
-        catch (const std::exception& e)
-        {
-            throw core::InputError(path, "write failed: " + mrpt::exception_to_str(e));
-        }
-        stream.close();
-    }
-    staged.commit();
+    detail::writeArchiveAtomically(path, [&](mrpt::serialization::CArchive& out) {
+        out.WriteBuffer(kMagic.data(), kMagic.size());
+        out.WriteAs<uint32_t>(kVersion);
+        out.WriteAs<int32_t>(selection.index);
+        out.WriteAs<int32_t>(selection.count);
+        out.WriteAs<uint64_t>(map.file_bytes);
+        out.WriteAs<uint64_t>(map.file_hash);
+        out << map_file << options;
+        out.WriteAs<uint64_t>(map_points);
+        out.WriteAs<uint64_t>(sampled_views);
+        out.WriteAs<uint64_t>(rendered);
+        out.WriteAs<uint64_t>(dropped_valid);
+        out.WriteAs<uint64_t>(dropped_lifted);
+        out << build_seconds;
+        detail::writeCameraAndFeatures(out, camera, features);
+        out << image_blur_sigma_px;
+        out.WriteAs<uint64_t>(views.size());
+        for (const auto& v : views) detail::writeView(out, v);
+    });
 }
 
 DatabaseShard DatabaseShard::load(const std::string& path, bool header_only)
