@@ -140,21 +140,21 @@ double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& fi
 }
 
 double normalizedMutualInformation(const DirectAlignmentOptions& o, const CameraEdgeField& field,
-                                   const core::CameraModel& camera, const DirectAlignmentModel& model,
+                                   const core::CameraModel& camera, const NmiSamples& samples,
                                    const Eigen::Isometry3d& T_world_cam)
 {
     const int B = o.nmi_bins;
     std::vector<double> joint(size_t(B) * size_t(B), 0.0);
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     size_t n = 0;
-    for (size_t i = 0; i < model.nmi_points_world.size(); ++i)
+    for (size_t i = 0; i < samples.points_world.size(); ++i)
     {
-        const Eigen::Vector3d p_cam = T_cam_world * model.nmi_points_world[i];
+        const Eigen::Vector3d p_cam = T_cam_world * samples.points_world[i];
         Eigen::Vector2d u;
         if (!camera.project(p_cam, u, nullptr, 1e-3)) continue;
         if (u.x() < 0 || u.y() < 0 || u.x() > field.gray.cols - 1 || u.y() > field.gray.rows - 1) continue;
         const int a = std::min(B - 1, int(field.gray.at<uint8_t>(int(u.y() + 0.5), int(u.x() + 0.5)) * B / 256));
-        const int c = std::min(B - 1, int(model.nmi_reflectivity[i] * float(B)));
+        const int c = std::min(B - 1, int(samples.reflectivity[i] * float(B)));
         joint[size_t(a) * size_t(B) + size_t(c)] += 1;
         ++n;
     }

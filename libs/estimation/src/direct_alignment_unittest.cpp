@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <cmath>
 #include <cstdio>
+#include <random>
 #include <opencv2/imgproc.hpp>
 
 #include <quasiloc/core/error.h>
@@ -65,7 +67,6 @@ TEST(DirectAlignment, ModelPointsProjectOntoTheirEdges)
     estimation::DirectAlignmentOptions o;
     const auto model = s.model(o, s.T_world_cam_true);
     ASSERT_GT(model.edge_points_world.size(), 500u);
-    ASSERT_GT(model.nmi_points_world.size(), 1000u);
     const quasi::QuasiImage q = s.render(s.T_world_cam_true);
     const auto field = estimation::buildCameraEdgeField(o, q.gray);
     double inliers = 0;
@@ -80,7 +81,10 @@ TEST(DirectAlignment, EdgeAndNmiTermsAreBestAtTheTruePose)
     const auto model = s.model(o, s.T_world_cam_true);
     const auto field = estimation::buildCameraEdgeField(o, s.render(s.T_world_cam_true).gray);
     const double cost0 = estimation::edgeCost(o, field, 0, s.camera, model, s.T_world_cam_true);
-    const double nmi0 = estimation::normalizedMutualInformation(o, field, s.camera, model, s.T_world_cam_true);
+    const quasi::QuasiImage q = s.render(s.T_world_cam_true);
+    const auto nmi = estimation::buildNmiSamples(o, q.depth, q.reflectivity, q.sparse, s.camera, s.T_world_cam_true);
+    ASSERT_GT(nmi.points_world.size(), 1000u);
+    const double nmi0 = estimation::normalizedMutualInformation(o, field, s.camera, nmi, s.T_world_cam_true);
     // Scan each tangent direction over +-5 cm / +-1 deg.
     for (int k = 0; k < 6; ++k)
         for (double f : {-1.0, -0.5, 0.5, 1.0})
@@ -89,7 +93,7 @@ TEST(DirectAlignment, EdgeAndNmiTermsAreBestAtTheTruePose)
             d[k] = f * (k < 3 ? M_PI / 180 : 0.05);
             const Eigen::Isometry3d T = estimation::boxPlus(s.T_world_cam_true, d);
             EXPECT_GT(estimation::edgeCost(o, field, 0, s.camera, model, T), cost0) << "direction " << k << " step " << f;
-            EXPECT_LT(estimation::normalizedMutualInformation(o, field, s.camera, model, T), nmi0)
+            EXPECT_LT(estimation::normalizedMutualInformation(o, field, s.camera, nmi, T), nmi0)
                 << "direction " << k << " step " << f;
         }
 }
@@ -270,4 +274,34 @@ TEST(DirectEdgeFactor, WindowWithTheDirectTermConvergesFromLevelA)
     estimation::WindowResult r;
     EXPECT_THROW(estimation::estimateWindow(estimation::EstimatorOptions{}, estimation::ReweightingOptions{}, bad, r),
                  core::InputError);
+}
+
+TEST(DirectAlignment, OrientationClassesEqualTheAngleDefinitionAwayFromSectorBorders)
+{
+    // The definition the classes replace: t = (angle mod 180 deg) / (180 / bins deg), class = round(t) mod bins,
+    // the second class on the side of t - round(t).
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> g(-400, 400);
+    for (int bins : {1, 4, 6, 8, 16})
+    {
+        const estimation::OrientationClasses classes(bins);
+        int tested = 0;
+        for (int i = 0; i < 20000; ++i)
+        {
+            const float gx = float(g(rng)), gy = float(g(rng));
+            if (gx == 0 && gy == 0) continue;
+            double a = std::atan2(double(gy), double(gx));
+            if (a < 0) a += M_PI;
+            if (a >= M_PI) a -= M_PI;
+            const double t = a / (M_PI / bins);
+            if (std::abs(2 * t - std::round(2 * t)) < 1e-9) continue;  // on a sector border: either side is right
+            const int expected = int(std::lround(t)) % bins;
+            const int expected_second = (expected + (t - std::round(t) >= 0 ? 1 : bins - 1)) % bins;
+            int second = -1;
+            ASSERT_EQ(classes.classOf(gx, gy, &second), expected) << "bins " << bins << " g (" << gx << ", " << gy << ")";
+            ASSERT_EQ(second, expected_second) << "bins " << bins << " g (" << gx << ", " << gy << ")";
+            ++tested;
+        }
+        EXPECT_GT(tested, 19000);
+    }
 }

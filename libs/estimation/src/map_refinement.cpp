@@ -161,6 +161,39 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
     return res;
 }
 
+std::shared_ptr<const DirectAlignmentModel> MapRefiner::prepareDirect(const core::CameraModel& camera,
+                                                                      const Eigen::Isometry3d& T_world_cam_pred)
+{
+    mrpt::system::CTicTac tic;
+    renderer_.render(core::fromIsometry(T_world_cam_pred), camera, q_);
+    auto model = std::make_shared<const DirectAlignmentModel>(buildDirectAlignmentModel(
+        options_.direct, q_.depth, q_.reflectivity, q_.valid, q_.sparse, camera, T_world_cam_pred));
+    prepare_ms_ = tic.Tac() * 1e3;
+    return model;
+}
+
+MapRefinementResult MapRefiner::alignPrepared(std::shared_ptr<const DirectAlignmentModel> model,
+                                              const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
+                                              double sigma_rad, std::optional<double> direct_prior_weight)
+{
+    const double prior_weight = direct_prior_weight.value_or(options_.direct_prior_weight);
+    core::require(prior_weight >= 0, "MapRefiner::alignPrepared direct_prior_weight", "must be >= 0");
+    core::require(!gray_.empty(), "MapRefiner::alignPrepared", "setImage() must be called first");
+    core::require(model != nullptr, "MapRefiner::alignPrepared", "no model (prepareDirect)");
+    mrpt::system::CTicTac tic;
+    MapRefinementResult res;
+    Eigen::Isometry3d T = T_world_cam_pred;
+    DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, prior_weight};
+    res.success = alignDirect(options_.direct, edge_field_, camera_, *model, T, &res.direct,
+                              prior_weight > 0 ? &prior : nullptr);
+    res.T_world_cam = T;
+    res.direct_model = std::move(model);
+    res.ms_render = prepare_ms_;
+    res.ms_direct = tic.Tac() * 1e3;
+    res.ms_total = res.ms_render + res.ms_direct;
+    return res;
+}
+
 MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
                                        double sigma_rad, std::optional<double> direct_prior_weight)
 {
@@ -185,39 +218,27 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
     }
     else
     {
-        mrpt::system::CTicTac tic;
-        renderer_.render(core::fromIsometry(T_world_cam_pred), camera_, q_);
-        const double ms_render = tic.Tac() * 1e3;
-        tic.Tic();
-        auto model_ptr = std::make_shared<const DirectAlignmentModel>(buildDirectAlignmentModel(
-            options_.direct, q_.depth, q_.reflectivity, q_.valid, q_.sparse, camera_, T_world_cam_pred));
-        const DirectAlignmentModel& model = *model_ptr;
-        Eigen::Isometry3d T = T_world_cam_pred;
-        DirectAlignmentStats ds;
-        DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, prior_weight};
-        const DirectPrior* p = prior_weight > 0 ? &prior : nullptr;
-        const bool ok = alignDirect(options_.direct, edge_field_, camera_, model, T, &ds, p);
-        const double ms_direct = tic.Tac() * 1e3;
+        const MapRefinementResult direct =
+            alignPrepared(prepareDirect(camera_, T_world_cam_pred), T_world_cam_pred, sigma_m, sigma_rad, prior_weight);
         if (method == RefinementMethod::Direct)
-        {
-            res.success = ok;
-            res.T_world_cam = T;
-        }
+            res = direct;
         else
         {
-            res = featurePose(T, true, options_.combined_sigma_m, options_.combined_sigma_deg * M_PI / 180.0);
+            res = featurePose(direct.T_world_cam, true, options_.combined_sigma_m,
+                              options_.combined_sigma_deg * M_PI / 180.0);
             const bool agree = res.success && res.inliers >= options_.min_inliers &&
-                               withinGate(res.T_world_cam, T, options_.agree_m, options_.agree_deg * M_PI / 180.0);
+                               withinGate(res.T_world_cam, direct.T_world_cam, options_.agree_m,
+                                          options_.agree_deg * M_PI / 180.0);
             if (!agree)
             {
-                res.T_world_cam = T;
-                res.success = ok;
+                res.T_world_cam = direct.T_world_cam;
+                res.success = direct.success;
             }
+            res.direct = direct.direct;
+            res.direct_model = direct.direct_model;
+            res.ms_render += direct.ms_render;
+            res.ms_direct = direct.ms_direct;
         }
-        res.direct = ds;
-        res.direct_model = model_ptr;
-        res.ms_render += ms_render;
-        res.ms_direct = ms_direct;
     }
     res.ms_total = total.Tac() * 1e3;
     return res;

@@ -302,22 +302,27 @@ bool estimateWindow(const EstimatorOptions& options, const ReweightingOptions& r
     {
         const auto t0 = Clock::now();
         const Eigen::Isometry3d T_before = paramsToPose(w.cur_.pose);
-        const Matrix6d H0 = w.currentPoseMarginal(false);
-        const double L = w.medianDepth();
-        std::vector<StructuralCandidates> cands(w.structural_.size());
-        for (size_t i = 0; i < w.structural_.size(); ++i)
+        // The reweighting weighs structural factors only: without any, its inputs (a marginal of the whole
+        // window, the median depth) would be computed for nothing.
+        if (!w.structural_.empty())
         {
-            const Structural& s = w.structural_[i];
-            for (const auto& f : s.candidates) cands[i].H.push_back(candidateInformation(f.get(), T_before));
-            cands[i].probability = s.probability;
-            cands[i].nominal = s.nominal;
+            const Matrix6d H0 = w.currentPoseMarginal(false);
+            const double L = w.medianDepth();
+            std::vector<StructuralCandidates> cands(w.structural_.size());
+            for (size_t i = 0; i < w.structural_.size(); ++i)
+            {
+                const Structural& s = w.structural_[i];
+                for (const auto& f : s.candidates) cands[i].H.push_back(candidateInformation(f.get(), T_before));
+                cands[i].probability = s.probability;
+                cands[i].nominal = s.nominal;
+            }
+            result.stats.linearize_ms += msSince(t0);
+            const auto t1 = Clock::now();
+            computeWeights(rw, H0, L, cands, result.reweighting);
+            w.setWeights(result.reweighting.weight);
+            result.stats.L = L;
+            result.stats.reweight_ms += msSince(t1);
         }
-        result.stats.linearize_ms += msSince(t0);
-        const auto t1 = Clock::now();
-        computeWeights(rw, H0, L, cands, result.reweighting);
-        w.setWeights(result.reweighting.weight);
-        result.stats.L = L;
-        result.stats.reweight_ms += msSince(t1);
         const auto t2 = Clock::now();
         const ceres::Solver::Summary summary = w.solve();
         result.stats.solve_ms += msSince(t2);

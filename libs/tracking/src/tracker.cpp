@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/ordered_tasks.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
 #include <quasiloc/tracking/map_points.h>
@@ -284,17 +285,26 @@ void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInp
     if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
 }
 
-Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
+void Tracker::extractStereoPoints(const dataset::StereoFrame& frame, StereoPoints& sp)
 {
     // Points only: the stereo and temporal matching use no line, so the front-end's line branch is skipped.
-    StereoPoints sp;
     frontend_.extractPoints(frame.left, cv::Mat(), sp.left);
     frontend_.extractPoints(frame.right, cv::Mat(), sp.right);
     sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
     sp.stereo_of_left.assign(sp.left.points.size(), -1);
     for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
-    if (denseStereo())
-        sp.dense = stereo_cloud_->compute(frame.left, frame.right, "frame " + std::to_string(frame.index));
+}
+
+void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
+{
+    if (denseStereo()) sp.dense = stereo_cloud_->compute(frame.left, frame.right, "frame " + std::to_string(frame.index));
+}
+
+Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
+{
+    StereoPoints sp;
+    extractStereoPoints(frame, sp);
+    extractDenseStereo(frame, sp);
     return sp;
 }
 
@@ -360,17 +370,18 @@ estimation::FrameState Tracker::predict(const dataset::StereoFrame& frame, estim
     return predicted;
 }
 
-Tracker::MapAlignment Tracker::alignToMap(const dataset::StereoFrame& frame, const estimation::FrameState& predicted,
-                                          estimation::WindowInput& in, FrameReport& rep)
+Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks,
+                                          size_t edge_field_task, estimation::WindowInput& in, FrameReport& rep)
 {
     MapAlignment a;
     mrpt::system::CTicTac tic;
-    refiner_.setImage(frame.left, stereo_.left.model, false);
-    rep.ms_image = tic.Tac() * 1e3;
-    tic.Tic();
+    // The render and the map's edge model need the prediction only: they run while the camera's edge field (a task)
+    // is computed; then the alignment waits for it, running other tasks of the frame while it is not ready.
     const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
-    const auto r = refiner_.refine(estimation::RefinementMethod::Direct, T_world_cam_pred, rep.prior_sigma_m,
-                                   rep.prior_sigma_deg * kDeg);
+    auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred);
+    tasks.wait(edge_field_task, true);
+    const auto r = refiner_.alignPrepared(std::move(model), T_world_cam_pred, rep.prior_sigma_m,
+                                          rep.prior_sigma_deg * kDeg);
     rep.ms_align = tic.Tac() * 1e3;
     rep.correction_m = core::translationDistance(r.T_world_cam, T_world_cam_pred);
     rep.correction_deg = core::rotationDistanceRad(r.T_world_cam, T_world_cam_pred) / kDeg;
@@ -464,36 +475,53 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     const estimation::FrameState predicted = predict(frame, imu, rep);
 
-    // The stereo points of this frame depend on the images alone: with concurrent_stages they are extracted on the
-    // worker thread while the map alignment runs on this one.
-    const bool concurrent = options_.temporal_landmarks && options_.concurrent_stages && cv::getNumThreads() > 1;
+    // The frame's independent tasks, in the order they are needed: the camera's edge field (keyframes), the stereo
+    // points (temporal landmarks and the map factors on them), the dense stereo (stereo_map_points = dense) and
+    // the camera's segments (map_lines). With concurrent_stages the worker thread and this one share them; this
+    // one renders the map at the prediction meanwhile. Who runs a task changes its timing only.
+    estimation::WindowInput in;
+    rep.keyframe = options_.map_updates && options_.map_term != MapTerm::None &&
+                   frames_ % size_t(options_.keyframe_every) == 0;
+    core::OrderedTasks tasks;
+    size_t edge_field_task = 0;
+    if (rep.keyframe)
+        edge_field_task = tasks.add([this, &frame, &rep] {
+            mrpt::system::CTicTac t;
+            refiner_.setImage(frame.left, stereo_.left.model, false);
+            rep.ms_image = t.Tac() * 1e3;
+        });
     StereoPoints stereo_points;
+    if (options_.temporal_landmarks)
+    {
+        tasks.add([this, &frame, &stereo_points] { extractStereoPoints(frame, stereo_points); });
+        if (denseStereo()) tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); });
+    }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
+    if (rep.keyframe && options_.factors.map_lines)
+        tasks.add([this, &frame, &camera_lines] { camera_lines = cameraLines(frame.left); });
+    const bool concurrent = options_.concurrent_stages && cv::getNumThreads() > 1;
     if (concurrent)
     {
         if (!worker_) worker_ = std::make_unique<core::WorkerThread>();
-        worker_->start([this, &frame, &stereo_points, &camera_lines] {
-            stereo_points = extractStereo(frame);
-            if (options_.factors.map_lines) camera_lines = cameraLines(frame.left);
+        worker_->start([&tasks] {
+            while (tasks.runNext())
+            {
+            }
         });
     }
-    // Whatever happens below, the worker's task (which uses this frame's locals) ends before they do.
+    // Whatever happens below, the worker's tasks (which use this frame's locals) end before they do.
     struct WaitAtExit
     {
         core::WorkerThread* w;
         ~WaitAtExit()
         {
-            if (w) try { w->wait(); } catch (...) {}
+            if (w) w->waitForError();
         }
     } wait_at_exit{concurrent ? worker_.get() : nullptr};
 
     // 2. Map alignment on keyframes (its model stays alive until the window has used it).
-    estimation::WindowInput in;
-    rep.keyframe = options_.map_updates && options_.map_term != MapTerm::None &&
-                   frames_ % size_t(options_.keyframe_every) == 0;
-    const MapAlignment alignment = rep.keyframe ? alignToMap(frame, predicted, in, rep) : MapAlignment{};
-    // The map side of the line factors needs only the quasi-image: done here, while the worker may still be
-    // detecting the camera's segments.
+    const MapAlignment alignment = rep.keyframe ? alignToMap(predicted, tasks, edge_field_task, in, rep) : MapAlignment{};
+    // The map side of the line factors needs only the quasi-image.
     std::vector<MapLine> map_lines;
     if (alignment.T_world_cam && options_.factors.map_lines) map_lines = quasiImageLines(rep);
     rep.lost = options_.map_updates && misses_ >= options_.lost_after_misses;
@@ -501,14 +529,12 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     // 3. The frame's stereo points: temporal landmarks (kept for the next frame) and the map factors on them.
     tic.Tic();
     last_dense_.clear();
+    tasks.waitAll();
     if (concurrent)
     {
         worker_->wait();
         wait_at_exit.w = nullptr;
     }
-    else if (options_.temporal_landmarks)
-        stereo_points = extractStereo(frame);
-    if (alignment.T_world_cam && options_.factors.map_lines && !concurrent) camera_lines = cameraLines(frame.left);
     addVisualTerms(std::move(stereo_points), camera_lines, map_lines, alignment, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;
 

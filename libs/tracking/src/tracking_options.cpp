@@ -92,7 +92,8 @@ void TrackerOptions::declare(core::OptionTable& t)
     t.add("temporal_window_px", temporal_window_px, "px", Range::above(0),
           "a current keypoint's match lies within this of the previous one");
     t.add("max_landmarks", max_landmarks, "", Range::atLeast(0), "temporal landmarks per frame at most");
-    t.add("concurrent_stages", concurrent_stages, "stereo extraction on a worker thread beside the map alignment");
+    t.add("concurrent_stages", concurrent_stages,
+          "a frame's independent tasks (edge field, stereo points, dense stereo) on a worker thread and the tracking thread");
 }
 
 void TrackingRunOptions::declare(core::OptionTable& t)

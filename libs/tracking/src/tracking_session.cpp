@@ -10,9 +10,6 @@
 
 namespace quasiloc::tracking
 {
-namespace
-{
-/** The tracker's IMU model from the calibration's [imu] (dataset/calibration.h). */
 estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c)
 {
     estimation::ImuNoise n;
@@ -23,6 +20,9 @@ estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c)
     n.gravity_m_s2 = c.gravity_m_s2;
     return n;
 }
+
+namespace
+{
 
 ImuBiasPrior calibrationBiasPrior(const dataset::ImuCalibration& c)
 {

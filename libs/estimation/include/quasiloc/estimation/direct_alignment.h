@@ -55,22 +55,45 @@ struct DirectAlignmentOptions : public core::DeclaredOptions
     void declare(core::OptionTable& t) override;
 };
 
-/** The map side: 3D points (world frame) on map edges, and points with reflectivity for NMI. */
+/** The map side: 3D points (world frame) on map edges. */
 struct DirectAlignmentModel
 {
     std::vector<Eigen::Vector3d> edge_points_world;
     std::vector<uint8_t> edge_bin;  ///< orientation class of each edge point (its image normal at the model pose)
-    std::vector<Eigen::Vector3d> nmi_points_world;
-    std::vector<float> nmi_reflectivity;  ///< [0, 1], one per nmi point
 };
 
 /** Builds the model from a quasi-image's completed depth, reflectivity, validity and sparse masks, rendered
  *  with `camera` at T_world_cam (any renderer: only the planes are read). Edge points are lifted along the
- *  pixel ray with the completed depth; NMI points are sparse pixels (exact map points). Deterministic. */
+ *  pixel ray with the completed depth. Deterministic. */
 DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& options, const cv::Mat& depth,
                                                const cv::Mat& reflectivity, const cv::Mat& valid,
                                                const cv::Mat& sparse, const core::CameraModel& camera,
                                                const Eigen::Isometry3d& T_world_cam);
+
+/** Map points with reflectivity for the NMI measure: sparse pixels (exact map points) of a quasi-image rendered
+ *  at T_world_cam, at most max_nmi_points spread over the image. Kept apart from the edge model because no stage
+ *  of the tracker uses NMI (docs/experiments.md): the tracker does not pay for it. */
+struct NmiSamples
+{
+    std::vector<Eigen::Vector3d> points_world;
+    std::vector<float> reflectivity;  ///< [0, 1], one per point
+};
+NmiSamples buildNmiSamples(const DirectAlignmentOptions& options, const cv::Mat& depth, const cv::Mat& reflectivity,
+                           const cv::Mat& sparse, const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam);
+
+/** Orientation classes of image normal directions (gx, gy): the angle mod 180 deg in `bins` classes centred on
+ *  multiples of 180 / bins deg. */
+class OrientationClasses
+{
+   public:
+    explicit OrientationClasses(int bins);
+    /** The class of (gx, gy); `second` (optional) = the neighbouring class on the side the angle leans to. */
+    int classOf(float gx, float gy, int* second = nullptr) const;
+
+   private:
+    int bins_;
+    std::vector<double> cos_, sin_;  ///< the borders of the 2 * bins sectors, k * 90 / bins deg, k = 1 .. 2 bins - 1
+};
 
 /** One pyramid level of the camera side. */
 struct CameraEdgeLevel
@@ -121,10 +144,10 @@ double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& fi
                 const core::CameraModel& camera, const DirectAlignmentModel& model,
                 const Eigen::Isometry3d& T_world_cam, double* inlier_ratio = nullptr);
 
-/** NMI = (H(A) + H(B)) / H(A, B) in [1, 2] between the camera intensity at the projections of the model's
- *  NMI points and their reflectivity; 1 when fewer than 50 points project into the image. */
+/** NMI = (H(A) + H(B)) / H(A, B) in [1, 2] between the camera intensity at the projections of the NMI samples
+ *  and their reflectivity; 1 when fewer than 50 points project into the image. */
 double normalizedMutualInformation(const DirectAlignmentOptions& options, const CameraEdgeField& field,
-                                   const core::CameraModel& camera, const DirectAlignmentModel& model,
+                                   const core::CameraModel& camera, const NmiSamples& samples,
                                    const Eigen::Isometry3d& T_world_cam);
 
 /** A Gaussian prior on the pose (e.g. the IMU prediction with its uncertainty), added to the mean edge cost as

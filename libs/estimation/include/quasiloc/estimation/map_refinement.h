@@ -103,6 +103,15 @@ class MapRefiner
     MapRefinementResult refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
                                double sigma_rad, std::optional<double> direct_prior_weight = std::nullopt);
 
+    /** The direct method in two halves, so that the first can overlap setImage() on another thread:
+     *  prepareDirect renders the map at the prediction with `camera` and builds its edge model (it reads no member
+     *  that setImage writes); alignPrepared aligns that model to the edge field of the last setImage(), with the
+     *  prediction prior of refine(). refine(Direct) is the two in turn. */
+    std::shared_ptr<const DirectAlignmentModel> prepareDirect(const core::CameraModel& camera,
+                                                              const Eigen::Isometry3d& T_world_cam_pred);
+    MapRefinementResult alignPrepared(std::shared_ptr<const DirectAlignmentModel> model,
+                                      const Eigen::Isometry3d& T_world_cam_pred, double sigma_m, double sigma_rad,
+                                      std::optional<double> direct_prior_weight = std::nullopt);
     double lastImageMs() const { return image_ms_; }
     const MapRefinementOptions& options() const { return options_; }
     /** The camera side of the direct term for the current image (valid until the next setImage). */
@@ -131,6 +140,7 @@ class MapRefiner
     CameraEdgeField edge_field_;
     quasi::QuasiImage q_;
     double image_ms_ = 0;
+    double prepare_ms_ = 0;  ///< the last prepareDirect's render and model
 };
 
 }  // namespace quasiloc::estimation

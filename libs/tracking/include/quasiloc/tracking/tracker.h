@@ -19,6 +19,7 @@
 // lost_after_misses misses in a row mark the track lost (FrameReport::lost). The start, the loss check and the
 // relocalization are TrackingSession's (tracking_session.h). Options: tracking_options.h.
 #include <Eigen/Geometry>
+#include <quasiloc/core/ordered_tasks.h>
 #include <quasiloc/core/worker_thread.h>
 
 #include <memory>
@@ -69,9 +70,10 @@ struct FrameReport
     bool standing = false;  ///< the platform has stood still since the start (static_initialization)
     /** Their marginal sigmas per axis after the frame (rad/s, m/s^2). */
     Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero(), acc_bias_sigma = Eigen::Vector3d::Zero();
-    /** Wall times [ms]. ms_image: the camera edge field; ms_align: render, map model and LM; ms_visual: stereo
-     *  points and temporal matching (with concurrent_stages the extraction runs beside the alignment and only the
-     *  wait for it and the matching count); ms_total: the whole frame. */
+    /** Wall times [ms]. ms_image: the camera edge field (a task: with concurrent_stages it may overlap the
+     *  render); ms_align: render, map model, the wait for the edge field and LM, on the tracking thread; ms_visual:
+     *  the wait for the frame's remaining tasks (stereo points, dense stereo, segments), the temporal matching and
+     *  the map factors on the points; ms_total: the whole frame. */
     double ms_predict = 0, ms_image = 0, ms_align = 0, ms_visual = 0, ms_window = 0, ms_total = 0;
 };
 
@@ -135,8 +137,9 @@ class Tracker
     /** The IMU's prediction of the frame's state, and the alignment prior's sigmas into `rep`. */
     estimation::FrameState predict(const dataset::StereoFrame& frame, estimation::ImuPreintegration& imu,
                                    FrameReport& rep) const;
-    /** Direct map alignment from the prediction, gated; the edge factor into `in` when accepted. */
-    MapAlignment alignToMap(const dataset::StereoFrame& frame, const estimation::FrameState& predicted,
+    /** Direct map alignment from the prediction (the camera edge field is `edge_field_task` of `tasks`), gated; the
+     *  edge factor into `in` when accepted. */
+    MapAlignment alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks, size_t edge_field_task,
                             estimation::WindowInput& in, FrameReport& rep);
     /** The factors on the frame's stereo points and segments: planes, points, lines, surfaces, landmarks. */
     void addVisualTerms(StereoPoints stereo_points, const std::vector<frontend::LineSegment>& camera_lines,
@@ -147,6 +150,9 @@ class Tracker
                      const MapAlignment& a, estimation::WindowInput& in, FrameReport& rep);
     /** Depends on the images alone (and the front-end, used by no other stage): may run on a second thread. */
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
+    /** Its two halves (independent tasks of a frame): the points and their stereo matches, and the dense cloud. */
+    void extractStereoPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
+    void extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const;
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
                const ImuBiasPrior& biases);

@@ -31,6 +31,9 @@
 namespace quasiloc::tracking
 {
 /** Every option of a session, one INI section each (quasi-image options belong to the MapContext). */
+/** The tracker's IMU model from the calibration's [imu] (dataset/calibration.h). */
+estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c);
+
 struct SessionOptions
 {
     TrackingRunOptions tracker;                       ///< [Tracking] + [Initialization] + [MapFactors]
