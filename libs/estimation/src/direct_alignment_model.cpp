@@ -224,21 +224,62 @@ NmiSamples buildNmiSamples(const DirectAlignmentOptions& o, const cv::Mat& depth
 OrientationClasses::OrientationClasses(int bins) : bins_(bins)
 {
     core::require(bins >= 1 && bins <= 64, "OrientationClasses", "bins must be in [1, 64]");
-    for (int k = 1; k < 2 * bins; ++k)
+    for (int k = 1; k <= bins; ++k)
     {
-        cos_.push_back(std::cos(k * M_PI / (2 * bins)));
-        sin_.push_back(std::sin(k * M_PI / (2 * bins)));
+        cos_.push_back(float(std::cos(k * M_PI / (2 * bins))));
+        sin_.push_back(float(std::sin(k * M_PI / (2 * bins))));
+        cos_i_.push_back(int32_t(std::lround(std::cos(k * M_PI / (2 * bins)) * 16384)));
+        sin_i_.push_back(int32_t(std::lround(std::sin(k * M_PI / (2 * bins)) * 16384)));
+    }
+    for (int sector = 0; sector < 2 * bins; ++sector)
+    {
+        const int b = ((sector + 1) / 2) % bins;
+        const int second = (sector % 2 == 0 ? b + 1 : b + bins - 1) % bins;
+        sector_bits_.push_back(uint16_t((1u << b) | (1u << second)));
+    }
+}
+
+void OrientationClasses::rowBits(const int16_t* gx, const int16_t* gy, const uint8_t* edges, int n, uint16_t* bits)
+{
+    u_.resize(size_t(n)), v_.resize(size_t(n)), below_.assign(size_t(n), 0), mirrored_.resize(size_t(n));
+    for (int x = 0; x < n; ++x)  // the fold of classOf, without branches
+    {
+        const int32_t a = gx[x], c = gy[x];
+        const bool flip = c < 0 || (c == 0 && a < 0);
+        const int32_t fx = flip ? -a : a;
+        v_[size_t(x)] = flip ? -c : c;
+        mirrored_[size_t(x)] = fx < 0;
+        u_[size_t(x)] = fx < 0 ? -fx : fx;
+    }
+    for (size_t k = 0; k < cos_i_.size(); ++k)
+    {
+        const int32_t S = sin_i_[k], C = cos_i_[k];
+        for (int x = 0; x < n; ++x) below_[size_t(x)] += u_[size_t(x)] * S - v_[size_t(x)] * C <= 0;
+    }
+    for (int x = 0; x < n; ++x)
+    {
+        if (!edges[x])
+        {
+            bits[x] = 0;
+            continue;
+        }
+        const int32_t below = below_[size_t(x)];
+        bits[x] = sector_bits_[size_t(mirrored_[size_t(x)] ? 2 * bins_ - 1 - below : below)];
     }
 }
 
 int OrientationClasses::classOf(float gx, float gy, int* second) const
 {
-    // Without atan2 (a tenth of the camera side's cost): the 2 * bins sectors between class centres and class
-    // borders are told apart by the sign of the cross product with each sector border. In sector s the nearest
-    // class is (s + 1) / 2, and the angle leans to the next class when s is even.
+    // Without atan2 (a tenth of the camera side's cost): the angle mod 180 deg falls in one of 2 * bins sectors of
+    // 90 / bins deg between class centres and class borders. In sector s the nearest class is (s + 1) / 2, and the
+    // angle leans to the next class when s is even. Folded into the first quadrant, the sector is told by the signs
+    // of the cross products with the `bins` borders up to 90 deg (the other quadrant mirrors it).
     if (gy < 0 || (gy == 0 && gx < 0)) gx = -gx, gy = -gy;  // the same line: angle mod 180 deg into [0, 180)
-    int sector = 0;
-    for (size_t k = 0; k < cos_.size(); ++k) sector += double(gx) * sin_[k] - double(gy) * cos_[k] <= 0;
+    const bool mirrored = gx < 0;
+    const float u = std::abs(gx);
+    int below = 0;  // borders k * 90 / bins deg (k = 1 .. bins) at or below the folded angle
+    for (size_t k = 0; k < cos_.size(); ++k) below += u * sin_[k] - gy * cos_[k] <= 0;
+    const int sector = mirrored ? 2 * bins_ - 1 - below : below;
     const int b = ((sector + 1) / 2) % bins_;
     if (second) *second = (sector % 2 == 0 ? b + 1 : b + bins_ - 1) % bins_;
     return b;
@@ -315,75 +356,72 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
     }
 }
 
+namespace
+{
+/** One level of the camera side from its (pyramid) image. */
+CameraEdgeLevel buildCameraEdgeLevel(const DirectAlignmentOptions& o, const cv::Mat& level_img, int level)
+{
+    CameraEdgeLevel L;
+    L.scale = 1.0 / double(1 << level);
+    // Texture (carpet, posters, foliage) makes fine edges everywhere that the LiDAR map does not have; a blur
+    // keeps the object boundaries both modalities share.
+    cv::Mat edge_img = level_img;
+    if (o.camera_blur_sigma_px > 0) cv::GaussianBlur(level_img, edge_img, cv::Size(0, 0), o.camera_blur_sigma_px);
+    cv::Mat dx, dy;
+    cv::Sobel(edge_img, dx, CV_16S, 1, 0, 3);
+    cv::Sobel(edge_img, dy, CV_16S, 0, 1, 3);
+    cannyByPercentile(dx, dy, o.canny_high_percentile, o.canny_low_ratio, L.edges);
+    // Each edge pixel joins the two orientation classes nearest to its normal's direction (bit b: class b).
+    const int B = o.orientation_bins;
+    OrientationClasses orientation(B);
+    const bool fused = B <= kMaxFusedClasses;
+    cv::Mat class_bits(L.edges.size(), CV_16UC1);
+    for (int y = 0; y < L.edges.rows; ++y)
+        orientation.rowBits(dx.ptr<int16_t>(y), dy.ptr<int16_t>(y), L.edges.ptr<uint8_t>(y), L.edges.cols,
+                            class_bits.ptr<uint16_t>(y));
+    if (fused) class_bits.convertTo(class_bits, CV_8U);  // B <= 8: every value fits
+    // The distance transforms are most of the camera side's cost: up to 8 classes in one fused pass.
+    if (fused)
+        classDistanceTransforms(class_bits, B, o.truncation_px, L.distance);
+    else
+    {
+        L.distance.resize(size_t(B));
+        for (int b = 0; b < B; ++b)
+        {
+            cv::Mat not_in_class;
+            cv::compare(class_bits & cv::Scalar(1 << b), 0, not_in_class, cv::CMP_EQ);
+            cv::distanceTransform(not_in_class, L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_3, CV_32F);
+            cv::min(L.distance[size_t(b)], o.truncation_px, L.distance[size_t(b)]);
+        }
+    }
+    return L;
+}
+}  // namespace
+
 CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& o, const cv::Mat& image)
 {
     core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
                   "camera image", "must be a non-empty 8-bit gray or BGR image");
-    cv::Mat gray;
-    if (image.channels() == 3)
-        cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-    else
-        gray = image.clone();
+    cv::Mat gray = image;
+    if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     CameraEdgeField field;
     cv::GaussianBlur(gray, field.gray, cv::Size(3, 3), 0);
-    cv::Mat level_img = field.gray;
-    for (int l = 0; l <= o.pyramid_levels; ++l)
+    std::vector<cv::Mat> pyramid{field.gray};
+    for (int l = 1; l <= o.pyramid_levels; ++l)
     {
-        if (l > 0)
-        {
-            if (level_img.cols < 32 || level_img.rows < 16) break;  // no smaller levels than this
-            cv::pyrDown(level_img, level_img);
-        }
-        CameraEdgeLevel L;
-        L.scale = 1.0 / double(1 << l);
-        // Texture (carpet, posters, foliage) makes fine edges everywhere that the LiDAR map does not have; a blur
-        // keeps the object boundaries both modalities share.
-        cv::Mat edge_img = level_img;
-        if (o.camera_blur_sigma_px > 0) cv::GaussianBlur(level_img, edge_img, cv::Size(0, 0), o.camera_blur_sigma_px);
-        cv::Mat dx, dy;
-        cv::Sobel(edge_img, dx, CV_16S, 1, 0, 3);
-        cv::Sobel(edge_img, dy, CV_16S, 0, 1, 3);
-        cannyByPercentile(dx, dy, o.canny_high_percentile, o.canny_low_ratio, L.edges);
-        // Each edge pixel joins the two orientation classes nearest to its normal's direction (bit b: class b).
-        const int B = o.orientation_bins;
-        const OrientationClasses orientation(B);
-        const bool fused = B <= kMaxFusedClasses;
-        cv::Mat class_bits = cv::Mat::zeros(L.edges.size(), fused ? CV_8UC1 : CV_16UC1);
-        for (int y = 0; y < L.edges.rows; ++y)
-        {
-            const uint8_t* e = L.edges.ptr<uint8_t>(y);
-            const int16_t* gx = dx.ptr<int16_t>(y);
-            const int16_t* gy = dy.ptr<int16_t>(y);
-            for (int x = 0; x < L.edges.cols; ++x)
-            {
-                if (!e[x]) continue;
-                int second = 0;
-                const int b = orientation.classOf(float(gx[x]), float(gy[x]), &second);
-                const int bits = (1 << b) | (1 << second);
-                if (fused)
-                    class_bits.at<uint8_t>(y, x) = uint8_t(bits);
-                else
-                    class_bits.at<uint16_t>(y, x) = uint16_t(bits);
-            }
-        }
-        // The distance transforms are most of the camera side's cost: up to 8 classes in one fused pass.
-        if (fused)
-            classDistanceTransforms(class_bits, B, o.truncation_px, L.distance);
-        else
-        {
-            L.distance.resize(size_t(B));
-            cv::parallel_for_(cv::Range(0, B), [&](const cv::Range& r) {
-                for (int b = r.start; b < r.end; ++b)
-                {
-                    cv::Mat not_in_class;
-                    cv::compare(class_bits & cv::Scalar(1 << b), 0, not_in_class, cv::CMP_EQ);
-                    cv::distanceTransform(not_in_class, L.distance[size_t(b)], cv::DIST_L2, cv::DIST_MASK_3, CV_32F);
-                    cv::min(L.distance[size_t(b)], o.truncation_px, L.distance[size_t(b)]);
-                }
-            });
-        }
-        field.levels.push_back(std::move(L));
+        if (pyramid.back().cols < 32 || pyramid.back().rows < 16) break;  // no smaller levels than this
+        cv::Mat down;
+        cv::pyrDown(pyramid.back(), down);
+        pyramid.push_back(down);
     }
+    // The full-resolution level is about three quarters of the work: it runs beside the smaller ones, on two
+    // threads when the pool has a free one (the tracker computes the field while it renders the map).
+    field.levels.resize(pyramid.size());
+    cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
+        for (int part = r.start; part < r.end; ++part)
+            for (size_t l = part == 0 ? 0 : 1; l < (part == 0 ? 1 : pyramid.size()); ++l)
+                field.levels[l] = buildCameraEdgeLevel(o, pyramid[l], int(l));
+    });
     return field;
 }
 

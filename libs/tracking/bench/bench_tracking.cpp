@@ -6,7 +6,7 @@
 //
 // Stages (the tracker's order, tracker.h): IMU prediction, the camera edge field, the quasi-image render at the
 // pose, the map edge model, the direct alignment from a pose 2 cm / 0.5 deg off, the stereo points of both images,
-// and the whole Tracker::track (the window included: its share is the counter window_ms). Every benchmark cycles
+// the dense stereo cloud (stereo_map_points = dense), and the whole Tracker::track (the window included: its share is the counter window_ms). Every benchmark cycles
 // over the first [Bench] frames frames of the rawlog. The real EuRoC micro set: the same with the --set lines of
 // scripts/real_micro.sh (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
@@ -21,6 +21,7 @@
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/frontend/stereo_matcher.h>
+#include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/tracking/map_context.h>
 #include <quasiloc/tracking/tracker.h>
 #include <quasiloc/tracking/tracking_session.h>
@@ -157,6 +158,18 @@ void BM_StereoPoints(benchmark::State& state)
     state.counters["matches"] = double(matches) / double(std::max<size_t>(1, k));
 }
 
+void BM_DenseStereo(benchmark::State& state)
+{
+    const reloc::StereoCloud cloud(fixture().calibration.rig, fixture().options.localization.stereo);
+    size_t k = 0, points = 0;
+    for (auto _ : state)
+    {
+        const dataset::StereoFrame& f = frameAt(k++);
+        points += cloud.compute(f.left, f.right, "bench").size();
+    }
+    state.counters["points"] = double(points) / double(std::max<size_t>(1, k));
+}
+
 /** Tracker::track frame after frame from the ground truth at the first frame (restarted, untimed, at the end). */
 void BM_TrackFrame(benchmark::State& state)
 {
@@ -167,6 +180,9 @@ void BM_TrackFrame(benchmark::State& state)
                               fx.calibration.rig, noise, fx.context->renderer(), frontend);
     if (fx.options.tracker.factors.stereo_map_factor)
         tracker.setMapDistanceField(fx.context->distanceField(fx.options.localization).get());
+    // As TrackingSession does: the dense stereo of stereo_map_points = dense.
+    const reloc::StereoCloud cloud(fx.calibration.rig, fx.options.localization.stereo);
+    if (fx.options.tracker.factors.stereo_map_points == tracking::StereoMapPoints::Dense) tracker.setStereoCloud(&cloud);
     const auto restart = [&] {
         const dataset::StereoFrame &f0 = fx.frames[0], &f1 = fx.frames[1];
         const Eigen::Isometry3d T_body_cam = core::toIsometry(fx.calibration.rig.T_body_left);
@@ -206,6 +222,7 @@ BENCHMARK(BM_Render)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EdgeModel)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DirectAlignment)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StereoPoints)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenseStereo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TrackFrame)->Unit(benchmark::kMillisecond)->MinTime(5.0);
 
 std::unique_ptr<Fixture> load(const core::CommandLine& cmd)
