@@ -8,6 +8,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -138,6 +139,14 @@ void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
     }
     else if (auto imu = std::dynamic_pointer_cast<CObservationIMU>(obs))
     {
+        // MRPT reads dataIsPresent as raw bytes: a corrupt file can hold a byte that is not a valid bool (0 or 1),
+        // and has()/get() loading it is undefined behaviour (found by fuzz_rawlog). Any non-zero byte means true.
+        for (auto& flag : imu->dataIsPresent)
+        {
+            unsigned char byte = 0;
+            std::memcpy(&byte, &flag, 1);
+            flag = byte != 0;
+        }
         const bool complete = imu->has(IMU_X_ACC) && imu->has(IMU_Y_ACC) && imu->has(IMU_Z_ACC) && imu->has(IMU_WX) &&
                               imu->has(IMU_WY) && imu->has(IMU_WZ);
         if (!complete)
