@@ -19,6 +19,16 @@
 #include <quasiloc/dataset/euroc_conversion.h>
 #include <quasiloc/eval/eval_config.h>
 #include <quasiloc/frontend/features.h>
+#include <quasiloc/frontend/point_matcher.h>
+#include <quasiloc/quasi/quasi_options.h>
+#include <quasiloc/reloc/geometric_localizer.h>
+#include <quasiloc/reloc/localizer.h>
+#include <quasiloc/sim/imu_synthesizer.h>
+#include <quasiloc/sim/lidar_sampler.h>
+#include <quasiloc/sim/simulation.h>
+#include <quasiloc/sim/stereo_renderer.h>
+#include <quasiloc/sim/world_builder.h>
+#include <quasiloc/tracking/tracking_options.h>
 #include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/timestamps.h>
 #include <quasiloc/map/lidar_map.h>
@@ -201,22 +211,44 @@ void database()
     fs::remove(gz);
 }
 
-/** The effective configuration the programs write, for the sections fuzz_program_ini loads. */
+/** The effective configuration the programs write, one seed per section that fuzz_program_ini loads (small seeds:
+ *  libFuzzer mutates a few KB faster than one 25 KB file). */
 void programIni()
 {
+    auto seed = [](const std::string& section, const mrpt::config::CLoadableOptions& o) {
+        mrpt::config::CConfigFileMemory cfg;
+        o.saveToConfigFile(cfg, section);
+        std::string text;
+        cfg.getContent(text);
+        writeBytes("fuzz_program_ini", section + ".ini", text);
+    };
+    seed("MapImport", map_import::MapImportOptions());
+    seed("Euroc2Rawlog", dataset::Euroc2RawlogOptions());
+    seed("Bag2Rawlog", dataset::Bag2RawlogOptions());
+    seed("Rawlog2Bag", dataset::Rawlog2BagOptions());
+    seed("Features", frontend::FeatureOptions());
+    seed("PointMatching", frontend::PointMatchingOptions());
+    seed("QuasiImage", quasi::QuasiOptions());
+    seed("Localization", reloc::LocalizerOptions());
+    seed("GeometricLocalization", reloc::GeometricLocalizationOptions());
+    seed("Tracking", tracking::TrackingRunOptions());
+    seed("Initialization", tracking::InitializationOptions());
+    seed("MapFactors", tracking::MapFactorOptions());
+    seed("Relocalization", tracking::RelocalizationOptions());
+    seed("Simulation", sim::SimulationOptions());
+    seed("World", sim::WorldOptions());
+    seed("Appearance", sim::AppearanceOptions());
+    seed("Lidar", sim::LidarOptions());
+    seed("IMU", sim::ImuNoiseOptions());
+    // quasiloc-eval: [Eval] naming one sequence, and that sequence's section.
     mrpt::config::CConfigFileMemory cfg;
-    map_import::MapImportOptions().saveToConfigFile(cfg, "MapImport");
-    dataset::Euroc2RawlogOptions().saveToConfigFile(cfg, "Euroc2Rawlog");
-    dataset::Bag2RawlogOptions().saveToConfigFile(cfg, "Bag2Rawlog");
-    dataset::Rawlog2BagOptions().saveToConfigFile(cfg, "Rawlog2Bag");
-    frontend::FeatureOptions().saveToConfigFile(cfg, "Features");
     eval::EvalOptions e;
     e.sequence_names = {"seq"};
     e.saveToConfigFile(cfg, "Eval");
     eval::SequenceOptions().saveToConfigFile(cfg, "Eval.seq");
     std::string text;
     cfg.getContent(text);
-    writeBytes("fuzz_program_ini", "effective.ini", text);
+    writeBytes("fuzz_program_ini", "Eval.ini", text);
 }
 
 void rawlog()

@@ -70,6 +70,16 @@ TEST(FuzzFindings, PcdCountProductsThatOverflowAreErrors)
                      CloudFormat::Pcd, "truncated binary data");
 }
 
+// fuzz_pcd (in the 10-minute run): fields with COUNT 0 made a record of 0 bytes, so no data was needed, yet the first
+// value of each field was read: a heap-buffer-overflow (ASan) past the end of the file's bytes.
+TEST(FuzzFindings, PcdFieldWithCountZeroIsAnError)
+{
+    for (const char* data : {"binary", "binary_compressed", "ascii"})
+        expectCloudError("FIELDS x y z intensity\nSIZE 8 4 4 4\nTYPE I F F F\nCOUNT 0 0 0 0\nWIDTH 37\nHEIGHT 1\n"
+                         "DATA " + std::string(data) + "\n\xf3\xf3",
+                         CloudFormat::Pcd, "has COUNT 0");
+}
+
 // binary_compressed: the announced uncompressed size (up to 4 GB) was allocated before the 8 compressed bytes were
 // found to be corrupt.
 TEST(FuzzFindings, PcdCompressedSizeBeyondWhatLzfCanExpandIsAnError)

@@ -86,6 +86,9 @@ void finishFields(PcdHeader& h, const std::vector<std::string>& sizes, const std
         core::require(detail::pcdType(f.type, f.size, f.scalar), path,
                       "PCD header: field '" + f.name + "' has an unsupported TYPE/SIZE " + types[k] + "/" + sizes[k]);
         f.count = counts.empty() ? 1 : parseCount(counts[k], path, "COUNT");
+        // A field with COUNT 0 takes no byte of a record, yet its first value would be read (found by fuzz_pcd:
+        // a heap-buffer-overflow).
+        core::require(f.count >= 1, path, "PCD header: field '" + f.name + "' has COUNT 0");
         f.offset = offset;
         size_t field_bytes = 0;
         core::require(detail::multiply(static_cast<size_t>(f.size), f.count, field_bytes) &&

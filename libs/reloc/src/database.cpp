@@ -86,9 +86,11 @@ Database Database::load(const std::string& path)
                 core::require(w < db.vocabulary.numWords(), path,
                               "view " + std::to_string(v.id) + " has word " + std::to_string(w) + " outside the vocabulary");
     }
-    catch (const core::InputError&)
+    catch (const core::InputError& e)
     {
-        throw;
+        if (e.input() == path) throw;
+        // From a part (the camera INI, the vocabulary, the index): named with the database file too.
+        throw core::InputError(path, e.input() + ": " + e.problem());
     }
     catch (const std::exception& e)
     {
