@@ -12,6 +12,7 @@
 #   QUASILOC_FUZZ_BUILD_DIR  the fuzz build folder (default <repo>/build-fuzz)
 #   QUASILOC_FUZZ_JOBS       targets run at the same time (default 1; CI uses 2 on its 2 cores)
 #   QUASILOC_FUZZ_CHUNK      seconds per libFuzzer run (default 60)
+#   QUASILOC_FUZZ_BUILD_LOCK when set, the build holds an exclusive flock on this file (a machine shared with builds)
 #   QUASILOC_FUZZ_LOCK       when set, each chunk holds a shared flock on this file (lets a timing run on the same
 #                            machine take it exclusively between chunks)
 # Exit status 1 when any target found something (the inputs are in the findings folder), 2 on a usage error.
@@ -28,15 +29,17 @@ fi
 SECONDS_PER_TARGET="$1"
 shift
 
-# Build (configure once; ninja rebuilds only what changed).
+# Build (configure once; ninja rebuilds only what changed), under QUASILOC_FUZZ_BUILD_LOCK when set.
 build_start=$(date +%s)
+build_lock=()
+[ -n "${QUASILOC_FUZZ_BUILD_LOCK:-}" ] && build_lock=(flock "$QUASILOC_FUZZ_BUILD_LOCK")
 if [ ! -f "$BUILD/CMakeCache.txt" ]; then
   GENERATOR=()
   if command -v ninja >/dev/null 2>&1; then GENERATOR=(-G Ninja); fi
-  CC=clang CXX=clang++ cmake -S "$ROOT/fuzz" -B "$BUILD" "${GENERATOR[@]}" -DQUASILOC_BUILD_FUZZERS=ON \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+  CC=clang CXX=clang++ "${build_lock[@]}" cmake -S "$ROOT/fuzz" -B "$BUILD" "${GENERATOR[@]}" \
+    -DQUASILOC_BUILD_FUZZERS=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 fi
-cmake --build "$BUILD" --parallel "$(nproc)"
+"${build_lock[@]}" cmake --build "$BUILD" --parallel "$(nproc)"
 echo "[fuzz] build took $(( $(date +%s) - build_start )) s"
 
 bash "$ROOT/fuzz/seeds/make_corpus.sh" "$BUILD" "$BUILD/corpus"
@@ -75,13 +78,13 @@ run_target() {
     read -r -a extra < <(grep '^-' "$ROOT/fuzz/targets/$t.options" | tr '\n' ' ') || true
     while IFS= read -r line; do env+=("$line"); done < <(grep -E '^[A-Z_]+=' "$ROOT/fuzz/targets/$t.options" || true)
   fi
-  local left start execs=0 ours=0 mrpt=0 n chunk_no=0
+  local left execs=0 fuzzed=0 ours=0 mrpt=0 n d chunk_start chunk_no=0
   left="$SECONDS_PER_TARGET"
-  start=$(date +%s)
   : > "$LOGS/$t.log"
   while [ "$left" -gt 0 ]; do
     local chunk=$(( left < CHUNK ? left : CHUNK )) chunk_log="$LOGS/$t.chunk.log" before
     before="$(ls "$findings")"
+    chunk_start=$(date +%s)
     local lock=()
     [ -n "${QUASILOC_FUZZ_LOCK:-}" ] && lock=(flock -s "$QUASILOC_FUZZ_LOCK")
     # -rss_limit_mb / -malloc_limit_mb: an allocation of more than 2 GB is a finding (a trusted length field);
@@ -92,6 +95,11 @@ run_target() {
     cat "$chunk_log" >> "$LOGS/$t.log"
     n=$(grep -a -o 'stat::number_of_executed_units: *[0-9]*' "$chunk_log" | tail -n 1 | grep -o '[0-9]*$' || true)
     execs=$(( execs + ${n:-0} ))
+    # Seconds fuzzed: libFuzzer's own count ("Done N runs in S second(s)"), the chunk's wall time when it stopped
+    # at a finding. A process paused from outside (SIGSTOP) does not count as fuzzing time.
+    d=$(grep -a -o 'Done [0-9]* runs in [0-9]* second' "$chunk_log" | tail -n 1 | grep -o 'in [0-9]*' | grep -o '[0-9]*' || true)
+    d=${d:-$(( $(date +%s) - chunk_start ))}
+    fuzzed=$(( fuzzed + (d > 0 ? d : 1) ))  # at least 1 s: a target that stops at once must not loop forever
     # New inputs in the findings folder (slow-unit-* files are reports of slow inputs, not findings).
     for f in $(comm -13 <(echo "$before") <(ls "$findings")); do
       case "$f" in slow-unit-*) continue ;; esac
@@ -102,12 +110,12 @@ run_target() {
         ours=$(( ours + 1 ))
       fi
     done
-    left=$(( SECONDS_PER_TARGET - ($(date +%s) - start) ))
+    left=$(( SECONDS_PER_TARGET - fuzzed ))
     chunk_no=$(( chunk_no + 1 ))
     [ "$left" -gt 0 ] && [ -n "${QUASILOC_FUZZ_LOCK:-}" ] && sleep 3
   done
   rm -f "$LOGS/$t.chunk.log"
-  echo "$(( $(date +%s) - start )) $execs $ours $mrpt" > "$LOGS/$t.result"
+  echo "$fuzzed $execs $ours $mrpt" > "$LOGS/$t.result"
 }
 
 running=0
