@@ -95,8 +95,8 @@ run_target() {
     cat "$chunk_log" >> "$LOGS/$t.log"
     n=$(grep -a -o 'stat::number_of_executed_units: *[0-9]*' "$chunk_log" | tail -n 1 | grep -o '[0-9]*$' || true)
     execs=$(( execs + ${n:-0} ))
-    # Seconds fuzzed: libFuzzer's own count ("Done N runs in S second(s)"), the chunk's wall time when it stopped
-    # at a finding. A process paused from outside (SIGSTOP) does not count as fuzzing time.
+    # Seconds fuzzed: libFuzzer's own count ("Done N runs in S second(s)", a wall time), or the chunk's wall time
+    # when it stopped at a finding.
     d=$(grep -a -o 'Done [0-9]* runs in [0-9]* second' "$chunk_log" | tail -n 1 | grep -o 'in [0-9]*' | grep -o '[0-9]*' || true)
     d=${d:-$(( $(date +%s) - chunk_start ))}
     fuzzed=$(( fuzzed + (d > 0 ? d : 1) ))  # at least 1 s: a target that stops at once must not loop forever
