@@ -8,6 +8,8 @@ PACKAGES=(
   libmrpt-system-dev libmrpt-io-dev libmrpt-config-dev libmrpt-math-dev libmrpt-poses-dev
   libmrpt-img-dev libmrpt-obs-dev libmrpt-maps-dev mrpt-apps
   libgtest-dev libbenchmark-dev
+  # The fuzz targets (fuzz/, scripts/fuzz.sh, docs/fuzzing.md): clang with libFuzzer, ASan and UBSan.
+  clang-14 libfuzzer-14-dev
   libyaml-cpp-dev
   # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros is skipped without them).
   librosbag-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev

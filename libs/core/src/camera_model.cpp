@@ -253,19 +253,26 @@ CameraModel CameraModel::fromEurocYaml(const std::string& path)
     {
         fs.open(path, cv::FileStorage::READ);
     }
-    catch (const cv::Exception& e)
-    {
+    catch (const std::exception& e)  // cv::Exception, and std::length_error from OpenCV's YAML parser on some
+    {                                 // malformed files (found by fuzz_sensor_yaml)
         throw InputError(path, std::string("cannot parse as YAML: ") + e.what());
     }
     require(fs.isOpened(), path, "cannot open camera sensor.yaml");
     std::vector<double> intr, distc;
     std::vector<int> res;
-    fs["intrinsics"] >> intr;
-    fs["resolution"] >> res;
-    fs["distortion_coefficients"] >> distc;
     std::string cam_model, dist_model;
-    fs["camera_model"] >> cam_model;
-    fs["distortion_model"] >> dist_model;
+    try
+    {
+        fs["intrinsics"] >> intr;
+        fs["resolution"] >> res;
+        fs["distortion_coefficients"] >> distc;
+        fs["camera_model"] >> cam_model;
+        fs["distortion_model"] >> dist_model;
+    }
+    catch (const std::exception& e)  // a key of the wrong type (a map where numbers are expected, ...)
+    {
+        throw InputError(path, std::string("bad value in camera sensor.yaml: ") + e.what());
+    }
     require(intr.size() == 4, path, "'intrinsics' must hold 4 values [fu, fv, cu, cv]");
     require(res.size() == 2, path, "'resolution' must hold 2 values [width, height]");
     require(cam_model.empty() || cam_model == "pinhole", path,

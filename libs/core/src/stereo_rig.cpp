@@ -133,13 +133,20 @@ mrpt::poses::CPose3D readEurocSensorPose(const std::string& yaml_path)
     {
         fs.open(yaml_path, cv::FileStorage::READ);
     }
-    catch (const cv::Exception& e)
-    {
+    catch (const std::exception& e)  // cv::Exception, and std::length_error from OpenCV's YAML parser on some
+    {                                 // malformed files (found by fuzz_sensor_yaml)
         throw InputError(yaml_path, std::string("cannot parse as YAML: ") + e.what());
     }
     require(fs.isOpened(), yaml_path, "cannot open sensor.yaml");
     std::vector<double> data;
-    fs["T_BS"]["data"] >> data;
+    try
+    {
+        fs["T_BS"]["data"] >> data;
+    }
+    catch (const std::exception& e)  // T_BS of the wrong type
+    {
+        throw InputError(yaml_path, std::string("bad T_BS in sensor.yaml: ") + e.what());
+    }
     require(data.size() == 16, yaml_path, "'T_BS.data' must hold 16 values (4x4 row-major)");
     return fromMatrixRowMajor(data, yaml_path + " (T_BS)");
 }

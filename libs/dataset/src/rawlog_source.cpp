@@ -8,6 +8,7 @@
 #include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
+#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -122,6 +123,16 @@ void RawlogSource::readOne()
         for (const auto& o : *sf) handle(o, entry);
 }
 
+/** MRPT reads some bools of an observation as raw bytes (CObservationIMU::dataIsPresent,
+ *  CObservationStereoImages::hasImageRight): a corrupt file can hold a byte that is no valid bool (0 or 1), and
+ *  loading it is undefined behaviour (found by fuzz_rawlog: bytes 177 and 5). Any non-zero byte means true. */
+void normaliseBool(bool& flag)
+{
+    unsigned char byte = 0;
+    std::memcpy(&byte, &flag, 1);
+    flag = byte != 0;
+}
+
 void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
 {
     using namespace mrpt::obs;
@@ -129,6 +140,7 @@ void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
     last_read_t_ns_ = t_ns;
     if (auto stereo = std::dynamic_pointer_cast<CObservationStereoImages>(obs))
     {
+        normaliseBool(stereo->hasImageRight);
         if (!stereo->hasImageRight)
         {
             ++stereo_without_right_;
@@ -138,6 +150,7 @@ void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
     }
     else if (auto imu = std::dynamic_pointer_cast<CObservationIMU>(obs))
     {
+        for (auto& flag : imu->dataIsPresent) normaliseBool(flag);
         const bool complete = imu->has(IMU_X_ACC) && imu->has(IMU_Y_ACC) && imu->has(IMU_Z_ACC) && imu->has(IMU_WX) &&
                               imu->has(IMU_WY) && imu->has(IMU_WZ);
         if (!complete)

@@ -143,14 +143,19 @@ void RawCloud::reserve(size_t n)
 RawCloud readCloud(const std::string& path, CloudFormat format)
 {
     if (format == CloudFormat::Auto) format = detectCloudFormat(path);
+    return readCloudBytes(detail::readFileBytes(path), format, path);
+}
+
+RawCloud readCloudBytes(const std::vector<uint8_t>& bytes, CloudFormat format, const std::string& path)
+{
     RawCloud cloud;
     switch (format)
     {
-        case CloudFormat::Ply: cloud = readPly(path); break;
-        case CloudFormat::Pcd: cloud = readPcd(path); break;
-        case CloudFormat::KittiBin: cloud = readKittiBin(path); break;
-        case CloudFormat::Xyzi: cloud = readXyziText(path); break;
-        case CloudFormat::Auto: break;
+        case CloudFormat::Ply: cloud = detail::parsePly(bytes, path); break;
+        case CloudFormat::Pcd: cloud = detail::parsePcd(bytes, path); break;
+        case CloudFormat::KittiBin: cloud = detail::parseKittiBin(bytes, path); break;
+        case CloudFormat::Xyzi: cloud = detail::parseXyziText(bytes, path); break;
+        case CloudFormat::Auto: throw core::InputError(path, "readCloudBytes needs an explicit cloud format");
     }
     core::require(cloud.size() > 0, path, "the cloud is empty (no points)");
     for (size_t i = 0; i < cloud.size(); ++i)

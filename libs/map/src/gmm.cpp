@@ -122,7 +122,8 @@ std::vector<GmmComponent> decodeGmm(const std::vector<uint8_t>& bytes, const std
     core::require(!r.done(), input, "empty GMM file");
     const uint64_t count = r.varint();
     std::vector<GmmComponent> comps;
-    comps.reserve(static_cast<size_t>(std::min<uint64_t>(count, 1u << 24)));
+    // Not `count`: it is not trusted yet. A component takes at least 2 bytes (length and a tag).
+    comps.reserve(static_cast<size_t>(std::min<uint64_t>(count, bytes.size() / 2)));
     while (!r.done())
     {
         const std::string where = input + " (component " + std::to_string(comps.size()) + ")";

@@ -7,9 +7,10 @@
 
 namespace quasiloc::map
 {
-RawCloud readKittiBin(const std::string& path)
+RawCloud readKittiBin(const std::string& path) { return detail::parseKittiBin(detail::readFileBytes(path), path); }
+
+RawCloud detail::parseKittiBin(const std::vector<uint8_t>& bytes, const std::string& path)
 {
-    const std::vector<uint8_t> bytes = detail::readFileBytes(path);
     core::require(bytes.size() % 16 == 0, path,
                   "truncated KITTI .bin: " + std::to_string(bytes.size()) +
                       " bytes is not a whole number of 16-byte (x y z r float32) records");

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -98,10 +99,51 @@ void LidarMap::save(const std::string& path) const
     staged.commit();
 }
 
+namespace
+{
+const char* const kNotAMap = "cannot be read as a serialized MRPT map (not a map file, or truncated): ";
+const std::string kPointsClass = "mrpt::maps::CPointsMapXYZI";
+
+/** Checks the archive's object header and point count before MRPT reads it: CPointsMapXYZI::serializeFrom resizes
+ *  its arrays to the count it reads, so a corrupt count allocated up to 64 GB (found by fuzz_lidar_map). Layout
+ *  (MRPT 2): 0x80 | name length, the class name, a version byte, uint32 n, then n floats of x, y, z and intensity.
+ *  Reads at most the point data (a second pass over the file, stopped once the points are known to be there). */
+void checkMapArchive(const std::string& path)
+{
+    mrpt::io::CFileGZInputStream in;
+    core::require(in.open(path), path, "cannot open the map file for reading");
+    uint8_t name_length = 0;
+    core::require(in.Read(&name_length, 1) == 1 && (name_length & 0x80) != 0, path,
+                  std::string(kNotAMap) + "no MRPT object header");
+    std::string name(name_length & 0x7f, '\0');
+    core::require(in.Read(name.data(), name.size()) == name.size(), path, std::string(kNotAMap) + "header cut short");
+    core::require(name == kPointsClass, path, "the file holds a " + name + ", expected a " + kPointsClass);
+    uint8_t version = 0;
+    uint8_t count_bytes[4] = {};
+    core::require(in.Read(&version, 1) == 1 && in.Read(count_bytes, 4) == 4, path,
+                  std::string(kNotAMap) + "header cut short");
+    const uint64_t n = uint64_t(count_bytes[0]) | uint64_t(count_bytes[1]) << 8 | uint64_t(count_bytes[2]) << 16 |
+                       uint64_t(count_bytes[3]) << 24;
+    const uint64_t need = 16 * n;  // x, y, z, intensity: float32 each
+    uint64_t have = 0;
+    std::vector<char> buf(1 << 16);
+    while (have < need)
+    {
+        const size_t got = in.Read(buf.data(), static_cast<size_t>(std::min<uint64_t>(buf.size(), need - have)));
+        if (got == 0) break;
+        have += got;
+    }
+    core::require(have >= need, path,
+                  std::string(kNotAMap) + std::to_string(n) + " points announced, but the file ends after " +
+                      std::to_string(have) + " bytes of the " + std::to_string(need) + " they need");
+}
+}  // namespace
+
 LidarMap LidarMap::load(const std::string& path)
 {
     core::require(std::filesystem::exists(path), path, "map file not found");
     core::require(std::filesystem::is_regular_file(path), path, "is not a regular file");
+    checkMapArchive(path);
     mrpt::io::CFileGZInputStream in;
     core::require(in.open(path), path, "cannot open the map file for reading");
     mrpt::serialization::CSerializable::Ptr obj;
@@ -111,7 +153,7 @@ LidarMap LidarMap::load(const std::string& path)
     }
     catch (const std::exception& e)
     {
-        throw core::InputError(path, "cannot be read as a serialized MRPT map (not a map file, or truncated): " + mrpt::exception_to_str(e));
+        throw core::InputError(path, kNotAMap + mrpt::exception_to_str(e));
     }
     core::require(obj != nullptr, path, "the file holds a null object, expected a mrpt::maps::CPointsMapXYZI");
     auto points = std::dynamic_pointer_cast<mrpt::maps::CPointsMapXYZI>(obj);

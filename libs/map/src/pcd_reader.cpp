@@ -1,4 +1,5 @@
 // PCD (v0.7) reader: ascii, binary (point after point) and binary_compressed (LZF, field after field).
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <quasiloc/core/error.h>
@@ -36,10 +37,13 @@ struct PcdHeader
 
 size_t parseCount(const std::string& s, const std::string& path, const std::string& key)
 {
+    // Bounded so that products of counts cannot overflow silently (they are multiplied with detail::multiply).
+    constexpr size_t kMaxCount = size_t(1) << 40;
     double v = -1;
-    core::require(detail::parseNumber(s, v) && v >= 0 && v == std::floor(v), path,
+    size_t count = 0;
+    core::require(detail::parseNumber(s, v) && detail::countInRange(v, kMaxCount, count), path,
                   "PCD header: bad " + key + " value '" + s + "'");
-    return static_cast<size_t>(v);
+    return count;
 }
 
 void parseHeaderLine(const std::vector<std::string>& w, PcdHeader& h, std::vector<std::string>& sizes,
@@ -82,12 +86,22 @@ void finishFields(PcdHeader& h, const std::vector<std::string>& sizes, const std
         core::require(detail::pcdType(f.type, f.size, f.scalar), path,
                       "PCD header: field '" + f.name + "' has an unsupported TYPE/SIZE " + types[k] + "/" + sizes[k]);
         f.count = counts.empty() ? 1 : parseCount(counts[k], path, "COUNT");
+        // A field with COUNT 0 takes no byte of a record, yet its first value would be read (found by fuzz_pcd:
+        // a heap-buffer-overflow).
+        core::require(f.count >= 1, path, "PCD header: field '" + f.name + "' has COUNT 0");
         f.offset = offset;
-        offset += static_cast<size_t>(f.size) * f.count;
+        size_t field_bytes = 0;
+        core::require(detail::multiply(static_cast<size_t>(f.size), f.count, field_bytes) &&
+                          !__builtin_add_overflow(offset, field_bytes, &offset),
+                      path, "PCD header: the point record size overflows (COUNT too large)");
     }
     h.record_size = offset;
-    if (!h.have_points) h.points = h.width * h.height;
-    core::require(h.points == h.width * h.height, path,
+    size_t width_x_height = 0;
+    core::require(detail::multiply(h.width, h.height, width_x_height), path,
+                  "PCD header: WIDTH * HEIGHT overflows (" + std::to_string(h.width) + " * " +
+                      std::to_string(h.height) + ")");
+    if (!h.have_points) h.points = width_x_height;
+    core::require(h.points == width_x_height, path,
                   "PCD header: POINTS (" + std::to_string(h.points) + ") != WIDTH * HEIGHT (" +
                       std::to_string(h.width) + " * " + std::to_string(h.height) + ")");
 }
@@ -154,7 +168,8 @@ void readAscii(const std::vector<uint8_t>& bytes, const PcdHeader& h, const Fiel
 {
     detail::TokenCursor cur(bytes.data() + h.data_offset, bytes.data() + bytes.size());
     std::vector<double> first(h.fields.size(), 0.0);
-    cloud.reserve(h.points);
+    // A point takes at least two characters per field (value and blank): reserve no more than the data can hold.
+    cloud.reserve(std::min(h.points, (bytes.size() - h.data_offset) / (2 * h.fields.size())));
     for (size_t i = 0; i < h.points; ++i)
     {
         for (size_t k = 0; k < h.fields.size(); ++k)
@@ -176,7 +191,7 @@ void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c,
     const int idx[4] = {c.x, c.y, c.z, c.intensity};
     ScalarType t[4];
     for (int k = 0; k < 4; ++k) t[k] = h.fields[idx[k]].scalar;
-    cloud.reserve(h.points);
+    cloud.reserve(h.points);  // the callers checked that the data holds h.points records
     for (size_t i = 0; i < h.points; ++i)
     {
         float v[4];
@@ -189,9 +204,9 @@ void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c,
 void readBinary(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c,
                 const std::string& path, RawCloud& cloud)
 {
-    const size_t need = h.points * h.record_size;
+    size_t need = 0;
     const size_t have = bytes.size() - h.data_offset;
-    core::require(have >= need, path,
+    core::require(detail::multiply(h.points, h.record_size, need) && have >= need, path,
                   "truncated binary data: " + std::to_string(h.points) + " points need " + std::to_string(need) +
                       " bytes, the file holds " + std::to_string(have));
     const int idx[4] = {c.x, c.y, c.z, c.intensity};
@@ -213,13 +228,18 @@ void readCompressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, const
     for (int k = 0; k < 2; ++k)
         sizes[k] = static_cast<uint32_t>(
             detail::decodeScalar(bytes.data() + h.data_offset + 4 * k, ScalarType::UInt32, detail::hostIsBigEndian()));
-    const size_t need = h.points * h.record_size;
-    core::require(sizes[1] == need, path,
+    size_t need = 0;
+    core::require(detail::multiply(h.points, h.record_size, need) && sizes[1] == need, path,
                   "binary_compressed: uncompressed size " + std::to_string(sizes[1]) + " != " +
                       std::to_string(h.points) + " points * " + std::to_string(h.record_size) + " bytes");
     core::require(have - 8 >= sizes[0], path,
                   "truncated binary_compressed data: " + std::to_string(sizes[0]) + " compressed bytes announced, " +
                       std::to_string(have - 8) + " present");
+    // Checked before allocating: the announced size is a length field, LZF cannot expand more than this.
+    core::require(need <= uint64_t(sizes[0]) * kLzfMaxExpansion, path,
+                  "binary_compressed: " + std::to_string(sizes[0]) + " compressed bytes cannot hold " +
+                      std::to_string(need) + " uncompressed bytes (LZF expands at most " +
+                      std::to_string(kLzfMaxExpansion) + " times)");
     std::vector<uint8_t> raw(need);
     const auto n = lzfDecompress(bytes.data() + h.data_offset + 8, sizes[0], raw.data(), raw.size());
     core::require(n.has_value() && *n == need, path, "binary_compressed: corrupt LZF data");
@@ -237,9 +257,10 @@ void readCompressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, const
 
 }  // namespace
 
-RawCloud readPcd(const std::string& path)
+RawCloud readPcd(const std::string& path) { return detail::parsePcd(detail::readFileBytes(path), path); }
+
+RawCloud detail::parsePcd(const std::vector<uint8_t>& bytes, const std::string& path)
 {
-    const std::vector<uint8_t> bytes = detail::readFileBytes(path);
     const PcdHeader h = parseHeader(bytes, path);
     RawCloud cloud;
     cloud.encoding = h.data;

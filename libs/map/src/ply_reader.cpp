@@ -1,5 +1,6 @@
 // PLY reader: header parsing, then the elements in file order; only the "vertex" element is decoded,
 // every other element is walked over (needed because list properties make their size variable).
+#include <algorithm>
 #include <cmath>
 #include <quasiloc/core/error.h>
 #include <quasiloc/map/map_import.h>
@@ -85,10 +86,14 @@ PlyHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path
         else if (w[0] == "element")
         {
             core::require(w.size() == 3, path, where + ": expected 'element <name> <count>'");
-            double count = -1;
-            core::require(detail::parseNumber(w[2], count) && count >= 0 && count == std::floor(count), path,
-                          where + ": bad element count '" + w[2] + "'");
-            h.elements.push_back({w[1], static_cast<size_t>(count), {}});
+            // Every instance takes at least one byte of the file: a larger count is a lie (and would size
+            // allocations and loops).
+            double value = -1;
+            size_t count = 0;
+            core::require(detail::parseNumber(w[2], value) && detail::countInRange(value, bytes.size(), count), path,
+                          where + ": bad element count '" + w[2] + "' (a whole number, at most the file size " +
+                              std::to_string(bytes.size()) + ")");
+            h.elements.push_back({w[1], count, {}});
         }
         else if (w[0] == "property")
         {
@@ -174,10 +179,13 @@ size_t walkBinaryInstance(const std::vector<uint8_t>& bytes, size_t pos, const P
         {
             const size_t cs = detail::sizeOf(p.count_type);
             if (pos + cs > bytes.size()) throwTruncated(path, el, instance);
-            const double count = detail::decodeScalar(&bytes[pos], p.count_type, swap);
-            if (count < 0) throw core::InputError(path, "negative list length in element '" + el.name + "'");
+            const double value = detail::decodeScalar(&bytes[pos], p.count_type, swap);
+            size_t count = 0;
+            if (!detail::countInRange(value, bytes.size(), count))
+                throw core::InputError(path, "bad list length " + std::to_string(value) + " in element '" + el.name +
+                                                 "' #" + std::to_string(instance));
             pos += cs;
-            n_bytes *= static_cast<size_t>(count);
+            n_bytes *= count;  // <= 8 * file size: no overflow
         }
         else if (offsets)
             offsets[k] = pos;
@@ -218,7 +226,6 @@ void readBinary(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ve
     std::vector<size_t> offsets(v.properties.size(), 0);
     const auto& P = v.properties;
     const int want[4] = {L.x, L.y, L.z, L.intensity};
-    cloud.reserve(v.count);
     auto decodeVertex = [&](const uint8_t* record_base, const size_t* off) {
         float val[4];
         for (int c = 0; c < 4; ++c)
@@ -234,6 +241,7 @@ void readBinary(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ve
         for (auto& o : offsets) o -= start;
         if (start + stride * v.count > bytes.size())
             throwTruncated(path, v, (bytes.size() - start) / std::max<size_t>(stride, 1));
+        cloud.reserve(v.count);
         for (size_t i = 0; i < v.count; ++i) decodeVertex(bytes.data() + start + i * stride, offsets.data());
         return;
     }
@@ -253,7 +261,8 @@ void readAscii(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ver
     {
         const PlyElement& el = h.elements[e];
         const bool is_vertex = e == vertex_el;
-        if (is_vertex) cloud.reserve(el.count);
+        // A vertex takes at least two characters per property (value and blank): reserve no more than fits.
+        if (is_vertex) cloud.reserve(std::min(el.count, (bytes.size() - h.data_offset) / (2 * el.properties.size())));
         values.assign(el.properties.size(), 0.0);
         const std::string what = "element '" + el.name + "'";
         for (size_t i = 0; i < el.count; ++i)
@@ -263,10 +272,11 @@ void readAscii(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ver
                 const auto& p = el.properties[k];
                 if (p.is_list)
                 {
-                    const double n = cur.number(path, what.c_str(), i);
-                    if (!(n >= 0 && n == std::floor(n)))
+                    const double value = cur.number(path, what.c_str(), i);
+                    size_t n = 0;
+                    if (!detail::countInRange(value, bytes.size(), n))
                         throw core::InputError(path, "bad list length in " + what + " #" + std::to_string(i));
-                    for (size_t j = 0; j < static_cast<size_t>(n); ++j) cur.number(path, what.c_str(), i);
+                    for (size_t j = 0; j < n; ++j) cur.number(path, what.c_str(), i);
                 }
                 else
                     values[k] = cur.number(path, what.c_str(), i);
@@ -280,9 +290,10 @@ void readAscii(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ver
 
 }  // namespace
 
-RawCloud readPly(const std::string& path)
+RawCloud readPly(const std::string& path) { return detail::parsePly(detail::readFileBytes(path), path); }
+
+RawCloud detail::parsePly(const std::vector<uint8_t>& bytes, const std::string& path)
 {
-    const std::vector<uint8_t> bytes = detail::readFileBytes(path);
     const PlyHeader h = parseHeader(bytes, path);
     size_t vertex_el = h.elements.size();
     for (size_t e = 0; e < h.elements.size(); ++e)

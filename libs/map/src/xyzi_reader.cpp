@@ -34,9 +34,10 @@ int parseLine(std::string_view line, double* values, std::string& bad_token)
 }
 }  // namespace
 
-RawCloud readXyziText(const std::string& path)
+RawCloud readXyziText(const std::string& path) { return detail::parseXyziText(detail::readFileBytes(path), path); }
+
+RawCloud detail::parseXyziText(const std::vector<uint8_t>& bytes, const std::string& path)
 {
-    const std::vector<uint8_t> bytes = detail::readFileBytes(path);
     const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     RawCloud cloud;
     cloud.encoding = "text";

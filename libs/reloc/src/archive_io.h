@@ -1,9 +1,12 @@
 #pragma once
 // Flat binary I/O of OpenCV matrices and plain-data vectors through an MRPT archive (the database file).
-// Reads check sizes against a sanity limit so a corrupt file gives an error instead of a huge allocation.
+// Reads check sizes against a sanity limit and allocate as the data arrives, so that a corrupt length field gives an
+// error instead of a huge allocation.
 #include <mrpt/serialization/CArchive.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <opencv2/core.hpp>
 #include <stdexcept>
 #include <string>
@@ -23,14 +26,37 @@ inline void writeMat(mrpt::serialization::CArchive& out, const cv::Mat& m)
     if (!c.empty()) out.WriteBuffer(c.data, c.total() * c.elemSize());
 }
 
+/** Reads `count` elements in slices of at most 1 MiB, so that memory grows with the data actually present: a corrupt
+ *  count ends in an error ("truncated") once the stream runs out, instead of an allocation of what it claims. */
+template <typename T>
+std::vector<T> readElements(mrpt::serialization::CArchive& in, uint64_t count, const char* what)
+{
+    static_assert(std::is_standard_layout_v<T>, "flat plain data only (memcpy)");
+    constexpr uint64_t kSlice = (uint64_t(1) << 20) / sizeof(T) + 1;
+    std::vector<T> v;
+    while (v.size() < count)
+    {
+        const size_t old = v.size(), n = size_t(std::min<uint64_t>(kSlice, count - old));
+        v.resize(old + n);
+        size_t got = 0;
+        if constexpr (std::is_arithmetic_v<T>)
+            got = in.ReadBufferFixEndianness(v.data() + old, n);
+        else
+            got = in.ReadBuffer(v.data() + old, n * sizeof(T));
+        if (got != n * sizeof(T)) throw std::runtime_error(std::string("truncated ") + what);
+    }
+    return v;
+}
+
 inline cv::Mat readMat(mrpt::serialization::CArchive& in)
 {
     const int32_t rows = in.ReadAs<int32_t>(), cols = in.ReadAs<int32_t>(), type = in.ReadAs<int32_t>();
     if (rows < 0 || cols < 0 || uint64_t(rows) * uint64_t(cols) > kMaxElements || (type & ~0xFFF) != 0)
         throw std::runtime_error("corrupt matrix header (" + std::to_string(rows) + "x" + std::to_string(cols) + ")");
+    const uint64_t bytes = uint64_t(rows) * uint64_t(cols) * CV_ELEM_SIZE(type);
+    const std::vector<uint8_t> data = readElements<uint8_t>(in, bytes, "matrix data");  // before allocating the Mat
     cv::Mat m(rows, cols, type);
-    if (!m.empty() && in.ReadBuffer(m.data, m.total() * m.elemSize()) != m.total() * m.elemSize())
-        throw std::runtime_error("truncated matrix data");
+    if (bytes) std::memcpy(m.data, data.data(), bytes);
     return m;
 }
 
@@ -45,12 +71,18 @@ void writeVector(mrpt::serialization::CArchive& out, const std::vector<T>& v)
 template <typename T>
 std::vector<T> readVector(mrpt::serialization::CArchive& in)
 {
-    static_assert(std::is_standard_layout_v<T>, "flat plain data only (memcpy)");
     const uint64_t n = in.ReadAs<uint64_t>();
     if (n > kMaxElements / sizeof(T)) throw std::runtime_error("corrupt vector length " + std::to_string(n));
-    std::vector<T> v(n);
-    if (n && in.ReadBuffer(v.data(), n * sizeof(T)) != n * sizeof(T)) throw std::runtime_error("truncated array data");
-    return v;
+    return readElements<T>(in, n, "array data");
+}
+
+/** A string as MRPT's CArchive writes it (uint32 length, then the characters), read without trusting the length
+ *  (MRPT's operator>> allocates the announced length first: up to 4 GB). */
+inline std::string readString(mrpt::serialization::CArchive& in)
+{
+    const uint32_t n = in.ReadAs<uint32_t>();
+    const std::vector<char> chars = readElements<char>(in, n, "string");
+    return std::string(chars.begin(), chars.end());
 }
 
 }  // namespace quasiloc::reloc::detail

@@ -3,12 +3,14 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/reloc/database.h>
 #include <sstream>
 
+#include "archive_io.h"
 #include "database_io.h"
 
 namespace quasiloc::reloc
@@ -65,11 +67,12 @@ Database Database::load(const std::string& path)
                       "database format version " + std::to_string(version) + ", this program reads version " +
                           std::to_string(kVersion) + ": rebuild it with quasiloc-build-db");
         detail::readCameraAndFeatures(in, db.camera, db.features);
-        in >> db.image_blur_sigma_px >> db.map_file;
+        in >> db.image_blur_sigma_px;
+        db.map_file = detail::readString(in);
         db.map_points = in.ReadAs<uint64_t>();
         const uint64_t n = in.ReadAs<uint64_t>();
         core::require(n < (uint64_t(1) << 24), path, "corrupt view count " + std::to_string(n));
-        db.views.reserve(n);
+        db.views.reserve(std::min<uint64_t>(n, 1024));  // not n: a view is ~300 bytes and n is not trusted yet
         for (uint64_t i = 0; i < n; ++i) db.views.push_back(detail::readView(in, true));
         for (auto& v : db.views)
         {
@@ -83,9 +86,11 @@ Database Database::load(const std::string& path)
                 core::require(w < db.vocabulary.numWords(), path,
                               "view " + std::to_string(v.id) + " has word " + std::to_string(w) + " outside the vocabulary");
     }
-    catch (const core::InputError&)
+    catch (const core::InputError& e)
     {
-        throw;
+        if (e.input() == path) throw;
+        // From a part (the camera INI, the vocabulary, the index): named with the database file too.
+        throw core::InputError(path, e.input() + ": " + e.problem());
     }
     catch (const std::exception& e)
     {

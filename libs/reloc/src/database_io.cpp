@@ -86,8 +86,7 @@ void writeCameraAndFeatures(mrpt::serialization::CArchive& out, const core::Came
 void readCameraAndFeatures(mrpt::serialization::CArchive& in, core::CameraModel& camera,
                            frontend::FeatureOptions& features)
 {
-    std::string camera_ini, features_ini;
-    in >> camera_ini >> features_ini;
+    const std::string camera_ini = readString(in), features_ini = readString(in);
     camera = core::CameraModel::loadFromIni(mrpt::config::CConfigFileMemory(camera_ini), "camera");
     features.loadFromConfigFile(mrpt::config::CConfigFileMemory(features_ini), "Features");
 }

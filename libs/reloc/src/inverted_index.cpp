@@ -6,6 +6,8 @@
 #include <cstring>
 #include <string>
 
+#include "archive_io.h"
+
 namespace quasiloc::reloc
 {
 namespace
@@ -127,10 +129,7 @@ InvertedIndex InvertedIndex::read(mrpt::serialization::CArchive& in)
         InvertedIndex index;
         const uint32_t images = in.ReadAs<uint32_t>();
         core::require(images <= kMaxCount, kArchiveInput, "corrupt image count " + std::to_string(images));
-        index.image_ids_.resize(images);
-        if (images)
-            core::require(in.ReadBufferFixEndianness(index.image_ids_.data(), images) == images * sizeof(int),
-                          kArchiveInput, "truncated in the image ids");
+        index.image_ids_ = detail::readElements<int32_t>(in, images, "image ids");  // grows with the data
         for (uint32_t s = 0; s < images; ++s)
             core::require(index.slot_of_image_.emplace(index.image_ids_[s], int32_t(s)).second, kArchiveInput,
                           "duplicate image id " + std::to_string(index.image_ids_[s]));
@@ -143,11 +142,8 @@ InvertedIndex InvertedIndex::read(mrpt::serialization::CArchive& in)
             core::require(length <= images && index.lists_.count(word) == 0, kArchiveInput,
                           "corrupt list of word " + std::to_string(word));
             if (length == 0) continue;
-            std::vector<int32_t> slots(length);
-            std::vector<float> weights(length);
-            core::require(in.ReadBufferFixEndianness(slots.data(), length) == length * sizeof(int32_t) &&
-                              in.ReadBufferFixEndianness(weights.data(), length) == length * sizeof(float),
-                          kArchiveInput, "truncated in the list of word " + std::to_string(word));
+            const std::vector<int32_t> slots = detail::readElements<int32_t>(in, length, "inverted list");
+            const std::vector<float> weights = detail::readElements<float>(in, length, "inverted list");
             std::vector<Entry>& list = index.lists_[word];
             list.resize(length);
             for (uint32_t i = 0; i < length; ++i)

@@ -10,6 +10,8 @@
 #include <limits>
 #include <numeric>
 #include <opencv2/core/utility.hpp>
+
+#include "archive_io.h"
 #include <random>
 
 namespace quasiloc::reloc
@@ -598,13 +600,18 @@ void writeArray(mrpt::serialization::CArchive& out, const std::vector<T>& v)
     if (!v.empty()) out.WriteBufferFixEndianness(v.data(), v.size());
 }
 
+/** Allocates as the data arrives (detail::readElements): the counts in the file are not trusted. */
 template <typename T>
 std::vector<T> readArray(mrpt::serialization::CArchive& in, size_t count, const std::string& what)
 {
-    std::vector<T> v(count);
-    if (count && in.ReadBufferFixEndianness(v.data(), count) != count * sizeof(T))
+    try
+    {
+        return detail::readElements<T>(in, count, what.c_str());
+    }
+    catch (const std::exception&)
+    {
         throw core::InputError(kArchiveInput, "truncated in " + what);
-    return v;
+    }
 }
 
 /** Children ranges must tile nodes 1..n-1 in breadth-first order (which also rules out cycles), and the

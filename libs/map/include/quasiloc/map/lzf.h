@@ -12,6 +12,10 @@
 
 namespace quasiloc::map
 {
+/** The largest output per input byte: a 3-byte back reference (control, length, offset) copies at most 7 + 255 + 2
+ *  = 264 bytes. A reader checks an announced uncompressed size against this before allocating it. */
+constexpr size_t kLzfMaxExpansion = 88;
+
 /** Compresses `size` bytes (never fails; incompressible data grows by ~1/32). */
 std::vector<uint8_t> lzfCompress(const uint8_t* data, size_t size);
 

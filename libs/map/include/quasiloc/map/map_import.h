@@ -84,6 +84,9 @@ RawCloud readXyziText(const std::string& path);
 /** Reads with the given format (Auto: from the extension), then checks the cloud is non-empty and every
  *  coordinate and intensity is finite (InputError naming the file and the first bad point). */
 RawCloud readCloud(const std::string& path, CloudFormat format = CloudFormat::Auto);
+/** readCloud on the bytes of a file (format not Auto); `input` names them in errors. The fuzz targets'
+ *  entry point (fuzz/), and the same code path as readCloud. */
+RawCloud readCloudBytes(const std::vector<uint8_t>& bytes, CloudFormat format, const std::string& input);
 
 struct IntensityNormalisation
 {
