@@ -51,6 +51,7 @@ def run_track(args, seq, fault, out_dir):
            "--set", "Tracking.output_dir=" + out_dir, "--set", "Tracking.write_scene=false"]
     for s in FAULTS[fault][0]:
         cmd += ["--set", s]
+    os.makedirs(os.path.dirname(out_dir), exist_ok=True)
     with open(out_dir + ".log", "w") as log:
         return subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=ROOT)
 
