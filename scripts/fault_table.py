@@ -63,7 +63,7 @@ def figures(out_dir, windows):
     rows = []
     with open(os.path.join(out_dir, "diagnostics.csv")) as f:
         for r in csv.DictReader(f):
-            rows.append((float(r["t"]) - t0, float(r["error_m"]), r["unverified"] == "1"))
+            rows.append((float(r["t"]) - t0, float(r["error_m"]), r.get("unverified") == "1"))
     unflagged = [e for _, e, u in rows if not u and not math.isnan(e)]
     back = []
     for _, end in windows:
@@ -71,7 +71,7 @@ def figures(out_dir, windows):
         back.append(later[0] - end if later else math.inf)
     return {
         "ate_cm": 100 * s["ate"]["rmse_m"], "max_cm": 100 * s["ate"]["max_m"], "losses": s["losses"],
-        "relocs": s["relocalizations"], "wait_s": s["longest_wait_s"], "unverified": s["frames_unverified"],
+        "relocs": s["relocalizations"], "wait_s": s["longest_wait_s"], "unverified": s.get("frames_unverified", 0),
         "frames": s["frames"], "unflagged_max_cm": 100 * max(unflagged) if unflagged else 0.0,
         "back_s": max(back) if back else None,
     }

@@ -1,6 +1,9 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/dataset/fault_injection.h>
 
+#include <Eigen/Geometry>
+#include <opencv2/imgproc.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -25,10 +28,10 @@ void FaultInjectionOptions::declare(core::OptionTable& t)
     t.add("image_from_s", image_from_s, "s", Range::any(), "black or saturated images from this time (< 0: none)");
     t.add("image_duration_s", image_duration_s, "s", Range::above(0), "... for this long");
     t.add("desync_from_s", desync_from_s, "s", Range::any(),
-          "the right image taken from a later frame from this time (< 0: none)");
+          "the right image as if exposed desync_ms later (turned by the gyroscope's rate) from this time (< 0: none)");
     t.add("desync_duration_s", desync_duration_s, "s", Range::above(0), "... for this long");
     t.add("desync_ms", desync_ms, "ms", Range::above(0),
-          "... the frame nearest t + desync_ms, at least the next one (one frame period at 20 Hz)");
+          "... by this much (the rotation only: the translation over it is left out)");
     t.add("duplicate_at_s", duplicate_at_s, "s", Range::any(),
           "the frame at this time is yielded twice with the same timestamp (< 0: never)");
     t.add("reorder_at_s", reorder_at_s, "s", Range::any(),
@@ -57,8 +60,8 @@ std::vector<std::string> FaultInjectionOptions::describe() const
         lines.push_back(std::string(image_fault == ImageFault::Black ? "black" : "saturated") + " images at " +
                         window(image_from_s, image_duration_s));
     if (desync_from_s >= 0)
-        lines.push_back("left/right desync: the right image of the frame nearest t + " +
-                        std::to_string(int(std::lround(desync_ms))) + " ms at " +
+        lines.push_back("left/right desync: the right image turned as " +
+                        std::to_string(int(std::lround(desync_ms))) + " ms later at " +
                         window(desync_from_s, desync_duration_s));
     if (duplicate_at_s >= 0) lines.push_back("duplicated timestamp at " + std::to_string(duplicate_at_s) + " s");
     if (reorder_at_s >= 0) lines.push_back("out-of-order frame at " + std::to_string(reorder_at_s) + " s");
@@ -136,17 +139,8 @@ void FaultInjectingSource::applyImageFaults(StereoFrame& f)
 {
     if (within(f.timestamp, o_.desync_from_s, o_.desync_duration_s))
     {
-        // The later frame nearest t + desync_ms (at least the next one): read ahead until one is past it.
-        const double target = f.timestamp + o_.desync_ms * 1e-3;
-        size_t k = 0;
-        while (fill(k + 1) && ahead_[k].timestamp < target) ++k;
-        if (k >= ahead_.size()) k = ahead_.empty() ? 0 : ahead_.size() - 1;
-        if (k > 0 && std::abs(ahead_[k - 1].timestamp - target) < std::abs(ahead_[k].timestamp - target)) --k;
-        if (!ahead_.empty())
-        {
-            f.right = ahead_[k].right;
-            record("right image from a later frame", f);
-        }
+        f.right = desyncedRight(f);
+        record("right image turned as desync_ms later", f);
     }
     if (o_.image_fault != ImageFault::None && within(f.timestamp, o_.image_from_s, o_.image_duration_s))
     {
@@ -155,6 +149,45 @@ void FaultInjectingSource::applyImageFaults(StereoFrame& f)
         f.right = cv::Mat(f.right.size(), f.right.type(), cv::Scalar::all(value));
         record(o_.image_fault == ImageFault::Black ? "black images" : "saturated images", f);
     }
+}
+
+cv::Mat FaultInjectingSource::desyncedRight(const StereoFrame& f)
+{
+    // The right camera exposed desync_ms later has turned by the angular rate times desync_ms: its pixel u sees the
+    // ray dR * b(u) of the camera at t (dR = exp(w_cam dt), b the pixel's bearing), which the image at t shows at
+    // project(dR * b(u)). The rate is the gyroscope's mean over the frame's samples (its bias included, as a real
+    // desync would see it).
+    const core::CameraModel& camera = rig().right;
+    if (right_bearings_.empty())
+    {
+        right_bearings_.reserve(size_t(camera.width) * size_t(camera.height));
+        for (int v = 0; v < camera.height; ++v)
+            for (int u = 0; u < camera.width; ++u) right_bearings_.push_back(camera.unprojectBearing({u, v}));
+    }
+    if (!f.imu.empty())
+    {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        for (const auto& s : f.imu) sum += s.gyro;
+        last_gyro_ = sum / double(f.imu.size());
+    }
+    const Eigen::Matrix3d R_body_right = rig().T_body_right().getRotationMatrix().asEigen();
+    const Eigen::Vector3d w_cam = R_body_right.transpose() * last_gyro_;
+    const double angle = w_cam.norm() * o_.desync_ms * 1e-3;
+    const Eigen::Matrix3d dR =
+        angle > 0 ? Eigen::AngleAxisd(angle, w_cam.normalized()).toRotationMatrix() : Eigen::Matrix3d::Identity();
+    cv::Mat map_x(camera.height, camera.width, CV_32FC1), map_y(camera.height, camera.width, CV_32FC1);
+    for (int v = 0; v < camera.height; ++v)
+        for (int u = 0; u < camera.width; ++u)
+        {
+            Eigen::Vector2d px(-1, -1);
+            if (!camera.project(dR * right_bearings_[size_t(v) * size_t(camera.width) + size_t(u)], px))
+                px = {-1, -1};
+            map_x.at<float>(v, u) = float(px.x());
+            map_y.at<float>(v, u) = float(px.y());
+        }
+    cv::Mat out;
+    cv::remap(f.right, out, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+    return out;
 }
 
 bool FaultInjectingSource::next(StereoFrame& out)

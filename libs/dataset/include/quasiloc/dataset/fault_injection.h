@@ -10,9 +10,10 @@
 //                    not lost but yielded with the next frame, as a camera that drops frames leaves the IMU alone;
 //   IMU gap          the IMU samples inside the window are removed (frames inside it then carry none);
 //   image fault      the left and right images are black (0) or saturated (255);
-//   desync           the right image comes from a later frame: the one nearest t + desync_ms, at least the next
-//                    one (at 20 Hz, 20 ms rounds to one frame, 50 ms): a right camera whose trigger or timestamp is
-//                    off, the two images of a pair seeing the scene from different places;
+//   desync           the right image as the right camera would have seen it desync_ms later: turned by the
+//                    gyroscope's rate times desync_ms (a remap through the camera model). It models a right camera
+//                    whose trigger is late, on a platform that turns; the translation over desync_ms (2 cm at 1 m/s,
+//                    a shift of 9 px / depth in m at EuRoC's focal length) is left out: it needs the scene's depth;
 //   duplicate        the frame at duplicate_at_s is yielded twice with the same timestamp (the copy carries no IMU
 //                    sample: a driver that sends a frame again);
 //   out of order     the frame at reorder_at_s is yielded after the next one (the IMU stream stays in order: the
@@ -73,13 +74,17 @@ class FaultInjectingSource : public FrameSource
     double rel(double t) const { return t - t0_; }
     bool within(double t, double from_s, double duration_s) const;
     void applyImageFaults(StereoFrame& f);
+    /** The right image turned by the rotation over desync_ms. */
+    cv::Mat desyncedRight(const StereoFrame& f);
     void removeImuGap(StereoFrame& f);
     void record(const std::string& fault, const StereoFrame& f);
 
     std::unique_ptr<FrameSource> inner_;
     FaultInjectionOptions o_;
     std::mt19937_64 rng_;
-    std::deque<StereoFrame> ahead_;       ///< read from inner_, not yet yielded (desync, reorder)
+    std::deque<StereoFrame> ahead_;       ///< read from inner_, not yet yielded (reorder)
+    std::vector<Eigen::Vector3d> right_bearings_;  ///< desync: every right pixel's bearing (row-major)
+    Eigen::Vector3d last_gyro_ = Eigen::Vector3d::Zero();
     std::vector<ImuSample> carried_imu_;  ///< the samples of dropped frames, for the next frame yielded
     std::deque<StereoFrame> pending_;     ///< to yield next (a duplicate, a late frame)
     double t0_ = 0;
