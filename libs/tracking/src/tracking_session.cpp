@@ -400,6 +400,9 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
         return false;
     }
     ++summary_.relocalizations;
+    // A restart rests on one fix of the stereo geometry (wrong when the stereo is, e.g. desynchronized): the track
+    // from it is unverified until a check confirms it.
+    flagUnverified(t_fix);
     estimation::FrameState track_at_fix = tracker_->state();
     for (const auto& [frame, state] : since_loss_)
         if (frame.timestamp <= t_fix) track_at_fix = state;

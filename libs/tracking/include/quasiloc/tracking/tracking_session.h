@@ -11,8 +11,9 @@
 //                 rejected with a warning and not tracked (InputGuard, input_guard.h); the run goes on.
 //   unverified    the diagnostics flag a frame `unverified` when it lies in a stretch the session could not
 //                 confirm: from the last passed check to the fix that ended a loss (or to the end of the frames),
-//                 or from a missed map update or an input fault (rejected frames, a gap between frames or in the
-//                 IMU longer than input_gap_s) to the next passed check; while unverified, every frame is checked.
+//                 or from a missed map update, a restart at a fix, or an input fault (rejected frames, a gap
+//                 between frames or in the IMU longer than input_gap_s) to the next passed check; while
+//                 unverified, every frame is checked.
 // quasiloc-track is options -> session -> outputs; the unit tests drive the session without the program.
 #include <mrpt/system/CTimeLogger.h>
 
