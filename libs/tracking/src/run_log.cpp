@@ -133,7 +133,8 @@ std::string RunLog::summary(const SessionSummary& s) const
     const eval::ErrorStats& e = f.ate.trans_m;
     std::ostringstream o;
     o << std::fixed << std::setprecision(3) << "frames      " << s.frames << " (keyframes " << f.keyframes
-      << ", map updates accepted " << f.updates << ", frames marked lost " << f.lost_frames << ", unverified " << f.unverified_frames << ")\n"
+      << ", map updates accepted " << f.updates << ", frames marked lost " << f.lost_frames << ", unverified "
+      << f.unverified_frames << ")\n"
       << "losses      " << s.losses << " (withdrawn " << s.withdrawn << ", relocalizations " << s.relocalizations
       << "), longest unverified stretch " << s.longest_unverified_s << " s (fix found after " << s.longest_wait_s
       << " s of replay)\n"
