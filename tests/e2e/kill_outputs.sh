@@ -28,8 +28,6 @@ map_import() {  # map_import <output_dir>
   exec "$BIN/map-import" --input "$SHARED/data/kitti_raw_seq78/map_even_frames_5cm.ply" --output "$1/kitti.map" \
     --export "$1/kitti.ply"
 }
-export BIN SHARED SIM
-export -f build_db track map_import
 
 # check <program> <dir> <reference_dir> <main output> <outputs...>: every output present is complete.
 check() {
@@ -74,8 +72,12 @@ kill_test() {
     # Half the kills anywhere in a full run's time, half in its last tenth (where the outputs are written).
     local at_ms=$(( k % 2 == 0 ? RANDOM % (full_ms + 1) : full_ms * 9 / 10 + RANDOM % (full_ms / 10 + 1) ))
     local dir="$WORK/$prog.kill$k"
-    { timeout -s KILL "$(awk -v m="$at_ms" 'BEGIN { printf "%.3f", m / 1000 }')" bash -c "$prog $dir" > "$dir.log" 2>&1 \
-      || true; } 2>/dev/null
+    # The subshell execs the program (same pid): kill -9 reaches it, and wait reaps it before the folder is read.
+    ("$prog" "$dir") > "$dir.log" 2>&1 &
+    local pid=$!
+    sleep "$(awk -v m="$at_ms" 'BEGIN { printf "%.3f", m / 1000 }')"
+    kill -9 "$pid" 2>/dev/null || true
+    wait "$pid" 2>/dev/null || true
     echo -n "killed at $at_ms of $full_ms ms: "
     check "$prog" "$dir" "$WORK/$prog.ref" "$@"
   done

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -43,13 +44,16 @@ void removeLeftovers(const std::string& final_path)
 {
     const fs::path p(final_path);
     const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    // Listed first, removed after: a folder changed while it is read may skip entries (readdir(3)).
     std::error_code ec;
+    std::vector<fs::path> leftovers;
     for (const auto& e : fs::directory_iterator(dir, ec))
     {
         const long pid = writerOf(e.path().filename().string(), p.filename().string());
         if (pid > 0 && pid != long(::getpid()) && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH)
-            fs::remove_all(e.path(), ec);
+            leftovers.push_back(e.path());
     }
+    for (const auto& l : leftovers) fs::remove_all(l, ec);
 }
 
 void ensureParent(const std::string& path)
