@@ -12,6 +12,7 @@
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/calibration.h>
+#include <quasiloc/dataset/fault_injection.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/tracking/tracking_session.h>
 
@@ -73,11 +74,14 @@ int run(const core::CommandLine& cmd)
     dataset::FrameSourceOptions so;
     so.groundtruth_tum = t.groundtruth;
     so.calibration_ini = t.calibration_ini;
-    auto source = dataset::openRawlog(t.input_rawlog, so);
+    std::unique_ptr<dataset::FrameSource> source = dataset::openRawlog(t.input_rawlog, so);
+    // [FaultInjection] (a test facility, docs/reliability.md): the faults live in the data the session reads.
+    if (o.faults.any()) source = std::make_unique<dataset::FaultInjectingSource>(std::move(source), o.faults);
     const dataset::SensorCalibration calibration = dataset::loadCalibration(t.calibration_ini);
     std::cout << "map " << context.map().summary() << "\n" << source->description() << std::endl;
     tracking::TrackingSession session(o, context, *source, calibration.requireImu(t.calibration_ini), std::cout);
     const tracking::SessionSummary summary = session.run(t.input_rawlog);
+    for (const std::string& w : source->warnings()) std::cout << "warning     " << w << "\n";
     std::cout << session.log().summary(summary);
     writeOutputs(o, quasi, session, summary, context.map());
     if (cmd.print_timing) std::cout << session.timing();

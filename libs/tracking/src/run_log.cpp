@@ -26,7 +26,7 @@ const char* const kCsvHeader =
     "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
     "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio,ms_check,camera_lines,map_lines,line_factors,"
     "line_candidates,line_window_px,ms_lines,ms_search,quasi_keypoints,point_factors,ms_points,plane_factors,plane_candidates,ms_planes,"
-    "bg_sigma_x,bg_sigma_y,bg_sigma_z,ba_sigma_x,ba_sigma_y,ba_sigma_z,standing\n";
+    "bg_sigma_x,bg_sigma_y,bg_sigma_z,ba_sigma_x,ba_sigma_y,ba_sigma_z,standing,unverified\n";
 
 RunLog::RunLog() { traj_.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)"; }
 
@@ -66,7 +66,7 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, doubl
         << r.ms_lines << "," << ms_search << "," << r.quasi_keypoints << "," << r.point_factors << "," << r.ms_points
         << "," << r.plane_factors << "," << r.plane_candidates << "," << r.ms_planes << "," << r.gyro_bias_sigma.x()
         << "," << r.gyro_bias_sigma.y() << "," << r.gyro_bias_sigma.z() << "," << r.acc_bias_sigma.x() << ","
-        << r.acc_bias_sigma.y() << "," << r.acc_bias_sigma.z() << "," << r.standing << "\n";
+        << r.acc_bias_sigma.y() << "," << r.acc_bias_sigma.z() << "," << r.standing;
     row.csv = csv.str();
     rows_.push_back(std::move(row));
 }
@@ -83,6 +83,12 @@ void RunLog::rewindTo(double t)
     rows_.erase(std::remove_if(rows_.begin(), rows_.end(), [t](const Row& r) { return r.t >= t; }), rows_.end());
 }
 
+void RunLog::markUnverified(double after_t, double up_to_t)
+{
+    for (Row& r : rows_)
+        if (r.t > after_t && r.t <= up_to_t) r.unverified = true;
+}
+
 std::optional<Eigen::Isometry3d> RunLog::poseAt(double t) const
 {
     for (auto it = traj_.poses.rbegin(); it != traj_.poses.rend(); ++it)
@@ -93,13 +99,13 @@ std::optional<Eigen::Isometry3d> RunLog::poseAt(double t) const
 std::string RunLog::csv() const
 {
     std::string out = kCsvHeader;
-    for (const Row& r : rows_) out += r.csv;
+    for (const Row& r : rows_) out += r.csv + (r.unverified ? ",1\n" : ",0\n");
     return out;
 }
 
 struct RunLog::Figures
 {
-    size_t keyframes = 0, updates = 0, lost_frames = 0;
+    size_t keyframes = 0, updates = 0, lost_frames = 0, unverified_frames = 0;
     eval::AteResult ate;
     double ms_median = NAN, ms_p90 = NAN, ms_p95 = NAN, ms_max = NAN;
 };
@@ -114,6 +120,7 @@ RunLog::Figures RunLog::figures() const
         if (r.estimate && r.truth) pairs.push_back({r.t, r.t, *r.estimate, *r.truth});
         ms.push_back(r.ms);
         f.keyframes += r.keyframe, f.updates += r.map_update, f.lost_frames += r.lost;
+        f.unverified_frames += r.unverified;
     }
     f.ate = eval::computeAte(pairs, eval::Alignment::None);
     f.ms_median = percentile(ms, 50), f.ms_p90 = percentile(ms, 90), f.ms_p95 = percentile(ms, 95);
@@ -127,7 +134,8 @@ std::string RunLog::summary(const SessionSummary& s) const
     const eval::ErrorStats& e = f.ate.trans_m;
     std::ostringstream o;
     o << std::fixed << std::setprecision(3) << "frames      " << s.frames << " (keyframes " << f.keyframes
-      << ", map updates accepted " << f.updates << ", frames marked lost " << f.lost_frames << ")\n"
+      << ", map updates accepted " << f.updates << ", frames marked lost " << f.lost_frames << ", unverified "
+      << f.unverified_frames << ")\n"
       << "losses      " << s.losses << " (withdrawn " << s.withdrawn << ", relocalizations " << s.relocalizations
       << "), longest unverified stretch " << s.longest_unverified_s << " s (fix found after " << s.longest_wait_s
       << " s of replay)\n"
@@ -147,7 +155,7 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     eval::JsonWriter j;
     j.beginObject();
     j.key("frames").value(s.frames).key("keyframes").value(f.keyframes).key("map_updates").value(f.updates);
-    j.key("frames_marked_lost").value(f.lost_frames);
+    j.key("frames_marked_lost").value(f.lost_frames).key("frames_unverified").value(f.unverified_frames);
     j.key("losses").value(s.losses).key("withdrawn").value(s.withdrawn).key("relocalizations").value(s.relocalizations);
     j.key("longest_unverified_s").value(s.longest_unverified_s).key("longest_wait_s").value(s.longest_wait_s);
     j.key("start").beginObject();

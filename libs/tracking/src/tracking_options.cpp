@@ -126,6 +126,9 @@ void RelocalizationOptions::declare(core::OptionTable& t)
           "below it, the check fails when aligning the points to the map explains this much more ...");
     t.add("lost_explained_floor", lost_explained_floor, "", Range::between(0, 1),
           "... or when the share is below this; two failed checks in a row: lost");
+    t.add("input_gap_s", input_gap_s, "s", Range::above(0),
+          "a gap between frames or in the IMU longer than this (or a rejected frame) leaves the track unverified, "
+          "checked on every frame, until a check confirms it");
 }
 
 void RelocalizationOptions::check(const std::string& input) const

@@ -76,6 +76,7 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     core::loadOptionsChecked(frontend.lines, cfg, "Lines", name);
     core::loadOptionsChecked(frontend.stereo, cfg, "Stereo", name);
     frontend.check(name);
+    core::loadOptionsChecked(faults, cfg, "FaultInjection", name);
 }
 
 std::vector<core::OptionsSection> SessionOptions::sections() const
@@ -93,7 +94,8 @@ std::vector<core::OptionsSection> SessionOptions::sections() const
             {"Features", &frontend.features},
             {"PointMatching", &frontend.point_matching},
             {"Lines", &frontend.lines},
-            {"Stereo", &frontend.stereo}};
+            {"Stereo", &frontend.stereo},
+            {"FaultInjection", &faults}};
 }
 
 TrackingSession::TrackingSession(const SessionOptions& options, MapContext& context, dataset::FrameSource& source,
@@ -103,6 +105,7 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
       source_(source),
       imu_(imu),
       out_(console),
+      guard_(console),
       T_body_cam_(core::toIsometry(source.rig().T_body_left)),
       frontend_(std::make_unique<frontend::Frontend>(options.frontend))
 {
@@ -155,9 +158,26 @@ bool TrackingSession::relocalizes() const
 
 bool TrackingSession::readSource(dataset::StereoFrame& out)
 {
-    if (!source_.next(out)) return false;
-    if (!summary_.t_first_frame) summary_.t_first_frame = out.timestamp;
+    // Frames the guard rejects (timestamp not increasing, no IMU) are skipped: reported, never a stop.
+    do
+    {
+        if (!source_.next(out)) return false;
+        if (!summary_.t_first_frame) summary_.t_first_frame = out.timestamp;
+    } while (!guard_.accept(out));
+    if (guard_.lastWasFaulty(options_.relocalization.input_gap_s)) faulty_frame_t_ = out.timestamp;
     return true;
+}
+
+void TrackingSession::flagUnverified(double after_t)
+{
+    if (!unverified_after_ || after_t < *unverified_after_) unverified_after_ = after_t;
+}
+
+void TrackingSession::closeUnverified(double up_to_t)
+{
+    if (!unverified_after_) return;
+    log_.markUnverified(*unverified_after_, up_to_t);
+    unverified_after_.reset();
 }
 
 bool TrackingSession::nextFrame(dataset::StereoFrame& out)
@@ -249,7 +269,9 @@ SessionSummary TrackingSession::run(const std::string& input)
         summary_.longest_wait_s = std::max(summary_.longest_wait_s, f.timestamp - last_verified_t_);
         out_ << "the frames ended during a relocalization search (unverified since t " << std::fixed
              << std::setprecision(3) << last_verified_t_ << ")" << std::endl;
+        flagUnverified(last_verified_t_);
     }
+    closeUnverified(INFINITY);  // a stretch no check confirmed runs to the end
     summary_.frames = n_;
     summary_.map = context_.figures();
     summary_.localizer_setup_s = starter_ ? starter_->setupSeconds() : 0;
@@ -268,6 +290,13 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
 {
     const FrameReport r = tracker_->track(f);
     ++n_;
+    // After an input fault, or without a map update, the pose is not confirmed until a check passes.
+    if (faulty_frame_t_ && f.timestamp >= *faulty_frame_t_)
+    {
+        flagUnverified(f.timestamp - 1e-6);
+        faulty_frame_t_.reset();
+    }
+    if (r.keyframe && !r.map_update) flagUnverified(f.timestamp - 1e-6);
     double ms_check = 0, ms_search = 0;
     const double explained = checkTrack(f, r, ms_check);
     kidnapIfDue(r);
@@ -282,7 +311,7 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
 double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms)
 {
     const RelocalizationOptions& o = options_.relocalization;
-    const bool due = n_ % size_t(o.check_every) == 0 || failed_checks_ > 0;
+    const bool due = n_ % size_t(o.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
     if (!search_ || !due || search_->searching()) return NAN;
     const auto t0 = std::chrono::steady_clock::now();
     const auto c = starter_->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio, tracker_->lastDenseCloud());
@@ -290,7 +319,12 @@ double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameRep
     const bool failed =
         c.refined && (c.refined_explained - c.explained >= o.lost_min_gain || c.explained < o.lost_explained_floor);
     failed_checks_ = failed ? failed_checks_ + 1 : 0;
-    if (!failed) last_verified_t_ = r.t;
+    if (failed) flagUnverified(last_verified_t_);  // since the last confirmed pose
+    else
+    {
+        closeUnverified(r.t);
+        last_verified_t_ = r.t;
+    }
     if (c.refined)
         out_ << "check at t " << std::fixed << std::setprecision(3) << r.t << ": explained " << c.explained << ", "
              << c.refined_explained << " after aligning (moved " << c.moved_m << " m, " << c.moved_deg
@@ -323,6 +357,7 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
         // on, so a loss that was a false alarm (the view merely poorly explained) costs nothing.
         failed_checks_ = 0;
         ++summary_.losses;
+        flagUnverified(last_verified_t_);
         out_ << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
         std::optional<SearchPrior> prior;
         if (o.relocalize_near_m > 0)
@@ -355,6 +390,8 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
     out_ << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
          << last_verified_t_ << ", found at t " << t_now << "; "
          << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted") << std::endl;
+    flagUnverified(last_verified_t_);
+    closeUnverified(t_fix);
     last_verified_t_ = t_fix;
     if (agrees)
     {
@@ -363,6 +400,9 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
         return false;
     }
     ++summary_.relocalizations;
+    // A restart rests on one fix of the stereo geometry (wrong when the stereo is, e.g. desynchronized): the track
+    // from it is unverified until a check confirms it.
+    flagUnverified(t_fix);
     estimation::FrameState track_at_fix = tracker_->state();
     for (const auto& [frame, state] : since_loss_)
         if (frame.timestamp <= t_fix) track_at_fix = state;

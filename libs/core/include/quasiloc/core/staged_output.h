@@ -2,6 +2,10 @@
 // Outputs that appear only when complete. A program writes every output file or folder under a
 // temporary name next to its final place; commit() renames them all into place; if the program fails
 // (exception) before commit(), the destructor removes the temporaries, so no half-written output is left.
+// A killed program (SIGKILL, power aside) leaves its temporaries, ".<name>.tmp-<pid>-<random>": hidden, never taken
+// for an output, and removed by the next program that stages the same output once that pid no longer runs.
+// commit() renames the last registered output first, so the first one (register the main output first) appears
+// last: when it is there, every other output of the run is too (docs/reliability.md).
 #include <string>
 #include <vector>
 
@@ -20,7 +24,8 @@ class StagedOutputs
     std::string addFile(const std::string& final_path);
     std::string addFolder(const std::string& final_path);
 
-    /** Replaces any existing final outputs with the temporaries. */
+    /** Replaces any existing final outputs with the temporaries, the last registered first. A file is replaced
+     *  atomically (rename); a folder is moved aside first (absent for a moment, never partial). */
     void commit();
 
    private:

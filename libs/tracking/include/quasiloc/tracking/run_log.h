@@ -44,6 +44,9 @@ class RunLog
     /** Forgets everything logged at or after time t (starts and frames): a relocalization that finds the track
      *  was wrong re-tracks the frames from its start. */
     void rewindTo(double t);
+    /** Flags the tracked frames with after_t < t <= up_to_t as unverified (the diagnostics' `unverified` column):
+     *  the session decides which stretches (tracking_session.h). */
+    void markUnverified(double after_t, double up_to_t);
     /** The logged pose at exactly time t, if any. */
     std::optional<Eigen::Isometry3d> poseAt(double t) const;
 
@@ -69,8 +72,8 @@ class RunLog
         double error_m = NAN;  ///< NaN without ground truth
         std::optional<mrpt::poses::CPose3D> estimate, truth;  ///< the pair the ATE is computed from
         double ms = 0;
-        bool map_update = false, keyframe = false, lost = false;
-        std::string csv;
+        bool map_update = false, keyframe = false, lost = false, unverified = false;
+        std::string csv;  ///< without the unverified column, decided later
     };
     core::Trajectory traj_, gt_traj_;
     std::vector<Row> rows_;

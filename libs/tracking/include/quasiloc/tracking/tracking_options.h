@@ -100,6 +100,7 @@ struct RelocalizationOptions : public core::DeclaredOptions
     bool relocalize_single_fix = true;
     int check_every = 5;
     double lost_explained_ratio = 0.7, lost_min_gain = 0.05, lost_explained_floor = 0.45;
+    double input_gap_s = 0.15;  ///< three frame periods at 20 Hz
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;
 };

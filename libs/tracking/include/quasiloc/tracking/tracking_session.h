@@ -7,6 +7,13 @@
 //   relocalize    global localization on its own thread (BackgroundSearch) while the tracker goes on; a fix that
 //                 agrees with the track withdraws the loss, otherwise the tracker restarts at the fix and the
 //                 frames since are tracked again.
+//   bad input     frames whose timestamp does not increase, or with no IMU sample since the previous frame, are
+//                 rejected with a warning and not tracked (InputGuard, input_guard.h); the run goes on.
+//   unverified    the diagnostics flag a frame `unverified` when it lies in a stretch the session could not
+//                 confirm: from the last passed check to the fix that ended a loss (or to the end of the frames),
+//                 or from a missed map update, a restart at a fix, or an input fault (rejected frames, a gap
+//                 between frames or in the IMU longer than input_gap_s) to the next passed check; while
+//                 unverified, every frame is checked.
 // quasiloc-track is options -> session -> outputs; the unit tests drive the session without the program.
 #include <mrpt/system/CTimeLogger.h>
 
@@ -15,6 +22,7 @@
 #include <optional>
 #include <ostream>
 #include <quasiloc/dataset/calibration.h>
+#include <quasiloc/dataset/fault_injection.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/estimation/estimator_options.h>
 #include <quasiloc/estimation/map_refinement.h>
@@ -23,6 +31,7 @@
 #include <quasiloc/reloc/geometric_localizer.h>
 #include <quasiloc/tracking/background_search.h>
 #include <quasiloc/tracking/global_start.h>
+#include <quasiloc/tracking/input_guard.h>
 #include <quasiloc/tracking/map_context.h>
 #include <quasiloc/tracking/run_log.h>
 #include <quasiloc/tracking/tracker.h>
@@ -44,6 +53,9 @@ struct SessionOptions
     estimation::EstimatorOptions estimator;           ///< [Estimator]
     estimation::ReweightingOptions reweighting;       ///< [Reweighting]
     frontend::FrontendOptions frontend;               ///< [Features] [PointMatching] [Lines] [Stereo]
+    /** [FaultInjection] (test facility): not the session's; quasiloc-track wraps its source in a
+     *  dataset::FaultInjectingSource when a fault is on. Here so that the program's keys are listed in one place. */
+    dataset::FaultInjectionOptions faults;
 
     /** Loads and checks every section (unknown keys are errors naming `config_name`). */
     void load(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name);
@@ -89,12 +101,19 @@ class TrackingSession
     bool settle(const GlobalInitialState& found, double t_now);
     void finishSearch(dataset::StereoFrame& f, bool& have_frame);
     void recordTiming(const FrameReport& r, double ms_check, double ms_search);
+    /** The track is unverified after time `after_t` (exclusive) until a check passes or a fix settles a loss. */
+    void flagUnverified(double after_t);
+    /** Flags the frames of the unverified stretch up to `up_to_t` in the log and ends it. */
+    void closeUnverified(double up_to_t);
 
     SessionOptions options_;
     MapContext& context_;
     dataset::FrameSource& source_;
     dataset::ImuCalibration imu_;
     std::ostream& out_;
+    InputGuard guard_;
+    std::optional<double> faulty_frame_t_;  ///< the latest frame read after an input fault, until it is tracked
+    std::optional<double> unverified_after_;  ///< the track is unverified after this time
     Eigen::Isometry3d T_body_cam_;
     std::unique_ptr<frontend::Frontend> frontend_;
     std::unique_ptr<reloc::StereoCloud> stereo_cloud_;  ///< stereo_map_points = dense
