@@ -34,9 +34,10 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
         const auto field = estimation::buildCameraEdgeField(options, fr.image);
         const auto model = estimation::buildDirectAlignmentModel(options, q.depth, q.reflectivity, q.valid, q.sparse,
                                                                  seq.camera, fr.T_world_cam);
+        const auto nmi = estimation::buildNmiSamples(options, q.depth, q.reflectivity, q.sparse, seq.camera, fr.T_world_cam);
         p.mean_edge_points += double(model.edge_points_world.size());
         const double e0 = estimation::edgeCost(options, field, 0, seq.camera, model, fr.T_world_cam);
-        const double n0 = estimation::normalizedMutualInformation(options, field, seq.camera, model, fr.T_world_cam);
+        const double n0 = estimation::normalizedMutualInformation(options, field, seq.camera, nmi, fr.T_world_cam);
         // Feature-metric score (feature_metric_alignment.h), when the features have a dense map.
         frontend::FrameFeatures fc, fq;
         cv::Mat gray;
@@ -57,7 +58,7 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
         {
             const Eigen::Isometry3d T = fr.T_world_cam * axisStep(k, step_m, step_deg);
             const double e = estimation::edgeCost(options, field, 0, seq.camera, model, T);
-            const double n = estimation::normalizedMutualInformation(options, field, seq.camera, model, T);
+            const double n = estimation::normalizedMutualInformation(options, field, seq.camera, nmi, T);
             ++p.steps;
             p.edge_truth_best += e0 < e;
             p.nmi_truth_best += n0 > n;
