@@ -228,43 +228,6 @@ OrientationClasses::OrientationClasses(int bins) : bins_(bins)
     {
         cos_.push_back(float(std::cos(k * M_PI / (2 * bins))));
         sin_.push_back(float(std::sin(k * M_PI / (2 * bins))));
-        cos_i_.push_back(int32_t(std::lround(std::cos(k * M_PI / (2 * bins)) * 16384)));
-        sin_i_.push_back(int32_t(std::lround(std::sin(k * M_PI / (2 * bins)) * 16384)));
-    }
-    for (int sector = 0; sector < 2 * bins; ++sector)
-    {
-        const int b = ((sector + 1) / 2) % bins;
-        const int second = (sector % 2 == 0 ? b + 1 : b + bins - 1) % bins;
-        sector_bits_.push_back(uint16_t((1u << b) | (1u << second)));
-    }
-}
-
-void OrientationClasses::rowBits(const int16_t* gx, const int16_t* gy, const uint8_t* edges, int n, uint16_t* bits)
-{
-    u_.resize(size_t(n)), v_.resize(size_t(n)), below_.assign(size_t(n), 0), mirrored_.resize(size_t(n));
-    for (int x = 0; x < n; ++x)  // the fold of classOf, without branches
-    {
-        const int32_t a = gx[x], c = gy[x];
-        const bool flip = c < 0 || (c == 0 && a < 0);
-        const int32_t fx = flip ? -a : a;
-        v_[size_t(x)] = flip ? -c : c;
-        mirrored_[size_t(x)] = fx < 0;
-        u_[size_t(x)] = fx < 0 ? -fx : fx;
-    }
-    for (size_t k = 0; k < cos_i_.size(); ++k)
-    {
-        const int32_t S = sin_i_[k], C = cos_i_[k];
-        for (int x = 0; x < n; ++x) below_[size_t(x)] += u_[size_t(x)] * S - v_[size_t(x)] * C <= 0;
-    }
-    for (int x = 0; x < n; ++x)
-    {
-        if (!edges[x])
-        {
-            bits[x] = 0;
-            continue;
-        }
-        const int32_t below = below_[size_t(x)];
-        bits[x] = sector_bits_[size_t(mirrored_[size_t(x)] ? 2 * bins_ - 1 - below : below)];
     }
 }
 
@@ -373,12 +336,22 @@ CameraEdgeLevel buildCameraEdgeLevel(const DirectAlignmentOptions& o, const cv::
     cannyByPercentile(dx, dy, o.canny_high_percentile, o.canny_low_ratio, L.edges);
     // Each edge pixel joins the two orientation classes nearest to its normal's direction (bit b: class b).
     const int B = o.orientation_bins;
-    OrientationClasses orientation(B);
+    const OrientationClasses orientation(B);
     const bool fused = B <= kMaxFusedClasses;
-    cv::Mat class_bits(L.edges.size(), CV_16UC1);
+    cv::Mat class_bits(L.edges.size(), CV_16UC1, cv::Scalar(0));
     for (int y = 0; y < L.edges.rows; ++y)
-        orientation.rowBits(dx.ptr<int16_t>(y), dy.ptr<int16_t>(y), L.edges.ptr<uint8_t>(y), L.edges.cols,
-                            class_bits.ptr<uint16_t>(y));
+    {
+        const uint8_t* edge = L.edges.ptr<uint8_t>(y);
+        const int16_t *gx = dx.ptr<int16_t>(y), *gy = dy.ptr<int16_t>(y);
+        uint16_t* bits = class_bits.ptr<uint16_t>(y);
+        for (int x = 0; x < L.edges.cols; ++x)
+        {
+            if (!edge[x]) continue;
+            int second = 0;
+            const int b = orientation.classOf(float(gx[x]), float(gy[x]), &second);  // the map side's classes
+            bits[x] = uint16_t((1u << b) | (1u << second));
+        }
+    }
     if (fused) class_bits.convertTo(class_bits, CV_8U);  // B <= 8: every value fits
     // The distance transforms are most of the camera side's cost: up to 8 classes in one fused pass.
     if (fused)

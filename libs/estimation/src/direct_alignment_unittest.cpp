@@ -305,39 +305,3 @@ TEST(DirectAlignment, OrientationClassesEqualTheAngleDefinitionAwayFromSectorBor
         EXPECT_GT(tested, 19000);
     }
 }
-
-TEST(DirectAlignment, RowBitsAreTheBitsOfBothClassesAtEdgePixels)
-{
-    std::mt19937 rng(11);
-    std::uniform_int_distribution<int> g(-1020, 1020);  // a 3x3 Sobel of an 8-bit image
-    for (int bins : {4, 6, 8, 16})
-    {
-        estimation::OrientationClasses classes(bins);
-        const int n = 5000;
-        std::vector<int16_t> gx(n), gy(n);
-        std::vector<uint8_t> edges(n);
-        for (int i = 0; i < n; ++i) gx[i] = int16_t(g(rng)), gy[i] = int16_t(g(rng)), edges[i] = i % 3 ? 255 : 0;
-        std::vector<uint16_t> bits(n, 7);
-        classes.rowBits(gx.data(), gy.data(), edges.data(), n, bits.data());
-        int compared = 0;
-        for (int i = 0; i < n; ++i)
-        {
-            if (!edges[i])
-            {
-                ASSERT_EQ(bits[i], 0) << "pixel " << i << " is no edge";
-                continue;
-            }
-            if (gx[i] == 0 && gy[i] == 0) continue;
-            double a = std::atan2(double(gy[i]), double(gx[i]));
-            if (a < 0) a += M_PI;
-            if (a >= M_PI) a -= M_PI;
-            const double t = a / (M_PI / bins);
-            if (std::abs(2 * t - std::round(2 * t)) < 1e-3) continue;  // integer borders: within ~1e-4 rad
-            int second = -1;
-            const int b = classes.classOf(float(gx[i]), float(gy[i]), &second);
-            ASSERT_EQ(bits[i], (1 << b) | (1 << second)) << "bins " << bins << " g (" << gx[i] << ", " << gy[i] << ")";
-            ++compared;
-        }
-        EXPECT_GT(compared, 3000);
-    }
-}

@@ -197,8 +197,6 @@ MapRefinementResult MapRefiner::alignPrepared(std::shared_ptr<const DirectAlignm
 MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
                                        double sigma_rad, std::optional<double> direct_prior_weight)
 {
-    const double prior_weight = direct_prior_weight.value_or(options_.direct_prior_weight);
-    core::require(prior_weight >= 0, "MapRefiner::refine direct_prior_weight", "must be >= 0");
     core::require(!gray_.empty(), "MapRefiner::refine", "setImage() must be called first");
     core::require(has_features_ || method == RefinementMethod::Direct, "MapRefiner::refine",
                   "method " + toString(method) + " needs the camera features (setImage with_features)");
@@ -219,7 +217,8 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
     else
     {
         const MapRefinementResult direct =
-            alignPrepared(prepareDirect(camera_, T_world_cam_pred), T_world_cam_pred, sigma_m, sigma_rad, prior_weight);
+            alignPrepared(prepareDirect(camera_, T_world_cam_pred), T_world_cam_pred, sigma_m, sigma_rad,
+                          direct_prior_weight);
         if (method == RefinementMethod::Direct)
             res = direct;
         else

@@ -89,18 +89,10 @@ class OrientationClasses
     explicit OrientationClasses(int bins);
     /** The class of (gx, gy); `second` (optional) = the neighbouring class on the side the angle leans to. */
     int classOf(float gx, float gy, int* second = nullptr) const;
-    /** For a row of Sobel derivatives: (1 << class) | (1 << second) at the `edges` pixels (non-zero), 0 elsewhere.
-     *  The same classes as classOf but for directions within about 1e-4 rad of a sector border (integer borders,
-     *  in loops the compiler vectorizes: this ran per edge pixel and cost a tenth of the camera side). */
-    void rowBits(const int16_t* gx, const int16_t* gy, const uint8_t* edges, int n, uint16_t* bits);
 
    private:
     int bins_;
     std::vector<float> cos_, sin_;  ///< the sector borders up to 90 deg: k * 90 / bins deg, k = 1 .. bins
-    std::vector<int32_t> cos_i_, sin_i_;  ///< the same times 2^14, rounded
-    std::vector<uint16_t> sector_bits_;   ///< per sector (2 * bins): the bits of its class and second class
-    std::vector<int32_t> u_, v_, below_;  ///< rowBits' scratch (one object per thread)
-    std::vector<uint8_t> mirrored_;
 };
 
 /** One pyramid level of the camera side. */
