@@ -5,8 +5,11 @@
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/serialization/CArchive.h>
 
+#include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <quasiloc/core/error.h>
+#include <stdexcept>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/dataset/timestamps.h>
 
@@ -95,4 +98,42 @@ TEST(FuzzFindings, RawlogHasImageRightThatIsNotAValidBoolReadsAsPresent)
     StereoFrame frame;
     ASSERT_TRUE(source->next(frame));
     EXPECT_EQ(frame.right.cols, 16);
+}
+
+// fuzz_rawlog: an observation's timestamp is any int64 tick count in a corrupt rawlog; converting 5.7e18 ticks to
+// nanoseconds overflowed int64 (UBSan: "signed integer overflow" in mrptTimeToNs). The reader now rejects such a
+// time with an InputError naming the file and entry; mrptTimeToNs throws std::out_of_range.
+TEST(FuzzFindings, RawlogTimestampBeyondInt64NanosecondsIsAnInputError)
+{
+    const mrpt::Clock::time_point far(mrpt::Clock::duration(5667085633192391535));
+    EXPECT_THROW(mrptTimeToNs(far), std::out_of_range);
+    EXPECT_FALSE(mrptTimeToNsChecked(far).has_value());
+    EXPECT_FALSE(mrptTimeToNsChecked(mrpt::Clock::time_point(mrpt::Clock::duration(INT64_MIN))).has_value());
+    EXPECT_EQ(mrptTimeToNs(mrptTimeFromNs(1'000'000'000)), 1'000'000'000);
+
+    TempDir dir;
+    const std::string path = dir / "far.rawlog";
+    {
+        mrpt::io::CFileOutputStream out(path);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        auto imu = mrpt::obs::CObservationIMU::Create();
+        imu->timestamp = far;
+        for (size_t i = 0; i < mrpt::obs::COUNT_IMU_DATA_FIELDS; ++i)
+            imu->set(static_cast<mrpt::obs::TIMUDataIndex>(i), 0.0);
+        arch << *imu;
+    }
+    try
+    {
+        auto source = openRawlog(path);
+        StereoFrame frame;
+        source->next(frame);
+        FAIL() << "a timestamp 5.7e18 ticks from MRPT's epoch was accepted";
+    }
+    catch (const core::InputError& e)
+    {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("far.rawlog"), std::string::npos) << what;
+        EXPECT_NE(what.find("entry 0"), std::string::npos) << what;
+        EXPECT_NE(what.find("292 years"), std::string::npos) << what;
+    }
 }

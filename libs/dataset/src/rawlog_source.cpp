@@ -136,7 +136,12 @@ void normaliseBool(bool& flag)
 void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
 {
     using namespace mrpt::obs;
-    const std::int64_t t_ns = mrptTimeToNs(obs->timestamp);
+    const auto t_ns_checked = mrptTimeToNsChecked(obs->timestamp);
+    require(t_ns_checked.has_value(), path_,
+            "entry " + std::to_string(entry) + ": timestamp of " +
+                std::to_string(obs->timestamp.time_since_epoch().count()) +
+                " MRPT ticks is more than 292 years from 1970 (corrupt file)");
+    const std::int64_t t_ns = *t_ns_checked;
     last_read_t_ns_ = t_ns;
     if (auto stereo = std::dynamic_pointer_cast<CObservationStereoImages>(obs))
     {

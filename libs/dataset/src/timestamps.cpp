@@ -1,4 +1,6 @@
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <quasiloc/dataset/timestamps.h>
 
 namespace quasiloc::dataset
@@ -37,9 +39,23 @@ mrpt::Clock::time_point mrptTimeFromNs(std::int64_t t_ns)
     return mrpt::Clock::time_point(mrpt::Clock::duration(mrptUnixEpochTicks() + q));
 }
 
+std::optional<std::int64_t> mrptTimeToNsChecked(mrpt::Clock::time_point t)
+{
+    // A corrupt rawlog can hold any tick count (found by fuzz_rawlog): the ns count must not overflow int64.
+    std::int64_t ticks_since_unix = 0, t_ns = 0;
+    if (__builtin_sub_overflow(t.time_since_epoch().count(), mrptUnixEpochTicks(), &ticks_since_unix) ||
+        __builtin_mul_overflow(ticks_since_unix, kNsPerTick, &t_ns))
+        return std::nullopt;
+    return t_ns;
+}
+
 std::int64_t mrptTimeToNs(mrpt::Clock::time_point t)
 {
-    return (t.time_since_epoch().count() - mrptUnixEpochTicks()) * kNsPerTick;
+    const auto t_ns = mrptTimeToNsChecked(t);
+    if (!t_ns)
+        throw std::out_of_range("MRPT timestamp of " + std::to_string(t.time_since_epoch().count()) +
+                                " ticks is more than 292 years from 1970 (not representable in int64 ns)");
+    return *t_ns;
 }
 
 double mrptTimeToSeconds(mrpt::Clock::time_point t)

@@ -4,6 +4,7 @@
 #include <mrpt/core/Clock.h>
 
 #include <cstdint>
+#include <optional>
 
 namespace quasiloc::dataset
 {
@@ -14,7 +15,11 @@ std::int64_t secondsToNs(double t_s);
 
 /** MRPT time point (100 ns ticks) nearest to t_ns. */
 mrpt::Clock::time_point mrptTimeFromNs(std::int64_t t_ns);
+/** Nanoseconds since the Unix epoch of an MRPT time point; std::out_of_range when that does not fit an int64
+ *  (more than 292 years from 1970: only a corrupt file holds such a time). */
 std::int64_t mrptTimeToNs(mrpt::Clock::time_point t);
+/** Like mrptTimeToNs, but nullopt instead of the exception: for readers that report the file and entry. */
+std::optional<std::int64_t> mrptTimeToNsChecked(mrpt::Clock::time_point t);
 /** Like mrpt::Clock::toDouble but without its rounding of the tick count to a double first. */
 double mrptTimeToSeconds(mrpt::Clock::time_point t);
 
