@@ -26,7 +26,8 @@ const char* const kCsvHeader =
     "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
     "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio,ms_check,camera_lines,map_lines,line_factors,"
     "line_candidates,line_window_px,ms_lines,ms_search,quasi_keypoints,point_factors,ms_points,plane_factors,plane_candidates,ms_planes,"
-    "bg_sigma_x,bg_sigma_y,bg_sigma_z,ba_sigma_x,ba_sigma_y,ba_sigma_z,standing,unverified\n";
+    "bg_sigma_x,bg_sigma_y,bg_sigma_z,ba_sigma_x,ba_sigma_y,ba_sigma_z,standing,stereo_map_sigmas,stereo_rejected,"
+    "unverified\n";
 
 RunLog::RunLog() { traj_.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)"; }
 
@@ -66,7 +67,8 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, doubl
         << r.ms_lines << "," << ms_search << "," << r.quasi_keypoints << "," << r.point_factors << "," << r.ms_points
         << "," << r.plane_factors << "," << r.plane_candidates << "," << r.ms_planes << "," << r.gyro_bias_sigma.x()
         << "," << r.gyro_bias_sigma.y() << "," << r.gyro_bias_sigma.z() << "," << r.acc_bias_sigma.x() << ","
-        << r.acc_bias_sigma.y() << "," << r.acc_bias_sigma.z() << "," << r.standing;
+        << r.acc_bias_sigma.y() << "," << r.acc_bias_sigma.z() << "," << r.standing << "," << r.stereo_map_sigmas << ","
+        << r.stereo_rejected;
     row.csv = csv.str();
     rows_.push_back(std::move(row));
 }

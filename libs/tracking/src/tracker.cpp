@@ -267,22 +267,44 @@ void Tracker::mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::
     }
 }
 
+void Tracker::stereoMapPoints(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
+                              std::vector<double>& sigma_m) const
+{
+    if (!denseStereo()) return mapPointsWithSigma(points, p_cam, sigma_m);
+    for (const Eigen::Vector3f& p : points.dense)
+    {
+        if (p.z() > options_.factors.stereo_map_max_depth_m) continue;
+        p_cam.push_back(p.cast<double>());
+        sigma_m.push_back(std::hypot(options_.factors.stereo_map_sigma_m, stereo_cloud_->depthSigma(p.z())));
+    }
+}
+
 void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const
 {
     estimation::MapDistanceTerm term;
     term.field = distance_field_;
     term.effective_points = options_.factors.stereo_map_effective_points;
     term.truncation_m = options_.factors.stereo_map_truncation_m;
-    if (denseStereo())
-        for (const Eigen::Vector3f& p : points.dense)
-        {
-            if (p.z() > options_.factors.stereo_map_max_depth_m) continue;
-            term.p_cam.push_back(p.cast<double>());
-            term.sigma_m.push_back(std::hypot(options_.factors.stereo_map_sigma_m, stereo_cloud_->depthSigma(p.z())));
-        }
-    else
-        mapPointsWithSigma(points, term.p_cam, term.sigma_m);
+    stereoMapPoints(points, term.p_cam, term.sigma_m);
     if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
+}
+
+bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep) const
+{
+    if (!a.T_world_cam_edges || !distance_field_ || !options_.temporal_landmarks) return true;
+    std::vector<Eigen::Vector3d> p_cam;
+    std::vector<double> sigma_m;
+    stereoMapPoints(points, p_cam, sigma_m);
+    if (p_cam.size() < 10) return true;
+    // The median, not the mean: clutter that the map lacks (people, moved objects) is far from every surface.
+    std::vector<double> sigmas(p_cam.size());
+    for (size_t i = 0; i < p_cam.size(); ++i)
+        sigmas[i] = distance_field_->distance((*a.T_world_cam_edges * p_cam[i]).cast<float>()) / sigma_m[i];
+    std::nth_element(sigmas.begin(), sigmas.begin() + long(sigmas.size() / 2), sigmas.end());
+    rep.stereo_map_sigmas = sigmas[sigmas.size() / 2];
+    const double bound = options_.factors.stereo_check_max_sigmas;
+    rep.stereo_rejected = stereo_check_active_ && bound > 0 && rep.stereo_map_sigmas > bound;
+    return !rep.stereo_rejected;
 }
 
 void Tracker::extractStereoPoints(const dataset::StereoFrame& frame, StereoPoints& sp)
@@ -407,25 +429,32 @@ Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicte
     d.huber_px = refiner_.options().direct.huber_px;
     in.direct_terms.push_back(d);
     a.T_map_body = r.T_world_cam * T_body_cam_.inverse();
+    a.T_world_cam_edges = r.T_world_cam;
     return a;
 }
 
 void Tracker::addVisualTerms(StereoPoints stereo_points, const std::vector<frontend::LineSegment>& camera_lines,
-                             const std::vector<MapLine>& map_lines, const MapAlignment& a, estimation::WindowInput& in,
-                             FrameReport& rep)
+                             const std::vector<MapLine>& map_lines, const MapAlignment& a, bool stereo_ok,
+                             estimation::WindowInput& in, FrameReport& rep)
 {
     const MapFactorOptions& f = options_.factors;
-    if (a.T_world_cam && f.map_planes && options_.temporal_landmarks)
+    if (a.T_world_cam && f.map_planes && options_.temporal_landmarks && stereo_ok)
         addMapPlanes(stereo_points, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_points && options_.temporal_landmarks)
         addMapPoints(stereo_points.left, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_lines)
         addMapLines(camera_lines, map_lines, *a.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
-    if (options_.temporal_landmarks && options_.map_updates && f.stereo_map_factor && distance_field_)
+    if (options_.temporal_landmarks && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok)
         addStereoMapTerm(stereo_points, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
     last_dense_ = std::move(stereo_points.dense);
-    if (options_.temporal_landmarks) temporalLandmarks(std::move(stereo_points), in.landmarks);
+    if (options_.temporal_landmarks && stereo_ok) temporalLandmarks(std::move(stereo_points), in.landmarks);
+    else if (!stereo_ok)
+    {
+        // Its stereo pairs would be the next frame's landmarks: they start again from the next good frame.
+        prev_stereo_.clear();
+        prev_stereo_of_left_.clear();
+    }
     rep.landmarks = int(in.landmarks.size());
 }
 
@@ -537,7 +566,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         worker_->wait();
         wait_at_exit.w = nullptr;
     }
-    addVisualTerms(std::move(stereo_points), camera_lines, map_lines, alignment, in, rep);
+    const bool stereo_ok = checkStereoAgainstMap(stereo_points, alignment, rep);
+    addVisualTerms(std::move(stereo_points), camera_lines, map_lines, alignment, stereo_ok, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;
 
     // 4. The two-frame window.

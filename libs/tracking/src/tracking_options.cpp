@@ -44,6 +44,10 @@ void MapFactorOptions::declare(core::OptionTable& t)
     t.add("stereo_map_truncation_m", stereo_map_truncation_m, "m", Range::above(0),
           "points farther than this from the map do not pull (occluders, clutter)");
     t.add("stereo_map_max_depth_m", stereo_map_max_depth_m, "m", Range::above(0), "farther stereo points are left out");
+    t.add("stereo_check_max_sigmas", stereo_check_max_sigmas, "", Range::atLeast(0),
+          "keyframes: when the stereo points' median distance to the map at the edge-aligned pose is above this many "
+          "point sigmas, the stereo disagrees with the map (left/right desync, broken calibration): its factors are "
+          "left out and the frame is unverified; 0: no check");
     t.addEnum("stereo_map_points", stereo_map_points, {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
               "dense: the frame's SGBM cloud ([GeometricLocalization] stereo keys); sparse: the ORB stereo matches");
     t.add("map_lines", map_lines, "point-to-line map factors on keyframes (map_lines.h), reweighted by [Reweighting]");

@@ -57,6 +57,11 @@ struct FrameReport
     bool lost = false;
     int landmarks = 0;
     int stereo_map_points = 0;  ///< stereo points in the map-distance factor
+    /** The stereo check on keyframes: the stereo points' median distance to the map's surfaces at the edge-aligned
+     *  pose, in point sigmas (NaN: not checked). Above stereo_check_max_sigmas the stereo disagrees with the map
+     *  (a left/right desync, a broken calibration): its factors are left out of the frame. */
+    double stereo_map_sigmas = NAN;
+    bool stereo_rejected = false;
     int camera_lines = 0, map_lines = 0, line_factors = 0;  ///< map_lines: segments, lifted map lines, factors
     double line_candidates = 0;  ///< mean candidates per line factor
     double line_window_px = 0;
@@ -109,6 +114,11 @@ class Tracker
     /** The dense stereo of stereo_map_points = dense (must outlive the tracker). */
     void setStereoCloud(const reloc::StereoCloud* cloud) { stereo_cloud_ = cloud; }
 
+    /** Whether the stereo check may reject the stereo (stereo_check_max_sigmas). The check trusts the edge-aligned
+     *  pose; after a gap or a restart that pose can be the wrong one and the stereo is what brings the track back,
+     *  so the session turns the check on only while the track is confirmed (or a rejection stretch goes on). */
+    void setStereoCheckActive(bool active) { stereo_check_active_ = active; }
+
     /** Tracks one stereo frame (its IMU samples since the previous frame included). */
     FrameReport track(const dataset::StereoFrame& frame);
     /** The last tracked frame's dense stereo cloud (left camera frame; empty unless stereo_map_points = dense): the
@@ -123,6 +133,7 @@ class Tracker
         std::shared_ptr<const estimation::DirectAlignmentModel> model;
         std::optional<Eigen::Isometry3d> T_map_body;
         std::optional<Eigen::Isometry3d> T_world_cam;  ///< map_lines / map_points / map_planes
+        std::optional<Eigen::Isometry3d> T_world_cam_edges;  ///< the accepted alignment (the stereo check's pose)
     };
     /** The stereo points of one frame: left and right points (points-only extraction) and their stereo matches. */
     struct StereoPoints
@@ -141,10 +152,15 @@ class Tracker
      *  edge factor into `in` when accepted. */
     MapAlignment alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks, size_t edge_field_task,
                             estimation::WindowInput& in, FrameReport& rep);
-    /** The factors on the frame's stereo points and segments: planes, points, lines, surfaces, landmarks. */
+    /** The factors on the frame's stereo points and segments: planes, points, lines, surfaces, landmarks. Without
+     *  `stereo_ok` the stereo's factors (planes, surfaces, landmarks) are left out, and so is the frame's stereo as
+     *  the next frame's landmarks. */
     void addVisualTerms(StereoPoints stereo_points, const std::vector<frontend::LineSegment>& camera_lines,
-                        const std::vector<MapLine>& map_lines, const MapAlignment& a, estimation::WindowInput& in,
-                        FrameReport& rep);
+                        const std::vector<MapLine>& map_lines, const MapAlignment& a, bool stereo_ok,
+                        estimation::WindowInput& in, FrameReport& rep);
+    /** The stereo check (stereo_check_max_sigmas): false when the stereo points disagree with the map at the
+     *  edge-aligned pose, which depends on the left image alone. Fills rep.stereo_map_sigmas / stereo_rejected. */
+    bool checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep) const;
     /** The two-frame window: the new state and marginal (or the prediction when it fails). */
     void solveWindow(const estimation::FrameState& predicted, const estimation::ImuPreintegration& imu,
                      const MapAlignment& a, estimation::WindowInput& in, FrameReport& rep);
@@ -160,6 +176,9 @@ class Tracker
     bool denseStereo() const { return stereo_cloud_ && options_.factors.stereo_map_points == StereoMapPoints::Dense; }
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
+    /** The points that term and the stereo check use (the dense cloud, or the sparse matches) with their sigmas. */
+    void stereoMapPoints(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
+                         std::vector<double>& sigma_m) const;
     /** The stereo points that the map terms use (depth 0.2 .. stereo_map_max_depth_m) and their sigma against the
      *  map: stereo_map_sigma_m and the disparity's depth noise (z^2 / (f b) stereo_disparity_sigma_px). */
     void mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
@@ -214,6 +233,7 @@ class Tracker
 
     const map::DistanceField* distance_field_ = nullptr;
     const reloc::StereoCloud* stereo_cloud_ = nullptr;
+    bool stereo_check_active_ = true;
     std::vector<Eigen::Vector3f> last_dense_;
     bool initialized_ = false;
     estimation::FrameState state_;

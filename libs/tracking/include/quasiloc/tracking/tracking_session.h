@@ -92,6 +92,8 @@ class TrackingSession
     void startFromGroundTruth(const std::string& input);
     void startGlobally(const std::string& input);
     void trackFrame(dataset::StereoFrame& f);
+    /** Prints when the tracker's stereo check starts or stops rejecting the stereo (once per stretch). */
+    void reportStereoCheck(const FrameReport& r);
     /** The geometry check of the tracked pose; returns its explained share (NaN when not checked). */
     double checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
     void kidnapIfDue(const FrameReport& r);
@@ -113,6 +115,7 @@ class TrackingSession
     std::ostream& out_;
     InputGuard guard_;
     std::optional<double> faulty_frame_t_;  ///< the latest frame read after an input fault, until it is tracked
+    bool stereo_rejected_ = false;  ///< the last checked keyframe's stereo disagreed with the map (reported once)
     std::optional<double> unverified_after_;  ///< the track is unverified after this time
     Eigen::Isometry3d T_body_cam_;
     std::unique_ptr<frontend::Frontend> frontend_;
