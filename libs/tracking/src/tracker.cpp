@@ -55,6 +55,7 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     options_.checkRanges("Tracker", "Tracking");
     options_.initialization.checkRanges("Tracker", "Initialization");
     options_.factors.check("Tracker");
+    stereo_check_bound_ = options_.factors.stereo_check_max_sigmas;
     if (options_.map_term == MapTerm::Auto)
     {
         // A map without reflectivity (constant) offers the edge term only its depth discontinuities.
@@ -302,8 +303,7 @@ bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignme
         sigmas[i] = distance_field_->distance((*a.T_world_cam_edges * p_cam[i]).cast<float>()) / sigma_m[i];
     std::nth_element(sigmas.begin(), sigmas.begin() + long(sigmas.size() / 2), sigmas.end());
     rep.stereo_map_sigmas = sigmas[sigmas.size() / 2];
-    const double bound = options_.factors.stereo_check_max_sigmas;
-    rep.stereo_rejected = stereo_check_active_ && bound > 0 && rep.stereo_map_sigmas > bound;
+    rep.stereo_rejected = stereo_check_bound_ > 0 && rep.stereo_map_sigmas > stereo_check_bound_;
     return !rep.stereo_rejected;
 }
 

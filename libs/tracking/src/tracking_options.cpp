@@ -48,6 +48,11 @@ void MapFactorOptions::declare(core::OptionTable& t)
           "keyframes: when the stereo points' median distance to the map at the edge-aligned pose is above this many "
           "point sigmas, the stereo disagrees with the map (left/right desync, broken calibration): its factors are "
           "left out and the frame is unverified; 0: no check");
+    t.add("stereo_check_release_sigmas", stereo_check_release_sigmas, "", Range::above(0),
+          "after a rejection the bound is this until the stereo has agreed with the map for stereo_check_hold_s "
+          "(a desync's effect comes and goes with the rotation rate)");
+    t.add("stereo_check_hold_s", stereo_check_hold_s, "s", Range::atLeast(0),
+          "... meanwhile the frames are unverified and the loss check, which weighs the same stereo, does not run");
     t.addEnum("stereo_map_points", stereo_map_points, {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
               "dense: the frame's SGBM cloud ([GeometricLocalization] stereo keys); sparse: the ORB stereo matches");
     t.add("map_lines", map_lines, "point-to-line map factors on keyframes (map_lines.h), reweighted by [Reweighting]");

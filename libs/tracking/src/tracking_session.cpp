@@ -288,7 +288,7 @@ void TrackingSession::finishSearch(dataset::StereoFrame& f, bool& have_frame)
 
 void TrackingSession::trackFrame(dataset::StereoFrame& f)
 {
-    tracker_->setStereoCheckActive(stereo_rejected_ || (!unverified_after_ && !faulty_frame_t_));
+    setStereoCheckBound();
     const FrameReport r = tracker_->track(f);
     ++n_;
     // After an input fault, or without a map update, the pose is not confirmed until a check passes.
@@ -298,8 +298,7 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
         faulty_frame_t_.reset();
     }
     if (r.keyframe && !r.map_update) flagUnverified(f.timestamp - 1e-6);
-    if (r.stereo_rejected) flagUnverified(f.timestamp - 1e-6);
-    reportStereoCheck(r);
+    updateStereoHold(r);
     double ms_check = 0, ms_search = 0;
     const double explained = checkTrack(f, r, ms_check);
     kidnapIfDue(r);
@@ -311,24 +310,44 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
              << std::endl;
 }
 
-void TrackingSession::reportStereoCheck(const FrameReport& r)
+void TrackingSession::setStereoCheckBound()
 {
-    if (std::isnan(r.stereo_map_sigmas)) return;  // not checked (no accepted map alignment)
-    if (r.stereo_rejected != stereo_rejected_)
-        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo points lie "
-             << std::setprecision(1) << r.stereo_map_sigmas << " sigmas from the map (median): "
-             << (r.stereo_rejected ? "stereo left out, frames unverified (a left/right desync or a broken calibration?)"
-                                   : "agrees again")
-             << std::endl;
-    stereo_rejected_ = r.stereo_rejected;
+    const MapFactorOptions& m = options_.tracker.factors;
+    const bool confirmed = !unverified_after_ && !faulty_frame_t_;
+    double bound = 0;
+    if (m.stereo_check_max_sigmas > 0 && stereo_hold_until_) bound = m.stereo_check_release_sigmas;
+    else if (m.stereo_check_max_sigmas > 0 && confirmed) bound = m.stereo_check_max_sigmas;
+    tracker_->setStereoCheckBound(bound);
+}
+
+void TrackingSession::updateStereoHold(const FrameReport& r)
+{
+    const MapFactorOptions& m = options_.tracker.factors;
+    if (r.stereo_rejected)
+    {
+        if (!stereo_hold_until_)
+            out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo points lie "
+                 << std::setprecision(1) << r.stereo_map_sigmas
+                 << " sigmas from the map (median): stereo left out, frames unverified (a left/right desync or a "
+                    "broken calibration?)"
+                 << std::endl;
+        stereo_hold_until_ = r.t + m.stereo_check_hold_s;
+    }
+    else if (stereo_hold_until_ && r.t >= *stereo_hold_until_)
+    {
+        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo has agreed with "
+             << "the map for " << std::setprecision(1) << m.stereo_check_hold_s << " s" << std::endl;
+        stereo_hold_until_.reset();
+    }
+    if (stereo_hold_until_) flagUnverified(r.t - 1e-6);
 }
 
 double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms)
 {
     const RelocalizationOptions& o = options_.relocalization;
     const bool due = n_ % size_t(o.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
-    // The check weighs the frame's dense stereo against the map: a stereo the tracker rejected says nothing.
-    if (!search_ || !due || search_->searching() || r.stereo_rejected) return NAN;
+    // The check weighs the frame's dense stereo against the map: while the stereo is suspect it says nothing.
+    if (!search_ || !due || search_->searching() || stereo_hold_until_) return NAN;
     const auto t0 = std::chrono::steady_clock::now();
     const auto c = starter_->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio, tracker_->lastDenseCloud());
     ms = msSince(t0);

@@ -114,10 +114,10 @@ class Tracker
     /** The dense stereo of stereo_map_points = dense (must outlive the tracker). */
     void setStereoCloud(const reloc::StereoCloud* cloud) { stereo_cloud_ = cloud; }
 
-    /** Whether the stereo check may reject the stereo (stereo_check_max_sigmas). The check trusts the edge-aligned
-     *  pose; after a gap or a restart that pose can be the wrong one and the stereo is what brings the track back,
-     *  so the session turns the check on only while the track is confirmed (or a rejection stretch goes on). */
-    void setStereoCheckActive(bool active) { stereo_check_active_ = active; }
+    /** The stereo check's bound for the next frames, in point sigmas (0: the stereo is never rejected); by default
+     *  stereo_check_max_sigmas. The session sets it: the check trusts the edge-aligned pose, which after a gap or a
+     *  restart can be the wrong one while the stereo is what brings the track back. */
+    void setStereoCheckBound(double max_sigmas) { stereo_check_bound_ = max_sigmas; }
 
     /** Tracks one stereo frame (its IMU samples since the previous frame included). */
     FrameReport track(const dataset::StereoFrame& frame);
@@ -233,7 +233,7 @@ class Tracker
 
     const map::DistanceField* distance_field_ = nullptr;
     const reloc::StereoCloud* stereo_cloud_ = nullptr;
-    bool stereo_check_active_ = true;
+    double stereo_check_bound_ = 0;
     std::vector<Eigen::Vector3f> last_dense_;
     bool initialized_ = false;
     estimation::FrameState state_;

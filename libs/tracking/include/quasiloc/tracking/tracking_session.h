@@ -92,8 +92,12 @@ class TrackingSession
     void startFromGroundTruth(const std::string& input);
     void startGlobally(const std::string& input);
     void trackFrame(dataset::StereoFrame& f);
-    /** Prints when the tracker's stereo check starts or stops rejecting the stereo (once per stretch). */
-    void reportStereoCheck(const FrameReport& r);
+    /** The stereo check's bound for the next frame: stereo_check_max_sigmas while the track is confirmed,
+     *  stereo_check_release_sigmas while the stereo is suspect, none otherwise (after a gap or a restart the stereo
+     *  is what brings the track back). */
+    void setStereoCheckBound();
+    /** Opens, extends or closes the stretch in which the stereo is suspect, and says so once per stretch. */
+    void updateStereoHold(const FrameReport& r);
     /** The geometry check of the tracked pose; returns its explained share (NaN when not checked). */
     double checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
     void kidnapIfDue(const FrameReport& r);
@@ -115,7 +119,9 @@ class TrackingSession
     std::ostream& out_;
     InputGuard guard_;
     std::optional<double> faulty_frame_t_;  ///< the latest frame read after an input fault, until it is tracked
-    bool stereo_rejected_ = false;  ///< the last checked keyframe's stereo disagreed with the map (reported once)
+    /** After the tracker rejected the stereo: until when the stereo stays suspect (stereo_check_hold_s after the
+     *  latest rejection). */
+    std::optional<double> stereo_hold_until_;
     std::optional<double> unverified_after_;  ///< the track is unverified after this time
     Eigen::Isometry3d T_body_cam_;
     std::unique_ptr<frontend::Frontend> frontend_;
