@@ -303,7 +303,15 @@ bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignme
         sigmas[i] = distance_field_->distance((*a.T_world_cam_edges * p_cam[i]).cast<float>()) / sigma_m[i];
     std::nth_element(sigmas.begin(), sigmas.begin() + long(sigmas.size() / 2), sigmas.end());
     rep.stereo_map_sigmas = sigmas[sigmas.size() / 2];
-    rep.stereo_rejected = stereo_check_bound_ > 0 && rep.stereo_map_sigmas > stereo_check_bound_;
+    // The check trusts the edge-aligned pose only when the edges fit as well as they usually do: aligned from a wrong
+    // pose (a restart, a kidnap, the end of a gap) the alignment settles in a poorer optimum, and then the stereo,
+    // not the pose, is the one to believe.
+    const double usual = edge_inlier_ratio_usual_;
+    const bool edges_as_usual =
+        std::isnan(usual) || rep.edge_inlier_ratio >= options_.factors.stereo_check_min_edge_ratio * usual;
+    rep.stereo_rejected = edges_as_usual && stereo_check_bound_ > 0 && rep.stereo_map_sigmas > stereo_check_bound_;
+    if (edges_as_usual && !rep.stereo_rejected)
+        edge_inlier_ratio_usual_ = std::isnan(usual) ? rep.edge_inlier_ratio : 0.95 * usual + 0.05 * rep.edge_inlier_ratio;
     return !rep.stereo_rejected;
 }
 

@@ -53,6 +53,9 @@ void MapFactorOptions::declare(core::OptionTable& t)
           "(a desync's effect comes and goes with the rotation rate)");
     t.add("stereo_check_hold_s", stereo_check_hold_s, "s", Range::atLeast(0),
           "... meanwhile the frames are unverified and the loss check, which weighs the same stereo, does not run");
+    t.add("stereo_check_min_edge_ratio", stereo_check_min_edge_ratio, "", Range::atLeast(0),
+          "the check trusts the edge-aligned pose only when its inlier ratio is at least this share of the usual one "
+          "(aligned from a wrong pose the edges fit worse: then the stereo is believed)");
     t.addEnum("stereo_map_points", stereo_map_points, {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
               "dense: the frame's SGBM cloud ([GeometricLocalization] stereo keys); sparse: the ORB stereo matches");
     t.add("map_lines", map_lines, "point-to-line map factors on keyframes (map_lines.h), reweighted by [Reweighting]");

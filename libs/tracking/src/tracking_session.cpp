@@ -296,8 +296,13 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
     {
         flagUnverified(f.timestamp - 1e-6);
         faulty_frame_t_.reset();
+        edge_pose_trusted_ = false;
     }
-    if (r.keyframe && !r.map_update) flagUnverified(f.timestamp - 1e-6);
+    if (r.keyframe && !r.map_update)
+    {
+        flagUnverified(f.timestamp - 1e-6);
+        edge_pose_trusted_ = false;
+    }
     updateStereoHold(r);
     double ms_check = 0, ms_search = 0;
     const double explained = checkTrack(f, r, ms_check);
@@ -313,10 +318,9 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
 void TrackingSession::setStereoCheckBound()
 {
     const MapFactorOptions& m = options_.tracker.factors;
-    const bool confirmed = !unverified_after_ && !faulty_frame_t_;
     double bound = 0;
     if (m.stereo_check_max_sigmas > 0 && stereo_hold_until_) bound = m.stereo_check_release_sigmas;
-    else if (m.stereo_check_max_sigmas > 0 && confirmed) bound = m.stereo_check_max_sigmas;
+    else if (m.stereo_check_max_sigmas > 0 && edge_pose_trusted_ && !faulty_frame_t_) bound = m.stereo_check_max_sigmas;
     tracker_->setStereoCheckBound(bound);
 }
 
@@ -357,6 +361,7 @@ double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameRep
     if (failed) flagUnverified(last_verified_t_);  // since the last confirmed pose
     else
     {
+        edge_pose_trusted_ = true;
         closeUnverified(r.t);
         last_verified_t_ = r.t;
     }
@@ -438,6 +443,7 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
     // A restart rests on one fix of the stereo geometry (wrong when the stereo is, e.g. desynchronized): the track
     // from it is unverified until a check confirms it.
     flagUnverified(t_fix);
+    edge_pose_trusted_ = false;
     estimation::FrameState track_at_fix = tracker_->state();
     for (const auto& [frame, state] : since_loss_)
         if (frame.timestamp <= t_fix) track_at_fix = state;

@@ -234,6 +234,9 @@ class Tracker
     const map::DistanceField* distance_field_ = nullptr;
     const reloc::StereoCloud* stereo_cloud_ = nullptr;
     double stereo_check_bound_ = 0;
+    /** The edge alignment's usual inlier ratio (a running mean over frames whose stereo agreed): the stereo check's
+     *  trust in the edge-aligned pose. */
+    mutable double edge_inlier_ratio_usual_ = NAN;
     std::vector<Eigen::Vector3f> last_dense_;
     bool initialized_ = false;
     estimation::FrameState state_;

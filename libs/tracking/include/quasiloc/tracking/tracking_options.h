@@ -54,6 +54,7 @@ struct MapFactorOptions : public core::DeclaredOptions
     double stereo_map_sigma_m = 0.02, stereo_disparity_sigma_px = 0.5, stereo_map_effective_points = 50;
     double stereo_map_truncation_m = 0.15, stereo_map_max_depth_m = 6;
     double stereo_check_max_sigmas = 3, stereo_check_release_sigmas = 2, stereo_check_hold_s = 2;
+    double stereo_check_min_edge_ratio = 0.8;
     StereoMapPoints stereo_map_points = StereoMapPoints::Dense;
     bool map_lines = false;
     double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;

@@ -92,7 +92,7 @@ class TrackingSession
     void startFromGroundTruth(const std::string& input);
     void startGlobally(const std::string& input);
     void trackFrame(dataset::StereoFrame& f);
-    /** The stereo check's bound for the next frame: stereo_check_max_sigmas while the track is confirmed,
+    /** The stereo check's bound for the next frame: stereo_check_max_sigmas while the edge pose is trusted,
      *  stereo_check_release_sigmas while the stereo is suspect, none otherwise (after a gap or a restart the stereo
      *  is what brings the track back). */
     void setStereoCheckBound();
@@ -122,6 +122,10 @@ class TrackingSession
     /** After the tracker rejected the stereo: until when the stereo stays suspect (stereo_check_hold_s after the
      *  latest rejection). */
     std::optional<double> stereo_hold_until_;
+    /** False from an input fault, a missed map update or a restart at a fix until a loss check passes: the
+     *  edge-aligned pose may then be the wrong one, and the stereo check (which trusts it) is off. A failed loss check
+     *  leaves it: the stereo it weighs may be the broken part. */
+    bool edge_pose_trusted_ = true;
     std::optional<double> unverified_after_;  ///< the track is unverified after this time
     Eigen::Isometry3d T_body_cam_;
     std::unique_ptr<frontend::Frontend> frontend_;
