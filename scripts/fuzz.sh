@@ -66,6 +66,15 @@ classify() {
   ' "$1"
 }
 
+# The sanitizer's report of a finding in our code, cut to what a CI log needs to diagnose it (the input is kept only
+# on the machine that ran it): the error line, the first frames and the SUMMARY line.
+report_finding() {
+  echo "---- $2"
+  awk '/ERROR: (AddressSanitizer|libFuzzer|LeakSanitizer)|runtime error:|quasiloc fuzz:/ { on = 1 }
+       on && (/^ *#[0-9]+ 0x/ ? ++frames <= 25 : 1) { print }
+       /^SUMMARY:/ { exit }' "$1" | cut -c1-400
+}
+
 # One target: chunks until its time is used; writes "<seconds> <executions> <ours> <mrpt>" to $LOGS/<target>.result.
 run_target() {
   local t="$1" bin="$BUILD/bin/$1" corpus="$BUILD/corpus/$1" findings="$BUILD/findings/$1"
@@ -81,6 +90,7 @@ run_target() {
   local left execs=0 fuzzed=0 ours=0 mrpt=0 n d chunk_start chunk_no=0
   left="$SECONDS_PER_TARGET"
   : > "$LOGS/$t.log"
+  : > "$LOGS/$t.ours.txt"
   while [ "$left" -gt 0 ]; do
     local chunk=$(( left < CHUNK ? left : CHUNK )) chunk_log="$LOGS/$t.chunk.log" before
     before="$(ls "$findings")"
@@ -89,7 +99,8 @@ run_target() {
     [ -n "${QUASILOC_FUZZ_LOCK:-}" ] && lock=(flock -s "$QUASILOC_FUZZ_LOCK")
     # -rss_limit_mb / -malloc_limit_mb: an allocation of more than 2 GB is a finding (a trusted length field);
     # -timeout: one input taking more than 10 s is a hang.
-    "${lock[@]}" env "${env[@]}" nice -n 19 "$bin" "$corpus" -max_total_time="$chunk" -timeout=10 -rss_limit_mb=2048 \
+    # UBSan prints no stack by default: with one, classify() can tell a report inside MRPT from one in our code.
+    "${lock[@]}" env UBSAN_OPTIONS=print_stacktrace=1 "${env[@]}" nice -n 19 "$bin" "$corpus" -max_total_time="$chunk" -timeout=10 -rss_limit_mb=2048 \
       -malloc_limit_mb=2048 -max_len=16384 -print_final_stats=1 -artifact_prefix="$findings/" "${extra[@]}" \
       >"$chunk_log" 2>&1 || true
     cat "$chunk_log" >> "$LOGS/$t.log"
@@ -108,6 +119,7 @@ run_target() {
         mkdir -p "$findings/mrpt" && mv "$findings/$f" "$findings/mrpt/"
       else
         ours=$(( ours + 1 ))
+        report_finding "$chunk_log" "$findings/$f" >> "$LOGS/$t.ours.txt"
       fi
     done
     left=$(( SECONDS_PER_TARGET - fuzzed ))
@@ -140,6 +152,9 @@ done
 echo "[fuzz] findings: in our code (the run fails on any); mrpt: inside MRPT's deserialization (kept apart in"
 echo "       <build>/findings/<target>/mrpt/, see docs/fuzzing.md)"
 if [ "$status" -ne 0 ]; then
+  for t in "${targets[@]}"; do
+    [ -s "$LOGS/$t.ours.txt" ] && { echo "[fuzz] $t: findings in our code:"; cat "$LOGS/$t.ours.txt"; } >&2
+  done
   echo "[fuzz] findings: see $BUILD/findings/<target>/ and $LOGS/<target>.log" >&2
 fi
 exit "$status"
