@@ -9,9 +9,9 @@
 #include <fstream>
 #include <iterator>
 #include <quasiloc/core/error.h>
-#include <stdexcept>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/dataset/timestamps.h>
+#include <stdexcept>
 
 #include "test_helpers.h"
 

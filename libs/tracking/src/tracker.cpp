@@ -290,9 +290,11 @@ void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInp
     if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
 }
 
-bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep) const
+bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep)
 {
-    if (!a.T_world_cam_edges || !distance_field_ || !options_.temporal_landmarks) return true;
+    // The pose of an accepted map alignment (set with T_map_body): it rests on the left image alone.
+    if (!a.T_map_body || !distance_field_ || !options_.temporal_landmarks) return true;
+    const Eigen::Isometry3d T_world_cam_edges = *a.T_map_body * T_body_cam_;
     std::vector<Eigen::Vector3d> p_cam;
     std::vector<double> sigma_m;
     stereoMapPoints(points, p_cam, sigma_m);
@@ -300,7 +302,7 @@ bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignme
     // The median, not the mean: clutter that the map lacks (people, moved objects) is far from every surface.
     std::vector<double> sigmas(p_cam.size());
     for (size_t i = 0; i < p_cam.size(); ++i)
-        sigmas[i] = distance_field_->distance((*a.T_world_cam_edges * p_cam[i]).cast<float>()) / sigma_m[i];
+        sigmas[i] = distance_field_->distance((T_world_cam_edges * p_cam[i]).cast<float>()) / sigma_m[i];
     std::nth_element(sigmas.begin(), sigmas.begin() + long(sigmas.size() / 2), sigmas.end());
     rep.stereo_map_sigmas = sigmas[sigmas.size() / 2];
     // The check trusts the edge-aligned pose only when the edges fit as well as they usually do: aligned from a wrong
@@ -437,7 +439,6 @@ Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicte
     d.huber_px = refiner_.options().direct.huber_px;
     in.direct_terms.push_back(d);
     a.T_map_body = r.T_world_cam * T_body_cam_.inverse();
-    a.T_world_cam_edges = r.T_world_cam;
     return a;
 }
 

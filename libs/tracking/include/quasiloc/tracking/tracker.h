@@ -133,7 +133,6 @@ class Tracker
         std::shared_ptr<const estimation::DirectAlignmentModel> model;
         std::optional<Eigen::Isometry3d> T_map_body;
         std::optional<Eigen::Isometry3d> T_world_cam;  ///< map_lines / map_points / map_planes
-        std::optional<Eigen::Isometry3d> T_world_cam_edges;  ///< the accepted alignment (the stereo check's pose)
     };
     /** The stereo points of one frame: left and right points (points-only extraction) and their stereo matches. */
     struct StereoPoints
@@ -160,7 +159,7 @@ class Tracker
                         estimation::WindowInput& in, FrameReport& rep);
     /** The stereo check (stereo_check_max_sigmas): false when the stereo points disagree with the map at the
      *  edge-aligned pose, which depends on the left image alone. Fills rep.stereo_map_sigmas / stereo_rejected. */
-    bool checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep) const;
+    bool checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep);
     /** The two-frame window: the new state and marginal (or the prediction when it fails). */
     void solveWindow(const estimation::FrameState& predicted, const estimation::ImuPreintegration& imu,
                      const MapAlignment& a, estimation::WindowInput& in, FrameReport& rep);
@@ -236,7 +235,7 @@ class Tracker
     double stereo_check_bound_ = 0;
     /** The edge alignment's usual inlier ratio (a running mean over frames whose stereo agreed): the stereo check's
      *  trust in the edge-aligned pose. */
-    mutable double edge_inlier_ratio_usual_ = NAN;
+    double edge_inlier_ratio_usual_ = NAN;
     std::vector<Eigen::Vector3f> last_dense_;
     bool initialized_ = false;
     estimation::FrameState state_;
