@@ -162,10 +162,11 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
 }
 
 std::shared_ptr<const DirectAlignmentModel> MapRefiner::prepareDirect(const core::CameraModel& camera,
-                                                                      const Eigen::Isometry3d& T_world_cam_pred)
+                                                                      const Eigen::Isometry3d& T_world_cam_pred,
+                                                                      bool encode)
 {
     mrpt::system::CTicTac tic;
-    renderer_.render(core::fromIsometry(T_world_cam_pred), camera, q_);
+    renderer_.render(core::fromIsometry(T_world_cam_pred), camera, q_, encode);
     auto model = std::make_shared<const DirectAlignmentModel>(buildDirectAlignmentModel(
         options_.direct, q_.depth, q_.reflectivity, q_.valid, q_.sparse, camera, T_world_cam_pred));
     prepare_ms_ = tic.Tac() * 1e3;

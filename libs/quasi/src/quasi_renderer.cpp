@@ -107,7 +107,8 @@ QuasiRenderer::QuasiRenderer(const map::LidarMap& map, const QuasiOptions& optio
 
 QuasiRenderer::~QuasiRenderer() = default;
 
-void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::CameraModel& camera, QuasiImage& out)
+void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::CameraModel& camera, QuasiImage& out,
+                           bool encode)
 {
     Buffers& b = *buf_;
     const QuasiOptions& o = options_;
@@ -231,6 +232,13 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
         st.scanline_filled_pixels = sum(b.counts);
     }
     clock.lap(st.ms_completion, st.cpu_ms_completion);
+    if (!encode)
+    {
+        out.bgr.release();
+        out.gray.release();
+        st.sparse_pixels = size_t(cv::countNonZero(out.sparse));
+        return;
+    }
 
     // Encoding (histogram of the completed reflectivity for reflectivity_scope = image).
     out.bgr.create(H, W, CV_8UC3);

@@ -85,12 +85,16 @@ void BM_CameraEdgeField(benchmark::State& state)
     for (auto _ : state) benchmark::DoNotOptimize(estimation::buildCameraEdgeField(directOptions(), frameAt(k++).left));
 }
 
+/** Argument 1: the tracker's render (planes only, no encoding: map_points off); 0: the full quasi-image. */
 void BM_Render(benchmark::State& state)
 {
+    const bool planes_only = state.range(0) != 0;
     quasi::QuasiImage q;
     size_t k = 0;
     for (auto _ : state)
-        fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k++)))), leftCamera(), q);
+        fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k++)))), leftCamera(), q,
+                                             !planes_only);
+    state.SetLabel(planes_only ? "planes only (tracker)" : "with encoding");
 }
 
 /** A quasi-image at each frame's starting pose (rendered once, outside the timing). */
@@ -218,7 +222,7 @@ void BM_TrackFrame(benchmark::State& state)
 
 BENCHMARK(BM_ImuPrediction)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CameraEdgeField)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Render)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Render)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EdgeModel)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DirectAlignment)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StereoPoints)->Unit(benchmark::kMillisecond);

@@ -410,7 +410,8 @@ Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicte
     // The render and the map's edge model need the prediction only: they run while the camera's edge field (a task)
     // is computed; then the alignment waits for it, running other tasks of the frame while it is not ready.
     const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
-    auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred);
+    // The quasi-image's encoding is needed by the map point factors alone (features on its gray image).
+    auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred, options_.factors.map_points);
     tasks.wait(edge_field_task, true);
     const auto r = refiner_.alignPrepared(std::move(model), T_world_cam_pred, rep.prior_sigma_m,
                                           rep.prior_sigma_deg * kDeg);

@@ -106,9 +106,11 @@ class MapRefiner
     /** The direct method in two halves, so that the first can overlap setImage() on another thread:
      *  prepareDirect renders the map at the prediction with `camera` and builds its edge model (it reads no member
      *  that setImage writes); alignPrepared aligns that model to the edge field of the last setImage(), with the
-     *  prediction prior of refine(). refine(Direct) is the two in turn. */
+     *  prediction prior of refine(). refine(Direct) is the two in turn. `encode` false: quasiImage() gets the planes
+     *  only (QuasiRenderer::render), no bgr or gray, so no quasiFeatureImage(). */
     std::shared_ptr<const DirectAlignmentModel> prepareDirect(const core::CameraModel& camera,
-                                                              const Eigen::Isometry3d& T_world_cam_pred);
+                                                              const Eigen::Isometry3d& T_world_cam_pred,
+                                                              bool encode = true);
     MapRefinementResult alignPrepared(std::shared_ptr<const DirectAlignmentModel> model,
                                       const Eigen::Isometry3d& T_world_cam_pred, double sigma_m, double sigma_rad,
                                       std::optional<double> direct_prior_weight = std::nullopt);
