@@ -296,7 +296,7 @@ TEST(FuzzFindings, RawlogClassNameLengthAndUnknownClassAreInputErrors)
     bytes = good;
     bytes[at + image_class.size() - 1] = 'X';  // mrpt::img::CImagX
     writeFileBytes(path, bytes);
-    expectRawlogInputError(path, {"entry 1", "imageLeft", "'mrpt::img::CImagX' is not a class of MRPT"});
+    expectRawlogInputError(path, {"entry 1", "imageLeft", "'mrpt::img::CImagX' is not registered in MRPT"});
 }
 
 // An embedded image of 100000 x 100000 pixels (MRPT: CImage::resize -> cv::Mat::create of 10 GB, up to 3.6e18

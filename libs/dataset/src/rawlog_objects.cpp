@@ -270,7 +270,8 @@ std::optional<ObjectHeader> readObjectHeader(FieldReader& r, bool end_allowed)
     h.class_name.assign(name.begin(), name.end());
     if (h.class_name == "nullptr") r.fail("a null object where an object is expected");
     h.id = mrpt::rtti::findRegisteredClass(h.class_name);
-    if (!h.id) r.fail("class '" + h.class_name + "' is not a class of MRPT (corrupt file)");
+    if (!h.id) r.fail("class '" + h.class_name + "' is not registered in MRPT (a corrupt file, or a class of an MRPT library this "
+                                             "program does not load)");
     h.version = r.pod<std::uint8_t>("serialization version");
     h.raw.push_back(h.version);
     return h;
