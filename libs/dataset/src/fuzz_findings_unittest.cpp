@@ -1,5 +1,6 @@
 // Regression tests for what fuzzing the dataset readers found (fuzz/, docs/fuzzing.md).
 #include <gtest/gtest.h>
+#include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationStereoImages.h>
@@ -7,11 +8,13 @@
 
 #include <cstdint>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <quasiloc/core/error.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/dataset/timestamps.h>
 #include <stdexcept>
+#include <vector>
 
 #include "test_helpers.h"
 
@@ -136,4 +139,252 @@ TEST(FuzzFindings, RawlogTimestampBeyondInt64NanosecondsIsAnInputError)
         EXPECT_NE(what.find("entry 0"), std::string::npos) << what;
         EXPECT_NE(what.find("292 years"), std::string::npos) << what;
     }
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Findings inside MRPT's deserialization (fuzz_rawlog; docs/fuzzing.md, finding 10): MRPT allocated what a length
+// field said, decoded embedded JPEGs with libjpeg's exit(1) handler, and failed on truncation only after the
+// allocation. The reader now parses the classes it uses itself (rawlog_entries.h); each case is an InputError naming
+// the file, the entry and the field.
+namespace
+{
+std::string fileBytes(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void writeFileBytes(const std::string& path, const std::string& bytes)
+{
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+void putU32(std::string& bytes, size_t at, std::uint32_t value)
+{
+    for (int i = 0; i < 4; ++i) bytes[at + i] = char((value >> (8 * i)) & 0xFF);
+}
+
+/** Offset of the uint32 length stored before the string `text` (MRPT's std::string layout). */
+size_t lengthFieldOf(const std::string& bytes, const std::string& text)
+{
+    const size_t at = bytes.find(text);
+    EXPECT_NE(at, std::string::npos) << "'" << text << "' not in the file: MRPT's layout changed";
+    EXPECT_GE(at, 4u);
+    return at - 4;
+}
+
+enum class Images
+{
+    EmbeddedGray,
+    EmbeddedJpeg,
+    External
+};
+
+/** Entry 0: an IMU observation labelled "imu_label"; entry 1: a 16x12 stereo observation (camera name
+ *  "cam_name") with the images as asked (external: "left_name.png" / "right_name.png", not written). */
+void writeSmallRawlog(const std::string& path, Images images)
+{
+    mrpt::io::CFileOutputStream out(path);
+    auto arch = mrpt::serialization::archiveFrom(out);
+    auto imu = mrpt::obs::CObservationIMU::Create();
+    imu->sensorLabel = "imu_label";
+    imu->timestamp = mrptTimeFromNs(999'000'000);
+    for (size_t i = 0; i < mrpt::obs::COUNT_IMU_DATA_FIELDS; ++i)
+        imu->set(static_cast<mrpt::obs::TIMUDataIndex>(i), 0.5);
+    arch << *imu;
+    auto stereo = mrpt::obs::CObservationStereoImages::Create();
+    stereo->timestamp = mrptTimeFromNs(1'000'000'000);
+    auto cam = core::CameraModel::pinhole(16, 12, 10, 10, 8, 6).toTCamera();
+    cam.cameraName = "cam_name";
+    stereo->leftCamera = stereo->rightCamera = cam;
+    stereo->rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0));
+    stereo->hasImageRight = true;
+    const bool raw_colour = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    if (images == Images::External)
+    {
+        stereo->imageLeft.setExternalStorage("left_name.png");
+        stereo->imageRight.setExternalStorage("right_name.png");
+    }
+    else
+    {
+        cv::Mat img(12, 16, images == Images::EmbeddedJpeg ? CV_8UC3 : CV_8UC1, cv::Scalar(50, 90, 130));
+        stereo->imageLeft = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+        stereo->imageRight = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+        mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(images != Images::EmbeddedJpeg);
+    }
+    arch << *stereo;
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw_colour);
+}
+
+/** Reads every frame; expects an InputError whose message names the file and contains each of `needles`. */
+void expectRawlogInputError(const std::string& path, const std::vector<std::string>& needles)
+{
+    try
+    {
+        auto source = openRawlog(path);
+        StereoFrame frame;
+        while (source->next(frame))
+        {
+        }
+        ADD_FAILURE() << "no error reading " << path;
+    }
+    catch (const core::InputError& e)
+    {
+        const std::string what = e.what();
+        std::cout << "  expected InputError: " << what << std::endl;
+        EXPECT_NE(what.find(path), std::string::npos) << what;
+        for (const auto& n : needles) EXPECT_NE(what.find(n), std::string::npos) << "'" << n << "' not in: " << what;
+    }
+}
+}  // namespace
+
+// A sensor label whose length field says 4 GB: MRPT's operator>>(std::string) resized the string to it.
+TEST(FuzzFindings, RawlogSensorLabelLengthBeyondTheBoundIsAnInputError)
+{
+    TempDir dir;
+    const std::string path = dir / "label.rawlog";
+    writeSmallRawlog(path, Images::EmbeddedGray);
+    std::string bytes = fileBytes(path);
+    putU32(bytes, lengthFieldOf(bytes, "imu_label"), 0xFFFFFFF0u);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 0", "mrpt::obs::CObservationIMU", "sensorLabel", "4294967280 bytes"});
+}
+
+// TCamera::serializeFrom's camera name (found by fuzz_rawlog: 0.6 to 1.9 GB strings): a length within our bound but
+// beyond the end of the file fails as truncated, before anything of that size is allocated.
+TEST(FuzzFindings, RawlogCameraNameLongerThanTheFileIsTruncated)
+{
+    TempDir dir;
+    const std::string path = dir / "camera.rawlog";
+    writeSmallRawlog(path, Images::EmbeddedGray);
+    std::string bytes = fileBytes(path);
+    putU32(bytes, lengthFieldOf(bytes, "cam_name"), 60'000);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "leftCamera", "cameraName", "truncated", "60000"});
+    putU32(bytes, lengthFieldOf(bytes, "cam_name"), 0x7FFFFFFF);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "cameraName", "2147483647 bytes, more than"});
+}
+
+// The external image file name's length.
+TEST(FuzzFindings, RawlogExternalImageFileNameLengthIsChecked)
+{
+    TempDir dir;
+    const std::string path = dir / "external.rawlog";
+    writeSmallRawlog(path, Images::External);
+    std::string bytes = fileBytes(path);
+    putU32(bytes, lengthFieldOf(bytes, "left_name.png"), 0xFFFFFFFFu);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "imageLeft", "external file name", "more than"});
+}
+
+// The length byte of a class name (CArchive::internal_ReadObject's header) and a class name that is not MRPT's.
+TEST(FuzzFindings, RawlogClassNameLengthAndUnknownClassAreInputErrors)
+{
+    TempDir dir;
+    const std::string path = dir / "class.rawlog";
+    writeSmallRawlog(path, Images::EmbeddedGray);
+    const std::string good = fileBytes(path);
+    const std::string image_class = "mrpt::img::CImage";
+    const size_t at = good.find(image_class);
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(static_cast<unsigned char>(good[at - 1]), 0x80 | image_class.size());
+    std::string bytes = good;
+    bytes[at - 1] = char(0xFF);  // 127 bytes
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "imageLeft", "class name of 127 bytes"});
+    bytes = good;
+    bytes[at + image_class.size() - 1] = 'X';  // mrpt::img::CImagX
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "imageLeft", "'mrpt::img::CImagX' is not registered in MRPT"});
+}
+
+// An embedded image of 100000 x 100000 pixels (MRPT: CImage::resize -> cv::Mat::create of 10 GB, up to 3.6e18
+// bytes seen by the fuzzer).
+TEST(FuzzFindings, RawlogHugeEmbeddedImageSizeIsAnInputError)
+{
+    TempDir dir;
+    const std::string path = dir / "huge.rawlog";
+    writeSmallRawlog(path, Images::EmbeddedGray);
+    std::string bytes = fileBytes(path);
+    // CImage version 9, gray: header, version, external flag, colour flag, then width and height (int32).
+    const size_t at = bytes.find("mrpt::img::CImage") + std::string("mrpt::img::CImage").size();
+    ASSERT_EQ(bytes[at], 9) << "MRPT's CImage version changed";
+    ASSERT_EQ(bytes[at + 3], 16) << "MRPT's CImage layout changed";
+    putU32(bytes, at + 3, 100'000);
+    putU32(bytes, at + 7, 100'000);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "imageLeft", "100000x100000 is beyond"});
+}
+
+// A corrupt embedded JPEG: MRPT decodes it with libjpeg's default error handler, which calls exit(1) (this test's
+// process would end). The frame's JPEG has its sample precision set to 13 bits, which libjpeg rejects.
+TEST(FuzzFindings, RawlogCorruptEmbeddedJpegIsAnInputErrorNotExit)
+{
+    TempDir dir;
+    const std::string path = dir / "jpeg.rawlog";
+    writeSmallRawlog(path, Images::EmbeddedJpeg);
+    std::string bytes = fileBytes(path);
+    const size_t sof = bytes.find("\xFF\xC0");
+    ASSERT_NE(sof, std::string::npos) << "no baseline JPEG frame header: MRPT's JPEG storage changed";
+    ASSERT_EQ(bytes[sof + 4], 8);  // sample precision
+    std::string corrupt = bytes;
+    corrupt[sof + 4] = 13;
+    writeFileBytes(path, corrupt);
+    expectRawlogInputError(path, {"entry 1", "left image", "cannot decode the embedded JPEG"});
+
+    // A frame header announcing 65000 x 65000 pixels: rejected before the decoder allocates 12 GB.
+    corrupt = bytes;
+    corrupt[sof + 5] = corrupt[sof + 7] = char(0xFD);
+    corrupt[sof + 6] = corrupt[sof + 8] = char(0xE8);
+    writeFileBytes(path, corrupt);
+    expectRawlogInputError(path, {"entry 1", "left image", "65000x65000 pixels is beyond"});
+
+    writeFileBytes(path, bytes);  // the intact file decodes (through OpenCV)
+    auto source = openRawlog(path);
+    StereoFrame frame;
+    ASSERT_TRUE(source->next(frame));
+    EXPECT_EQ(frame.left.type(), CV_8UC1);
+    EXPECT_NEAR(frame.left.at<unsigned char>(5, 5), 0.114 * 50 + 0.587 * 90 + 0.299 * 130, 3);
+}
+
+// A file cut anywhere: a clean end when the cut falls between entries, otherwise an InputError ("truncated", with
+// the entry), never a crash or an allocation from the half-read entry.
+TEST(FuzzFindings, RawlogTruncatedAnywhereIsAnInputErrorOrACleanEnd)
+{
+    TempDir dir;
+    const std::string path = dir / "cut.rawlog";
+    writeSmallRawlog(path, Images::EmbeddedGray);
+    const std::string bytes = fileBytes(path);
+    const size_t entry1 = bytes.find("mrpt::obs::CObservationStereoImages") - 1;
+    size_t clean_ends = 0, errors = 0;
+    for (size_t cut = 0; cut < bytes.size(); ++cut)
+    {
+        writeFileBytes(path, bytes.substr(0, cut));
+        try
+        {
+            auto source = openRawlog(path);  // needs a stereo frame: only the whole file opens
+            StereoFrame frame;
+            while (source->next(frame))
+            {
+            }
+            ADD_FAILURE() << "a rawlog cut at " << cut << " of " << bytes.size() << " bytes read without error";
+        }
+        catch (const core::InputError& e)
+        {
+            const std::string what = e.what();
+            if (what.find("truncated") != std::string::npos)
+            {
+                ++errors;
+                EXPECT_NE(what.find(cut < entry1 ? "entry 0" : "entry 1"), std::string::npos) << what;
+            }
+            else
+            {
+                ++clean_ends;  // cut at 0 or between the entries: no stereo observation
+                EXPECT_NE(what.find("holds no CObservationStereoImages"), std::string::npos) << what;
+            }
+        }
+    }
+    EXPECT_EQ(clean_ends, 2u);
+    EXPECT_EQ(errors, bytes.size() - 2);
 }

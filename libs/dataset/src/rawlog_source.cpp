@@ -1,14 +1,9 @@
-// openRawlog(): a FrameSource streaming an MRPT rawlog, one observation at a time.
+// openRawlog(): a FrameSource streaming an MRPT rawlog, one entry at a time. The entries are read by our validating
+// reader (rawlog_entries.h), which parses the classes used here itself instead of letting MRPT deserialize them.
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservationIMU.h>
-#include <mrpt/obs/CObservationStereoImages.h>
-#include <mrpt/obs/CRawlog.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/serialization/CArchive.h>
 
 #include <algorithm>
-#include <cstring>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -19,7 +14,9 @@
 #include <quasiloc/dataset/rawlog_writer.h>
 #include <quasiloc/dataset/timestamps.h>
 
+#include "embedded_jpeg.h"
 #include "image_checks.h"
+#include "rawlog_entries.h"
 
 namespace fs = std::filesystem;
 using quasiloc::core::require;
@@ -32,7 +29,7 @@ struct PendingStereo
 {
     std::int64_t t_ns;
     size_t entry;
-    mrpt::obs::CObservationStereoImages::Ptr obs;
+    std::shared_ptr<const detail::StoredStereo> obs;
 };
 
 struct TimedImu
@@ -45,10 +42,10 @@ class RawlogSource : public FrameSource
 {
    public:
     RawlogSource(const std::string& path, const FrameSourceOptions& options)
-        : path_(path), images_folder_(rawlogImagesFolder(path)), arch_(in_), max_gt_dt_s_(options.max_gt_dt_s)
+        : path_(path), images_folder_(rawlogImagesFolder(path)), max_gt_dt_s_(options.max_gt_dt_s)
     {
         require(fs::is_regular_file(path), path, "rawlog file not found");
-        require(in_.open(path), path, "cannot open rawlog");
+        entries_ = std::make_unique<detail::RawlogEntries>(path);
         // For code that loads the observations' external images through mrpt::img::CImage. Our own decoding
         // below resolves the paths itself and does not depend on this process-wide setting.
         mrpt::img::CImage::setImagesPathBase(images_folder_);
@@ -68,26 +65,25 @@ class RawlogSource : public FrameSource
     std::vector<std::string> warnings() const override;
 
    private:
-    static core::StereoRig rigOf(const mrpt::obs::CObservationStereoImages& obs, const std::string& input)
+    static core::StereoRig rigOf(const detail::StoredStereo& obs, const std::string& input)
     {
         core::StereoRig rig;
-        rig.left = core::CameraModel::fromTCamera(obs.leftCamera);
-        rig.right = core::CameraModel::fromTCamera(obs.rightCamera);
-        rig.T_left_right = mrpt::poses::CPose3D(obs.rightCameraPose);
-        rig.T_body_left = mrpt::poses::CPose3D(obs.cameraPose);
+        rig.left = core::CameraModel::fromTCamera(obs.left_camera);
+        rig.right = core::CameraModel::fromTCamera(obs.right_camera);
+        rig.T_left_right = mrpt::poses::CPose3D(obs.right_camera_pose);
+        rig.T_body_left = mrpt::poses::CPose3D(obs.camera_pose);
         rig.check(input);
         return rig;
     }
 
     void readOne();
-    void handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry);
-    cv::Mat decode(const mrpt::img::CImage& img, const core::CameraModel& cam, const std::string& camera_name,
+    void handle(const detail::RawlogObservation& obs);
+    cv::Mat decode(const detail::StoredImage& img, const core::CameraModel& cam, const std::string& camera_name,
                    size_t entry) const;
 
     std::string path_, images_folder_;
-    mrpt::io::CFileGZInputStream in_;
-    mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream> arch_;
-    size_t entry_ = 0;
+    std::unique_ptr<detail::RawlogEntries> entries_;
+    std::vector<detail::RawlogObservation> read_;
     bool eof_ = false;
     std::int64_t last_read_t_ns_ = std::numeric_limits<std::int64_t>::min();
     std::deque<PendingStereo> stereo_;
@@ -104,60 +100,39 @@ class RawlogSource : public FrameSource
 
 void RawlogSource::readOne()
 {
-    mrpt::obs::CActionCollection::Ptr action;
-    mrpt::obs::CSensoryFrame::Ptr sf;
-    mrpt::obs::CObservation::Ptr obs;
-    const uint64_t pos_before = in_.getPosition();
-    const size_t entry = entry_;
-    if (!mrpt::obs::CRawlog::getActionObservationPairOrObservation(arch_, action, sf, obs, entry_))
+    if (!entries_->next(read_))
     {
-        // MRPT returns false both at the end and on a read error; a clean end consumed no byte.
-        require(in_.getPosition() == pos_before, path_,
-                "corrupt or truncated rawlog: cannot read entry " + std::to_string(entry) + " (at byte " +
-                    std::to_string(pos_before) + " of the uncompressed stream)");
         eof_ = true;
         return;
     }
-    if (obs) handle(obs, entry);
-    if (sf)
-        for (const auto& o : *sf) handle(o, entry);
+    for (const auto& o : read_) handle(o);
 }
 
-/** MRPT reads some bools of an observation as raw bytes (CObservationIMU::dataIsPresent,
- *  CObservationStereoImages::hasImageRight): a corrupt file can hold a byte that is no valid bool (0 or 1), and
- *  loading it is undefined behaviour (found by fuzz_rawlog: bytes 177 and 5). Any non-zero byte means true. */
-void normaliseBool(bool& flag)
-{
-    unsigned char byte = 0;
-    std::memcpy(&byte, &flag, 1);
-    flag = byte != 0;
-}
-
-void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
+void RawlogSource::handle(const detail::RawlogObservation& obs)
 {
     using namespace mrpt::obs;
-    const auto t_ns_checked = mrptTimeToNsChecked(obs->timestamp);
+    const auto t_ns_checked = mrptTimeToNsChecked(obs.timestamp);
     require(t_ns_checked.has_value(), path_,
-            "entry " + std::to_string(entry) + ": timestamp of " +
-                std::to_string(obs->timestamp.time_since_epoch().count()) +
+            "entry " + std::to_string(obs.entry) + ": timestamp of " +
+                std::to_string(obs.timestamp.time_since_epoch().count()) +
                 " MRPT ticks is more than 292 years from 1970 (corrupt file)");
     const std::int64_t t_ns = *t_ns_checked;
     last_read_t_ns_ = t_ns;
-    if (auto stereo = std::dynamic_pointer_cast<CObservationStereoImages>(obs))
+    if (obs.stereo)
     {
-        normaliseBool(stereo->hasImageRight);
-        if (!stereo->hasImageRight)
+        if (!obs.stereo->has_right)
         {
             ++stereo_without_right_;
             return;
         }
-        stereo_.push_back({t_ns, entry, stereo});
+        stereo_.push_back({t_ns, obs.entry, obs.stereo});
     }
-    else if (auto imu = std::dynamic_pointer_cast<CObservationIMU>(obs))
+    else if (obs.imu)
     {
-        for (auto& flag : imu->dataIsPresent) normaliseBool(flag);
-        const bool complete = imu->has(IMU_X_ACC) && imu->has(IMU_Y_ACC) && imu->has(IMU_Z_ACC) && imu->has(IMU_WX) &&
-                              imu->has(IMU_WY) && imu->has(IMU_WZ);
+        const auto& present = obs.imu->present;
+        const auto& value = obs.imu->values;
+        const bool complete = present[IMU_X_ACC] && present[IMU_Y_ACC] && present[IMU_Z_ACC] && present[IMU_WX] &&
+                              present[IMU_WY] && present[IMU_WZ];
         if (!complete)
         {
             ++imu_incomplete_;
@@ -165,28 +140,39 @@ void RawlogSource::handle(const mrpt::obs::CObservation::Ptr& obs, size_t entry)
         }
         TimedImu s{t_ns, {}};
         s.sample.t = nsToSeconds(t_ns);
-        s.sample.acc = {imu->get(IMU_X_ACC), imu->get(IMU_Y_ACC), imu->get(IMU_Z_ACC)};
-        s.sample.gyro = {imu->get(IMU_WX), imu->get(IMU_WY), imu->get(IMU_WZ)};
+        s.sample.acc = {value[IMU_X_ACC], value[IMU_Y_ACC], value[IMU_Z_ACC]};
+        s.sample.gyro = {value[IMU_WX], value[IMU_WY], value[IMU_WZ]};
         imu_.push_back(s);
     }
     else
-        ++ignored_classes_[obs->GetRuntimeClass()->className];
+        ++ignored_classes_[obs.class_name];
 }
 
-cv::Mat RawlogSource::decode(const mrpt::img::CImage& img, const core::CameraModel& cam, const std::string& camera_name,
-                             size_t entry) const
+cv::Mat RawlogSource::decode(const detail::StoredImage& img, const core::CameraModel& cam,
+                             const std::string& camera_name, size_t entry) const
 {
+    using Kind = detail::StoredImage::Kind;
     const std::string where = path_ + " (entry " + std::to_string(entry) + ", " + camera_name + " image)";
-    if (!img.isExternallyStored())
+    switch (img.kind)
     {
-        require(!img.isEmpty(), where, "embedded image is empty");
-        return detail::toGrayOfCameraSize(img.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY), cam, where, camera_name);
+        case Kind::Empty: break;
+        case Kind::Raw:
+        {
+            // The pixels' size was checked against the image size when the entry was read.
+            const cv::Mat pixels(img.height, img.width, img.cv_type, const_cast<std::uint8_t*>(img.bytes.data()));
+            return detail::toGrayOfCameraSize(pixels.clone(), cam, where, camera_name);
+        }
+        case Kind::Jpeg:
+            return detail::toGrayOfCameraSize(detail::decodeEmbeddedJpeg(img.bytes, where, detail::kMaxImagePixels),
+                                              cam, where, camera_name);
+        case Kind::External:
+        {
+            const fs::path file(img.external_file);
+            const std::string full = file.is_absolute() ? file.string() : (fs::path(images_folder_) / file).string();
+            return detail::loadGrayImage(full, cam, camera_name);
+        }
     }
-    const fs::path file(img.getExternalStorageFile());
-    const std::string full = file.is_absolute() ? file.string() : (fs::path(images_folder_) / file).string();
-    cv::Mat out = detail::loadGrayImage(full, cam, camera_name);
-    img.unload();  // no-op unless someone loaded it through CImage; the observation is dropped next anyway
-    return out;
+    throw core::InputError(where, "embedded image is empty");
 }
 
 bool RawlogSource::next(StereoFrame& frame)
@@ -202,8 +188,8 @@ bool RawlogSource::next(StereoFrame& frame)
 
     frame.index = index_++;
     frame.timestamp = nsToSeconds(s.t_ns);
-    frame.left = decode(s.obs->imageLeft, rig_.left, "left", s.entry);
-    frame.right = decode(s.obs->imageRight, rig_.right, "right", s.entry);
+    frame.left = decode(s.obs->left, rig_.left, "left", s.entry);
+    frame.right = decode(s.obs->right, rig_.right, "right", s.entry);
 
     std::stable_sort(imu_.begin(), imu_.end(), [](const TimedImu& a, const TimedImu& b) { return a.t_ns < b.t_ns; });
     const auto end = std::find_if(imu_.begin(), imu_.end(), [&](const TimedImu& x) { return x.t_ns > s.t_ns; });
