@@ -236,6 +236,16 @@ void expectRawlogInputError(const std::string& path, const std::vector<std::stri
         for (const auto& n : needles) EXPECT_NE(what.find(n), std::string::npos) << "'" << n << "' not in: " << what;
     }
 }
+
+/** `bytes` (a small rawlog) written to `path` with the uint32 length before `text` set to `length`, then read:
+ *  expects expectRawlogInputError's error. */
+void expectLengthFieldError(const std::string& path, std::string bytes, const std::string& text, std::uint32_t length,
+                            const std::vector<std::string>& needles)
+{
+    putU32(bytes, lengthFieldOf(bytes, text), length);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, needles);
+}
 }  // namespace
 
 // A sensor label whose length field says 4 GB: MRPT's operator>>(std::string) resized the string to it.
@@ -244,10 +254,8 @@ TEST(FuzzFindings, RawlogSensorLabelLengthBeyondTheBoundIsAnInputError)
     TempDir dir;
     const std::string path = dir / "label.rawlog";
     writeSmallRawlog(path, Images::EmbeddedGray);
-    std::string bytes = fileBytes(path);
-    putU32(bytes, lengthFieldOf(bytes, "imu_label"), 0xFFFFFFF0u);
-    writeFileBytes(path, bytes);
-    expectRawlogInputError(path, {"entry 0", "mrpt::obs::CObservationIMU", "sensorLabel", "4294967280 bytes"});
+    expectLengthFieldError(path, fileBytes(path), "imu_label", 0xFFFFFFF0u,
+                           {"entry 0", "mrpt::obs::CObservationIMU", "sensorLabel", "4294967280 bytes"});
 }
 
 // TCamera::serializeFrom's camera name (found by fuzz_rawlog: 0.6 to 1.9 GB strings): a length within our bound but
@@ -257,13 +265,9 @@ TEST(FuzzFindings, RawlogCameraNameLongerThanTheFileIsTruncated)
     TempDir dir;
     const std::string path = dir / "camera.rawlog";
     writeSmallRawlog(path, Images::EmbeddedGray);
-    std::string bytes = fileBytes(path);
-    putU32(bytes, lengthFieldOf(bytes, "cam_name"), 60'000);
-    writeFileBytes(path, bytes);
-    expectRawlogInputError(path, {"entry 1", "leftCamera", "cameraName", "truncated", "60000"});
-    putU32(bytes, lengthFieldOf(bytes, "cam_name"), 0x7FFFFFFF);
-    writeFileBytes(path, bytes);
-    expectRawlogInputError(path, {"entry 1", "cameraName", "2147483647 bytes, more than"});
+    const std::string bytes = fileBytes(path);
+    expectLengthFieldError(path, bytes, "cam_name", 60'000, {"entry 1", "leftCamera", "cameraName", "truncated", "60000"});
+    expectLengthFieldError(path, bytes, "cam_name", 0x7FFFFFFF, {"entry 1", "cameraName", "2147483647 bytes, more than"});
 }
 
 // The external image file name's length.
@@ -272,10 +276,8 @@ TEST(FuzzFindings, RawlogExternalImageFileNameLengthIsChecked)
     TempDir dir;
     const std::string path = dir / "external.rawlog";
     writeSmallRawlog(path, Images::External);
-    std::string bytes = fileBytes(path);
-    putU32(bytes, lengthFieldOf(bytes, "left_name.png"), 0xFFFFFFFFu);
-    writeFileBytes(path, bytes);
-    expectRawlogInputError(path, {"entry 1", "imageLeft", "external file name", "more than"});
+    expectLengthFieldError(path, fileBytes(path), "left_name.png", 0xFFFFFFFFu,
+                           {"entry 1", "imageLeft", "external file name", "more than"});
 }
 
 // The length byte of a class name (CArchive::internal_ReadObject's header) and a class name that is not MRPT's.

@@ -115,9 +115,7 @@ void RawlogEntries::readSensoryFrame(const ObjectHeader& header, std::vector<Raw
     // CSensoryFrame versions 0 to 2: [uint32 ID (v < 2)] [uint64 timestamp of all observations (v0)] uint32 count,
     // then the observations. No reserve(): the count is trusted only as the objects arrive.
     FieldReader::Scope scope(reader_, header.class_name);
-    if (header.version > 2)
-        reader_.fail("serialization version " + std::to_string(header.version) + " of " + header.class_name +
-                     " is not supported (this reader reads versions 0 to 2)");
+    if (header.version > 2) failUnsupportedVersion(reader_, header, "0 to 2");
     if (header.version < 2) reader_.pod<std::uint32_t>("ID");
     std::optional<mrpt::Clock::time_point> frame_time;
     if (header.version == 0)
@@ -142,9 +140,7 @@ void RawlogEntries::readActionCollection(const ObjectHeader& header)
     // CActionCollection version 0: uint32 count, then the actions (read by MRPT: we do not parse any action
     // class; the reader does not use them). No reserve(), unlike MRPT's resize(count).
     FieldReader::Scope scope(reader_, header.class_name);
-    if (header.version != 0)
-        reader_.fail("serialization version " + std::to_string(header.version) + " of " + header.class_name +
-                     " is not supported (this reader reads version 0)");
+    if (header.version != 0) failUnsupportedVersion(reader_, header, "0");
     const auto count = reader_.pod<std::uint32_t>("action count");
     std::vector<RawlogObservation> ignored;
     for (std::uint32_t i = 0; i < count; ++i)

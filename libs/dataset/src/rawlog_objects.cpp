@@ -21,13 +21,6 @@ const TRuntimeClassId* cameraId() { return CLASS_ID(mrpt::img::TCamera); }
 const TRuntimeClassId* pose3DId() { return CLASS_ID(mrpt::poses::CPose3D); }
 const TRuntimeClassId* pose3DQuatId() { return CLASS_ID(mrpt::poses::CPose3DQuat); }
 
-[[noreturn]] void unsupportedVersion(FieldReader& r, const ObjectHeader& h, const char* supported)
-{
-    r.fail("serialization version " + std::to_string(h.version) + " of " + h.class_name +
-           " is not supported (this reader reads versions " + supported +
-           "; older ones come from MRPT before 1.0, newer ones do not exist in MRPT 2.5)");
-}
-
 mrpt::Clock::time_point readTimestamp(FieldReader& r)
 {
     // MRPT stores the tick count as uint64 and converts it to the clock's int64 representation.
@@ -53,7 +46,7 @@ auto readMember(FieldReader& r, const char* member, const TRuntimeClassId* expec
 // --- CPose3DQuat (version 0: x y z qr qx qy qz) and CPose3D (v2: the same 7 doubles; v3: x y z + 3x3 rotation).
 mrpt::poses::CPose3DQuat readPose3DQuatData(FieldReader& r, const ObjectHeader& h)
 {
-    if (h.version != 0) unsupportedVersion(r, h, "0");
+    if (h.version != 0) failUnsupportedVersion(r, h, "0");
     // Stored as MRPT stores it, without normalising the quaternion (as CPose3DQuat::serializeFrom).
     mrpt::poses::CPose3DQuat p(mrpt::math::UNINITIALIZED_QUATERNION);
     for (int i = 0; i < 7; ++i) p[i] = r.pod<double>("pose coordinate");
@@ -62,7 +55,7 @@ mrpt::poses::CPose3DQuat readPose3DQuatData(FieldReader& r, const ObjectHeader& 
 
 bool skipPose3DData(FieldReader& r, const ObjectHeader& h)
 {
-    if (h.version != 2 && h.version != 3) unsupportedVersion(r, h, "2 and 3");
+    if (h.version != 2 && h.version != 3) failUnsupportedVersion(r, h, "2 and 3");
     for (int i = 0; i < (h.version == 3 ? 12 : 7); ++i) r.pod<double>("pose coordinate");
     return true;
 }
@@ -71,7 +64,7 @@ bool skipPose3DData(FieldReader& r, const ObjectHeader& h)
 // cameraName (v>=5), distortion model as uint8 (v>=6; before: plumb_bob).
 mrpt::img::TCamera readCameraData(FieldReader& r, const ObjectHeader& h)
 {
-    if (h.version < 4 || h.version > 6) unsupportedVersion(r, h, "4 to 6");
+    if (h.version < 4 || h.version > 6) failUnsupportedVersion(r, h, "4 to 6");
     mrpt::img::TCamera c;
     c.focalLengthMeters = r.pod<double>("focalLengthMeters");
     c.dist.fill(0);
@@ -97,13 +90,26 @@ void checkImageSize(FieldReader& r, std::int64_t width, std::int64_t height, std
                std::to_string(kMaxImagePixels) + " pixels or " + std::to_string(kMaxImageBytes) + " bytes");
 }
 
-std::uint32_t jpegLength(FieldReader& r)
+/** A JPEG file stored as its uint32 length and bytes. */
+StoredImage readJpegImage(FieldReader& r)
 {
     const auto n = r.pod<std::uint32_t>("JPEG length");
     if (n > kMaxImageBytes)
         r.fail("JPEG length of " + std::to_string(n) + " bytes is beyond this reader's " +
                std::to_string(kMaxImageBytes));
-    return n;
+    StoredImage img;
+    img.kind = StoredImage::Kind::Jpeg;
+    img.bytes = r.bytes(n, "JPEG data");
+    return img;
+}
+
+/** An externally stored image: its file name. */
+StoredImage readExternalImage(FieldReader& r)
+{
+    StoredImage img;
+    img.kind = StoredImage::Kind::External;
+    img.external_file = r.text("external file name", kMaxRawlogText);
+    return img;
 }
 
 int cvDepthOf(FieldReader& r, std::int32_t pixel_depth)
@@ -163,46 +169,24 @@ StoredImage readColourPixels(FieldReader& r, std::uint8_t version)
             return img;                           // a 0xN image: no data
         }
     }
-    img.kind = StoredImage::Kind::Jpeg;
-    img.bytes = r.bytes(jpegLength(r), "JPEG data");
-    return img;
+    return readJpegImage(r);
 }
 
 StoredImage readImageData(FieldReader& r, const ObjectHeader& h)
 {
     const std::uint8_t v = h.version;
     if (v == 100)  // written by an MRPT without OpenCV: external file or nothing
-    {
-        StoredImage img;
-        if (r.flag("external storage flag"))
-        {
-            img.kind = StoredImage::Kind::External;
-            img.external_file = r.text("external file name", kMaxRawlogText);
-        }
-        return img;
-    }
-    if (v == 1)  // a JPEG only
-    {
-        StoredImage img;
-        img.kind = StoredImage::Kind::Jpeg;
-        img.bytes = r.bytes(jpegLength(r), "JPEG data");
-        return img;
-    }
-    if (v < 2 || v > 9) unsupportedVersion(r, h, "1 to 9 and 100");
-    if (v >= 6 && r.flag("external storage flag"))
-    {
-        StoredImage img;
-        img.kind = StoredImage::Kind::External;
-        img.external_file = r.text("external file name", kMaxRawlogText);
-        return img;
-    }
+        return r.flag("external storage flag") ? readExternalImage(r) : StoredImage{};
+    if (v == 1) return readJpegImage(r);  // a JPEG only
+    if (v < 2 || v > 9) failUnsupportedVersion(r, h, "1 to 9 and 100");
+    if (v >= 6 && r.flag("external storage flag")) return readExternalImage(r);
     return r.flag("colour flag") ? readColourPixels(r, v) : readGrayPixels(r, v);
 }
 
 // --- CObservationStereoImages, versions 5 and 6.
 StoredObservation readStereoData(FieldReader& r, const ObjectHeader& h)
 {
-    if (h.version != 5 && h.version != 6) unsupportedVersion(r, h, "5 and 6");
+    if (h.version != 5 && h.version != 6) failUnsupportedVersion(r, h, "5 and 6");
     StoredObservation o;
     StoredStereo& s = o.stereo.emplace();
     s.camera_pose = readMember(r, "cameraPose", pose3DQuatId(), [&](auto& m) { return readPose3DQuatData(r, m); });
@@ -227,7 +211,7 @@ StoredObservation readStereoData(FieldReader& r, const ObjectHeader& h)
 // --- CObservationIMU, versions 1 to 4 (v4: fixed arrays; before: std::vector<bool> and std::vector<double>).
 StoredObservation readImuData(FieldReader& r, const ObjectHeader& h)
 {
-    if (h.version < 1 || h.version > 4) unsupportedVersion(r, h, "1 to 4");
+    if (h.version < 1 || h.version > 4) failUnsupportedVersion(r, h, "1 to 4");
     constexpr size_t kFields = mrpt::obs::COUNT_IMU_DATA_FIELDS;
     StoredObservation o;
     StoredImu& imu = o.imu.emplace();
@@ -277,6 +261,13 @@ std::optional<ObjectHeader> readObjectHeader(FieldReader& r, bool end_allowed)
     return h;
 }
 
+void failUnsupportedVersion(FieldReader& r, const ObjectHeader& h, const char* supported)
+{
+    r.fail("serialization version " + std::to_string(h.version) + " of " + h.class_name +
+           " is not supported (this reader reads versions " + supported +
+           "; older ones come from MRPT before 1.0, newer ones do not exist in MRPT 2.5)");
+}
+
 void readEndFlag(FieldReader& r)
 {
     const auto flag = r.pod<std::uint8_t>("end flag");
@@ -285,11 +276,9 @@ void readEndFlag(FieldReader& r)
                "class reads (corrupt file)");
 }
 
-bool isParsedObservation(const TRuntimeClassId* id) { return id == stereoId() || id == imuId(); }
-
 bool isParsedClass(const TRuntimeClassId* id)
 {
-    return isParsedObservation(id) || id == imageId() || id == cameraId() || id == pose3DId() ||
+    return id == stereoId() || id == imuId() || id == imageId() || id == cameraId() || id == pose3DId() ||
            id == pose3DQuatId();
 }
 

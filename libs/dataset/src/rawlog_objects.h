@@ -43,13 +43,16 @@ std::optional<ObjectHeader> readObjectHeader(FieldReader& r, bool end_allowed);
 /** The end flag (0x88) MRPT writes after each object's data. */
 void readEndFlag(FieldReader& r);
 
+/** InputError: the header's serialization version is not one this reader reads (`supported`, e.g. "1 to 4"). */
+[[noreturn]] void failUnsupportedVersion(FieldReader& r, const ObjectHeader& h, const char* supported);
+
 /** An mrpt::img::CImage as stored, not decoded yet (embedded JPEGs are decoded only for the frames used). */
 struct StoredImage
 {
     enum class Kind
     {
         Empty,     ///< no pixels (a 0xN image, or a version-100 image without external file)
-        Raw,       ///< `pixels` rows of `width` x `height` of OpenCV type `cv_type`
+        Raw,       ///< `bytes`: rows of `width` x `height` pixels of OpenCV type `cv_type`
         Jpeg,      ///< `bytes` is a JPEG file
         External,  ///< `external_file`, relative to the rawlog's images folder unless absolute
     };
@@ -85,8 +88,6 @@ struct StoredObservation
 
 /** Whether parseKnownObject() reads objects of this class. */
 bool isParsedClass(const mrpt::rtti::TRuntimeClassId* id);
-/** Whether the class is one of the observations parseKnownObject() returns. */
-bool isParsedObservation(const mrpt::rtti::TRuntimeClassId* id);
 
 /** The data and end flag of an object whose header was just read, of a class for which isParsedClass() is true.
  *  Returns the observation for CObservationStereoImages and CObservationIMU, nullopt for the others (CImage,

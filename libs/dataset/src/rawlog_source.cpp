@@ -1,6 +1,5 @@
 // openRawlog(): a FrameSource streaming an MRPT rawlog, one entry at a time. The entries are read by our validating
 // reader (rawlog_entries.h), which parses the classes used here itself instead of letting MRPT deserialize them.
-#include <mrpt/img/CImage.h>
 #include <mrpt/obs/CObservationIMU.h>
 
 #include <algorithm>
@@ -46,9 +45,6 @@ class RawlogSource : public FrameSource
     {
         require(fs::is_regular_file(path), path, "rawlog file not found");
         entries_ = std::make_unique<detail::RawlogEntries>(path);
-        // For code that loads the observations' external images through mrpt::img::CImage. Our own decoding
-        // below resolves the paths itself and does not depend on this process-wide setting.
-        mrpt::img::CImage::setImagesPathBase(images_folder_);
         while (!eof_ && stereo_.empty()) readOne();
         require(!stereo_.empty(), path, "holds no CObservationStereoImages with a right image");
         if (!options.calibration_ini.empty())
