@@ -320,6 +320,27 @@ TEST(QuasiRenderer, IdenticalThroughFrameChainsAndThreads)
     EXPECT_GT(cv::countNonZero(a.valid), 100'000);
 }
 
+// The tracker's render (encode = false): the planes of the full render, bit for bit, and no encoded images; a
+// full render after it encodes again.
+TEST(QuasiRenderer, PlanesOnlyRenderHasTheFullRendersPlanes)
+{
+    const core::CameraModel cam = eurocCam0();
+    const CPose3D T_world_cam = cameraPose(0.2, 0.1, 1.5, 2.0, 0.2);
+    quasi::QuasiRenderer renderer(smallRoom(), quasi::QuasiOptions{});
+    quasi::QuasiImage full, planes, again;
+    renderer.render(T_world_cam, cam, full);
+    renderer.render(T_world_cam, cam, planes, false);
+    EXPECT_TRUE(planes.bgr.empty());
+    EXPECT_TRUE(planes.gray.empty());
+    EXPECT_TRUE(sameMat(full.depth, planes.depth) && sameMat(full.reflectivity, planes.reflectivity) &&
+                sameMat(full.valid, planes.valid) && sameMat(full.sparse, planes.sparse) &&
+                sameMat(full.provenance, planes.provenance));
+    EXPECT_EQ(planes.stats.sparse_pixels, full.stats.sparse_pixels);
+    EXPECT_GT(planes.stats.sparse_pixels, 10'000u);
+    renderer.render(T_world_cam, cam, again);
+    EXPECT_TRUE(sameQuasi(full, again));
+}
+
 // Rendering a pose from outside the room wall-on and from a pinhole camera works; bad input is rejected.
 TEST(QuasiRenderer, RejectsBadInput)
 {
