@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/direct_alignment.h>
 
@@ -248,6 +251,67 @@ int OrientationClasses::classOf(float gx, float gy, int* second) const
     return b;
 }
 
+namespace
+{
+/** Eight int16 lanes per pixel, one per orientation class (classDistanceTransforms). */
+using Lanes = int16_t __attribute__((vector_size(16)));
+
+/** The lanes of row `y` (0-based; the buffer has a one-pixel border): `far` where the pixel is not in the class,
+ *  0 where it is. Branch-free: the bits, broadcast to all lanes, tested against each lane's class bit. */
+void initLanes(const uint8_t* bits, int W, Lanes far_v, Lanes* row)
+{
+    const Lanes class_bit = {1, 2, 4, 8, 16, 32, 64, 128};
+    row[0] = row[W + 1] = far_v;
+    for (int x = 0; x < W; ++x)
+    {
+        const Lanes in_class = ((Lanes{} + int16_t(bits[x])) & class_bit) != 0;  // -1 in the pixel's classes
+        row[x + 1] = far_v & ~in_class;
+    }
+}
+
+/** Pixels x0 .. x0 + 7 of a finished row, back to pixels (lane / s, truncated), one float row per class. The
+ *  same arithmetic as one pixel at a time; an 8 x 8 transpose first, so each class is stored 8 floats at once. */
+void storeEightPixels(const Lanes* px, int classes, float inv_s, float truncation, float* const* out, int x0)
+{
+#if defined(__SSE2__)
+    __m128i r[8], t[8], u[8], c[8];
+    for (int i = 0; i < 8; ++i) r[i] = _mm_load_si128(reinterpret_cast<const __m128i*>(px + i));
+    for (int i = 0; i < 4; ++i)  // pairs of pixels: classes 0-3, then 4-7
+    {
+        t[i] = _mm_unpacklo_epi16(r[2 * i], r[2 * i + 1]);
+        t[i + 4] = _mm_unpackhi_epi16(r[2 * i], r[2 * i + 1]);
+    }
+    for (int h = 0; h < 2; ++h)  // quadruples of pixels (0-3, 4-7): two classes each
+    {
+        u[4 * h + 0] = _mm_unpacklo_epi32(t[2 * h], t[2 * h + 1]);      // classes 0, 1
+        u[4 * h + 1] = _mm_unpackhi_epi32(t[2 * h], t[2 * h + 1]);      // classes 2, 3
+        u[4 * h + 2] = _mm_unpacklo_epi32(t[2 * h + 4], t[2 * h + 5]);  // classes 4, 5
+        u[4 * h + 3] = _mm_unpackhi_epi32(t[2 * h + 4], t[2 * h + 5]);  // classes 6, 7
+    }
+    for (int q = 0; q < 4; ++q)  // the eight pixels of classes 2q and 2q + 1
+    {
+        c[2 * q] = _mm_unpacklo_epi64(u[q], u[q + 4]);
+        c[2 * q + 1] = _mm_unpackhi_epi64(u[q], u[q + 4]);
+    }
+    const __m128 vinv = _mm_set1_ps(inv_s), vtrunc = _mm_set1_ps(truncation);
+    for (int k = 0; k < classes; ++k)
+    {
+        const __m128i lo = _mm_srai_epi32(_mm_unpacklo_epi16(c[k], c[k]), 16);  // sign-extended to int32
+        const __m128i hi = _mm_srai_epi32(_mm_unpackhi_epi16(c[k], c[k]), 16);
+        _mm_storeu_ps(out[k] + x0, _mm_min_ps(_mm_mul_ps(_mm_cvtepi32_ps(lo), vinv), vtrunc));
+        _mm_storeu_ps(out[k] + x0 + 4, _mm_min_ps(_mm_mul_ps(_mm_cvtepi32_ps(hi), vinv), vtrunc));
+    }
+#else
+    for (int i = 0; i < 8; ++i)
+        for (int k = 0; k < classes; ++k)
+        {
+            const float f = float(px[i][k]) * inv_s;
+            out[k][x0 + i] = f < truncation ? f : truncation;
+        }
+#endif
+}
+}  // namespace
+
 void classDistanceTransforms(const cv::Mat& class_bits, int classes, double truncation_px, std::vector<cv::Mat>& distance)
 {
     core::require(!class_bits.empty() && class_bits.type() == CV_8UC1, "classDistanceTransforms",
@@ -259,26 +323,24 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
     // classes at once (SSE2 pminsw/paddw), so the two passes cost about what one class's transform costs. The
     // weights are OpenCV's DIST_L2 / DIST_MASK_3 (0.955 along an axis, 1.3693 along a diagonal) to 1/s; no
     // value exceeds `far`, so no add overflows.
-    using Lanes = int16_t __attribute__((vector_size(16)));
     const auto vmin = [](Lanes a, Lanes b) { return a < b ? a : b; };
     const double s = std::floor(30000.0 / (truncation_px + 1.37));  // (truncation + diagonal) * s < 32767
     const int16_t axis = int16_t(std::lround(0.955 * s)), diag = int16_t(std::lround(1.3693 * s));
     const int16_t far = int16_t(32767 - diag - 1);
     const Lanes a = Lanes{} + axis, d = Lanes{} + diag, far_v = Lanes{} + far;
     const int W = class_bits.cols, H = class_bits.rows, stride = W + 2;
-    std::vector<Lanes> buf(size_t(stride) * size_t(H + 2), far_v);  // one-pixel border of `far`
-    for (int y = 0; y < H; ++y)
-    {
-        const uint8_t* bits = class_bits.ptr<uint8_t>(y);
-        Lanes* row = &buf[size_t(y + 1) * size_t(stride) + 1];
-        for (int x = 0; x < W; ++x)
-            if (bits[x])
-                for (int k = 0; k < classes; ++k)
-                    if (bits[x] & (1 << k)) row[x][k] = 0;
-    }
+    // The buffer outlives the call (per thread: the pyramid's levels are built on two threads): a fresh one is
+    // a page-faulting allocation of several MB per image.
+    thread_local std::vector<Lanes> buf;
+    buf.resize(size_t(stride) * size_t(H + 2));
+    std::fill_n(buf.begin(), stride, far_v);                             // top border
+    std::fill_n(buf.begin() + ptrdiff_t(H + 1) * stride, stride, far_v);  // bottom border
+    // Each row is initialised just before the forward pass reaches it, and converted to distances as soon as the
+    // backward pass has finished it: two sweeps over the buffer instead of four.
     for (int y = 1; y <= H; ++y)  // forward: up-left, up, up-right, left
     {
         Lanes* row = &buf[size_t(y) * size_t(stride)];
+        initLanes(class_bits.ptr<uint8_t>(y - 1), W, far_v, row);
         const Lanes* up = row - stride;
         Lanes left = row[0];
         for (int x = 1; x <= W; ++x)
@@ -288,6 +350,10 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
             row[x] = left = v;
         }
     }
+    distance.resize(size_t(classes));
+    for (auto& m : distance) m.create(H, W, CV_32FC1);
+    const float inv_s = float(1.0 / s), truncation = float(truncation_px);
+    std::vector<float*> out(static_cast<size_t>(classes), nullptr);
     for (int y = H; y >= 1; --y)  // backward: down-right, down, down-left, right
     {
         Lanes* row = &buf[size_t(y) * size_t(stride)];
@@ -299,23 +365,15 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
             v = vmin(v, vmin(down[x - 1] + d, right + a));
             row[x] = right = v;
         }
-    }
-    distance.resize(size_t(classes));
-    for (auto& m : distance) m.create(H, W, CV_32FC1);
-    // Back to pixels, truncated, all lanes at once (then one store per class).
-    using FloatLanes = float __attribute__((vector_size(32)));
-    const FloatLanes inv_s = FloatLanes{} + float(1.0 / s), trunc = FloatLanes{} + float(truncation_px);
-    std::vector<float*> out(static_cast<size_t>(classes), nullptr);
-    for (int y = 0; y < H; ++y)
-    {
-        for (int k = 0; k < classes; ++k) out[size_t(k)] = distance[size_t(k)].ptr<float>(y);
-        const Lanes* row = &buf[size_t(y + 1) * size_t(stride) + 1];
-        for (int x = 0; x < W; ++x)
-        {
-            FloatLanes f = __builtin_convertvector(row[x], FloatLanes) * inv_s;
-            f = f < trunc ? f : trunc;
-            for (int k = 0; k < classes; ++k) out[size_t(k)][x] = f[k];
-        }
+        for (int k = 0; k < classes; ++k) out[size_t(k)] = distance[size_t(k)].ptr<float>(y - 1);
+        int x = 0;
+        for (; x + 8 <= W; x += 8) storeEightPixels(row + 1 + x, classes, inv_s, truncation, out.data(), x);
+        for (; x < W; ++x)
+            for (int k = 0; k < classes; ++k)
+            {
+                const float f = float(row[1 + x][k]) * inv_s;
+                out[size_t(k)][x] = f < truncation ? f : truncation;
+            }
     }
 }
 
