@@ -5,6 +5,7 @@
 #include <quasiloc/estimation/pose_parametrization.h>
 
 #include "direct_alignment_detail.h"
+#include "parallel_points.h"
 
 namespace quasiloc::estimation
 {
@@ -44,7 +45,16 @@ bool DirectEdgeCostFunction::Evaluate(double const* const* parameters, double* r
     const Eigen::Isometry3d T_cam_map = T_cam_body_ * T_map_body.inverse();
     const Eigen::Matrix3d R_body_cam = T_cam_body_.linear().transpose();
     double* J = jacobians ? jacobians[0] : nullptr;
-    for (size_t i = 0; i < model_.edge_points_world.size(); ++i)
+    detail::forPointStripes(model_.edge_points_world.size(), [&](size_t begin, size_t end) {
+        evaluatePoints(begin, end, T_cam_map, R_body_cam, residuals, J);
+    });
+    return true;
+}
+
+void DirectEdgeCostFunction::evaluatePoints(size_t begin, size_t end, const Eigen::Isometry3d& T_cam_map,
+                                            const Eigen::Matrix3d& R_body_cam, double* residuals, double* J) const
+{
+    for (size_t i = begin; i < end; ++i)
     {
         double* Ji = J ? J + i * kPoseSize : nullptr;
         if (Ji) std::fill(Ji, Ji + kPoseSize, 0.0);
@@ -71,7 +81,6 @@ bool DirectEdgeCostFunction::Evaluate(double const* const* parameters, double* r
             slope * inv_sigma_ * g * J_u_p * T_cam_body_.linear() * pointInBodyJacobian(p_body);
         for (int k = 0; k < 6; ++k) Ji[k] = J6[k];
     }
-    return true;
 }
 
 double DirectEdgeCostFunction::robust(double r, double* slope) const

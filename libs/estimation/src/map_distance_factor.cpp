@@ -3,6 +3,8 @@
 #include <quasiloc/estimation/map_distance_factor.h>
 #include <quasiloc/estimation/pose_parametrization.h>
 
+#include "parallel_points.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -30,9 +32,18 @@ MapDistanceCostFunction::MapDistanceCostFunction(const map::DistanceField& field
 bool MapDistanceCostFunction::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const
 {
     const Eigen::Isometry3d T_map_body = paramsToPose(parameters[0]);
-    const Eigen::Matrix3d& R = T_map_body.linear();
     double* J = jacobians ? jacobians[0] : nullptr;
-    for (size_t i = 0; i < p_body_.size(); ++i)
+    detail::forPointStripes(p_body_.size(), [&](size_t begin, size_t end) {
+        evaluatePoints(begin, end, T_map_body, residuals, J);
+    });
+    return true;
+}
+
+void MapDistanceCostFunction::evaluatePoints(size_t begin, size_t end, const Eigen::Isometry3d& T_map_body,
+                                             double* residuals, double* J) const
+{
+    const Eigen::Matrix3d& R = T_map_body.linear();
+    for (size_t i = begin; i < end; ++i)
     {
         double* Ji = J ? J + i * kPoseSize : nullptr;
         if (Ji) std::fill(Ji, Ji + kPoseSize, 0.0);
@@ -56,7 +67,6 @@ bool MapDistanceCostFunction::Evaluate(double const* const* parameters, double* 
         const double s = slope * inv_sigma_[i];
         for (int k = 0; k < 3; ++k) Ji[k] = s * J_theta[k], Ji[3 + k] = s * gr[k];
     }
-    return true;
 }
 
 }  // namespace quasiloc::estimation

@@ -38,6 +38,9 @@ class DirectEdgeCostFunction final : public ceres::CostFunction
     const DirectAlignmentModel& model_;
     /** sqrt(2 huber(d)) and its derivative w.r.t. d. */
     double robust(double d, double* slope) const;
+    /** Residuals (and Jacobian rows when J is set) of edge points [begin, end). */
+    void evaluatePoints(size_t begin, size_t end, const Eigen::Isometry3d& T_cam_map, const Eigen::Matrix3d& R_body_cam,
+                        double* residuals, double* J) const;
 
     Eigen::Isometry3d T_cam_body_;
     double inv_sigma_, truncation_px_, flat_px_, huber_;

@@ -34,6 +34,9 @@ class MapDistanceCostFunction final : public ceres::CostFunction
     bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
    private:
+    /** Residuals (and Jacobian rows when J is set) of points [begin, end). */
+    void evaluatePoints(size_t begin, size_t end, const Eigen::Isometry3d& T_map_body, double* residuals,
+                        double* J) const;
     const map::DistanceField& field_;
     std::vector<Eigen::Vector3d> p_body_;
     std::vector<double> inv_sigma_;
