@@ -75,15 +75,18 @@ DistanceField DistanceField::buildDense(const LidarMap& map, DistanceField f, co
     return f;
 }
 
-float DistanceField::distance(const Eigen::Vector3f& p_world) const
-{
-    Eigen::Vector3f unused;
-    return distance(p_world, unused);
-}
+float DistanceField::distance(const Eigen::Vector3f& p_world) const { return sample(p_world, nullptr); }
 
 float DistanceField::distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& gradient) const
 {
-    gradient.setZero();
+    return sample(p_world, &gradient);
+}
+
+float DistanceField::sample(const Eigen::Vector3f& p_world, Eigen::Vector3f* gradient) const
+{
+    // The value alone (the global start's scoring: most of its lookups) skips the gradient's arithmetic; the value
+    // is the same expression either way.
+    if (gradient) gradient->setZero();
     const Eigen::Vector3f g = (p_world - origin_) / voxel_;
     if (!(g.x() >= 0 && g.y() >= 0 && g.z() >= 0 && g.x() < float(nx_ - 1) && g.y() < float(ny_ - 1) &&
           g.z() < float(nz_ - 1)))
@@ -107,9 +110,12 @@ float DistanceField::distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& g
     // Bilinear in (x, y) on the two z layers, then linear in z.
     const float l0 = (1 - b) * ((1 - a) * d000 + a * d100) + b * ((1 - a) * d010 + a * d110);
     const float l1 = (1 - b) * ((1 - a) * d001 + a * d101) + b * ((1 - a) * d011 + a * d111);
-    const float dx0 = (1 - b) * (d100 - d000) + b * (d110 - d010), dx1 = (1 - b) * (d101 - d001) + b * (d111 - d011);
-    const float dy0 = (1 - a) * (d010 - d000) + a * (d110 - d100), dy1 = (1 - a) * (d011 - d001) + a * (d111 - d101);
-    gradient = Eigen::Vector3f((1 - c) * dx0 + c * dx1, (1 - c) * dy0 + c * dy1, l1 - l0) / voxel_;
+    if (gradient)
+    {
+        const float dx0 = (1 - b) * (d100 - d000) + b * (d110 - d010), dx1 = (1 - b) * (d101 - d001) + b * (d111 - d011);
+        const float dy0 = (1 - a) * (d010 - d000) + a * (d110 - d100), dy1 = (1 - a) * (d011 - d001) + a * (d111 - d101);
+        *gradient = Eigen::Vector3f((1 - c) * dx0 + c * dx1, (1 - c) * dy0 + c * dy1, l1 - l0) / voxel_;
+    }
     return (1 - c) * l0 + c * l1;
 }
 

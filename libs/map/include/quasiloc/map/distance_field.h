@@ -87,6 +87,8 @@ class DistanceField
         return value(bricks_[size_t(b)][size_t(((k % kBrick) * kBrick + j % kBrick) * kBrick + i % kBrick)]);
     }
     /** Fixed point: a stored step is max_distance / 65535; the top value is the truncation itself. */
+    /** Trilinear distance at p_world; the gradient too when `gradient` is set. */
+    float sample(const Eigen::Vector3f& p_world, Eigen::Vector3f* gradient) const;
     float value(uint16_t q) const { return q == 65535 ? max_distance_ : float(q) * step_; }
     uint16_t quantize(float d) const { return uint16_t(std::lround(std::min(d, max_distance_) / step_)); }
 
