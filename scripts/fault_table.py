@@ -5,6 +5,7 @@ unverified, the largest error of a frame not flagged unverified, and the time to
 fault ends.
 
     /usr/bin/python3 scripts/fault_table.py [--sim-root out/seq30] [--out out/faults] [--seqs A B] [--faults x y]
+                                            [--set Section.key=value]...
 
 --sim-root holds <SEQ>/sim as scripts/track_sequences.sh makes them (30 s, the EuRoC ground-truth IMU biases). Each
 run takes the build lock (/tmp/quasiloc-build.lock) on its own, so other work interleaves. Runs whose summary.json
@@ -49,7 +50,7 @@ def run_track(args, seq, fault, out_dir):
            "--set", "Tracking.input_rawlog=" + rawlog, "--set", "Tracking.calibration_ini=" + sim + "/calib.ini",
            "--set", "Tracking.map_file=" + sim + "/lidar_map.map", "--set", "Tracking.groundtruth=" + sim + "/gt.tum",
            "--set", "Tracking.output_dir=" + out_dir, "--set", "Tracking.write_scene=false"]
-    for s in FAULTS[fault][0]:
+    for s in FAULTS[fault][0] + args.set:
         cmd += ["--set", s]
     os.makedirs(os.path.dirname(out_dir), exist_ok=True)
     with open(out_dir + ".log", "w") as log:
@@ -84,6 +85,8 @@ def main():
     p.add_argument("--build-dir", default=os.environ.get("QUASILOC_BUILD_DIR", os.path.join(ROOT, "build")))
     p.add_argument("--seqs", nargs="*", default=SEQS)
     p.add_argument("--faults", nargs="*", default=list(FAULTS))
+    p.add_argument("--set", action="append", default=[], metavar="Section.key=value",
+                   help="an option for every run (a variant of the configuration)")
     args = p.parse_args()
     os.makedirs(args.out, exist_ok=True)
     header = ("| sequence | fault | frames | ATE RMSE cm | ATE max cm | losses (restarts) | longest wait s "

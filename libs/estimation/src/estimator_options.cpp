@@ -24,6 +24,12 @@ void EstimatorOptions::declare(core::OptionTable& t)
           "map matches closer than this (camera z) do not count for L");
     t.add("marginal_damping", marginal_damping, "", Range::atLeast(0),
           "added to the diagonal of the marginalised block (gauge, unseen landmarks)");
+    t.add("imu_gap_s", imu_gap_s, "s", Range::above(0),
+          "a step between two IMU samples longer than this is a gap (dropped samples): its motion was not measured");
+    t.add("imu_gap_acc_sigma", imu_gap_acc_sigma, "m/s^2", Range::atLeast(0),
+          "unmeasured acceleration in a gap: added to the step's variance (0: the held sample is trusted)");
+    t.add("imu_gap_gyro_sigma", imu_gap_gyro_sigma, "rad/s", Range::atLeast(0),
+          "unmeasured angular rate in a gap: added to the step's variance");
 }
 
 void EstimatorOptions::check(const std::string& input) const { checkRanges(input, "Estimator"); }

@@ -95,6 +95,31 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo)
         EXPECT_NEAR(cov(i, i) / nominal.covariance()(i, i), 1.0, 0.15) << "component " << i;
 }
 
+TEST(ImuPreintegration, GapStepCarriesTheUnmeasuredMotionsVariance)
+{
+    // Dropped samples: the held sample covers 0.1 s. Its step adds (sigma * dt)^2 per axis to the velocity's and
+    // the rotation's variance beyond the sensor noise's; steps no longer than gap_s are untouched.
+    const Eigen::Vector3d w(0.3, -0.5, 0.8), f(0.5, 0.2, 9.7);
+    ImuNoise with_gap, without_gap;
+    without_gap.gap_acc_sigma = without_gap.gap_gyro_sigma = 0;
+    ImuPreintegration a(with_gap, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    ImuPreintegration b(without_gap, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    for (int k = 0; k < 20; ++k) a.integrate(f, w, kDt), b.integrate(f, w, kDt);
+    EXPECT_EQ(a.covariance(), b.covariance()) << "a 5 ms step is not a gap";
+    const double gap = 0.1;
+    ASSERT_GT(gap, with_gap.gap_s);
+    a.integrate(f, w, gap);
+    b.integrate(f, w, gap);
+    const Matrix9d extra = a.covariance() - b.covariance();
+    const double acc_var = std::pow(with_gap.gap_acc_sigma * gap, 2), gyro_var = std::pow(with_gap.gap_gyro_sigma * gap, 2);
+    EXPECT_NEAR((extra.block<3, 3>(3, 3).trace()), 3 * acc_var, 1e-9) << "velocity";
+    EXPECT_NEAR((extra.block<3, 3>(0, 0).trace()), 3 * gyro_var, 0.02 * 3 * gyro_var) << "rotation (J_r of 0.1 s)";
+    EXPECT_NEAR((extra.block<3, 3>(6, 6).trace()), 3 * std::pow(0.5 * with_gap.gap_acc_sigma * gap * gap, 2), 1e-9)
+        << "position";
+    // The deltas themselves do not change: the gap widens the uncertainty only.
+    EXPECT_EQ(a.deltaV(), b.deltaV());
+}
+
 TEST(ImuFactor, JacobiansMatchNumeric)
 {
     const ImuPreintegration pre = constantMotion(Eigen::Vector3d(0.3, -0.5, 0.8), Eigen::Vector3d(0.5, 0.2, 9.7), 40,

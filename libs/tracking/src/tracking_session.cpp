@@ -110,7 +110,10 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
       frontend_(std::make_unique<frontend::Frontend>(options.frontend))
 {
     const TrackerOptions& o = options_.tracker;
-    const estimation::ImuNoise noise = imuNoise(imu_);
+    estimation::ImuNoise noise = imuNoise(imu_);
+    noise.gap_s = options_.estimator.imu_gap_s;
+    noise.gap_acc_sigma = options_.estimator.imu_gap_acc_sigma;
+    noise.gap_gyro_sigma = options_.estimator.imu_gap_gyro_sigma;
     tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting,
                                          source.rig(), noise, context.renderer(), *frontend_);
     // auto resolves to factor when the map's reflectivity varies (Tracker's constructor), else to none.

@@ -30,6 +30,12 @@ struct ImuNoise
     double gyro_random_walk = 1.9393e-5;    ///< rad/s^2/sqrt(Hz)
     double acc_random_walk = 3.0e-3;        ///< m/s^3/sqrt(Hz)
     double gravity_m_s2 = 9.81;
+    /** A step longer than this between two IMU samples is a gap (dropped samples): the motion in it was not
+     *  measured, so the step also carries the variance of an unmeasured acceleration and angular rate of the
+     *  sigmas below (the sensor noise alone would claim the held sample is exact over the whole gap). */
+    double gap_s = 0.025;
+    double gap_acc_sigma = 1.0;   ///< m/s^2
+    double gap_gyro_sigma = 0.25; ///< rad/s
     Eigen::Vector3d gravity() const { return Eigen::Vector3d(0, 0, -gravity_m_s2); }
 };
 
