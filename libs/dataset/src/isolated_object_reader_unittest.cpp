@@ -284,3 +284,69 @@ TEST(IsolatedObjectReader, LeavesNoChildBehind)
     }
     EXPECT_TRUE(noChildLeft()) << "the reader reaps its child";
 }
+
+namespace
+{
+mrpt::obs::CObservationStereoImages::Ptr smallStereo()
+{
+    auto stereo = mrpt::obs::CObservationStereoImages::Create();
+    stereo->timestamp = mrptTimeFromNs(1'000'000'000);
+    stereo->leftCamera = stereo->rightCamera = core::CameraModel::pinhole(16, 12, 10, 10, 8, 6).toTCamera();
+    stereo->rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0));
+    stereo->hasImageRight = true;
+    const cv::Mat img(12, 16, CV_8UC1, cv::Scalar(50));
+    stereo->imageLeft = stereo->imageRight = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+    return stereo;
+}
+
+/** Reads every frame of `path`; the InputError's message, or "" when there is none. */
+std::string rawlogError(const std::string& path, const FrameSourceOptions& options = {})
+{
+    try
+    {
+        auto source = openRawlog(path, options);
+        StereoFrame f;
+        while (source->next(f))
+        {
+        }
+        return "";
+    }
+    catch (const core::InputError& e)
+    {
+        std::cout << "  expected InputError: " << e.what() << std::endl;
+        return e.what();
+    }
+}
+}  // namespace
+
+// Through openRawlog: the error names the file, the entry, where the object starts and its class.
+TEST(IsolatedObjectReader, CrashInsideASensoryFrameIsAnInputErrorNamingFileEntryAndClass)
+{
+    TempDir dir;
+    const std::string path = dir / "crash.rawlog";
+    mrpt::obs::CSensoryFrame frame;
+    auto odometry = mrpt::obs::CObservationOdometry::Create();
+    odometry->timestamp = mrptTimeFromNs(2'000'000'000);
+    frame.insert(odometry);
+    frame.insert(std::make_shared<CObservationMisbehaving>(misbehaving(CObservationMisbehaving::Segv)));
+    writeObjects(path, *smallStereo(), mrpt::obs::CActionCollection(), frame);
+    const std::string what = rawlogError(path);
+    for (const char* needle :
+         {"crash.rawlog: entry 2 (at byte", "mrpt::obs::CSensoryFrame > observation 1",
+          "MRPT could not read the object of class quasiloc_test::CObservationMisbehaving (at byte",
+          "the reading process ended with signal 11 (SIGSEGV)"})
+        EXPECT_NE(what.find(needle), std::string::npos) << "'" << needle << "' not in: " << what;
+}
+
+// openRawlog passes FrameSourceOptions::mrpt_object_timeout_s to the child's reader.
+TEST(IsolatedObjectReader, ObjectThatHangsIsAnInputErrorAfterTheTimeoutOfTheOptions)
+{
+    TempDir dir;
+    const std::string path = dir / "hang.rawlog";
+    writeObjects(path, *smallStereo(), misbehaving(CObservationMisbehaving::Hang));
+    FrameSourceOptions options;
+    options.mrpt_object_timeout_s = 0.2;
+    const std::string what = rawlogError(path, options);
+    EXPECT_NE(what.find("entry 1 (at byte"), std::string::npos) << what;
+    EXPECT_NE(what.find("the reading process did not answer within 200 ms (killed)"), std::string::npos) << what;
+}
