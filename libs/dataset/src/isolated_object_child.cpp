@@ -191,8 +191,19 @@ void limitAddressSpace(std::uint64_t budget_bytes)
 }
 
 #ifdef QUASILOC_SANITIZED
-/** A sanitizer report inside MRPT: end the child (libFuzzer's death callback would save the input as a finding). */
-void sanitizerDied() { _exit(99); }
+/** A sanitizer report inside MRPT (an allocation over ASan's max_allocation_size_mb, a memory error that its
+ *  interceptors caught) ends the child with a reason for the parent; libFuzzer's death callback, inherited, would
+ *  have saved the input as a finding of the parent's. */
+void sanitizerDied()
+{
+    static const char kReason[] = "AddressSanitizer stopped it (an allocation over its limit, or a memory error)";
+    char message[1 + 4 + kFailedPrefix + sizeof kReason - 1] = {kFailed};
+    const std::uint32_t length = kFailedPrefix + sizeof kReason - 1;
+    std::memcpy(message + 1, &length, sizeof length);
+    std::memcpy(message + 1 + 4 + kFailedPrefix, kReason, sizeof kReason - 1);
+    (void)::send(kSocket, message, sizeof message, MSG_NOSIGNAL);
+    _exit(99);
+}
 #endif
 
 void prepareChild(int socket_fd, std::uint64_t memory_budget_bytes)
