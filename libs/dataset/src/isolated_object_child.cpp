@@ -85,6 +85,8 @@ void appendPod(std::string& out, const T& value)
 class ParentStream : public mrpt::io::CStream
 {
    public:
+    ParentStream() { receiveChunk(); }  // the first bytes come with the command
+
     size_t Read(void* buffer, size_t count) override
     {
         auto* out = static_cast<std::uint8_t*>(buffer);
@@ -119,6 +121,12 @@ class ParentStream : public mrpt::io::CStream
         std::string want;
         appendPod(want, kMaxChunk);
         sendMessage(kRequest, want);
+        receiveChunk();
+        return !chunk_.empty();
+    }
+
+    void receiveChunk()
+    {
         std::uint32_t n = 0;
         recvAll(&n, sizeof n);
         if (n > kMaxChunk) parentGone();
@@ -126,7 +134,6 @@ class ParentStream : public mrpt::io::CStream
         recvAll(chunk_.data(), n);
         at_ = 0;
         ended_ = n < kMaxChunk;  // a short answer: the parent's stream has ended
-        return n > 0;
     }
 
     std::vector<std::uint8_t> chunk_;

@@ -1,7 +1,8 @@
 #pragma once
 // The messages between IsolatedObjectReader (isolated_object_reader.h) and its child, over a Unix socket pair.
 //
-//   parent -> child: kReadObject (1 byte): read one object.
+//   parent -> child: kReadObject (1 byte): read one object; the first bytes follow at once, as a reply to a
+//                    kRequest of kMaxChunk (most objects then need one round trip).
 //                    a reply to kRequest: uint32 n, then n bytes (fewer than asked: the stream has ended).
 //   child -> parent: a type byte, uint32 payload length, the payload:
 //                    kRequest  uint32 how many bytes (1 to kMaxChunk);

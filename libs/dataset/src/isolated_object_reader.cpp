@@ -192,6 +192,7 @@ IsolatedObject IsolatedObjectReader::serve(RawlogStream& in)
     last_chunk_.clear();
     const char command = kReadObject;
     sendAll(fd_, &command, 1, options_.timeout_ms);
+    answerRequest(in, kMaxChunk);  // the first bytes with the command
     for (;;)
     {
         char type = 0;
