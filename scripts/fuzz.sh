@@ -53,13 +53,13 @@ mkdir -p "$LOGS"
 
 # Whose code a finding is in, from the chunk's log (a chunk stops at its first finding, so its log holds one
 # report): "mrpt" when the first frame of the report outside the allocator, the sanitizers, libFuzzer and the system
-# libraries (libc, libstdc++, OpenCV, libjpeg, ...) is in MRPT (libmrpt-*.so: its deserialization of rawlogs trusts
-# length fields and decodes embedded JPEGs with libjpeg's exit-on-error handler; docs/fuzzing.md), else "ours".
+# libraries (libc, libstdc++, the unwinder and ld.so, whose frames a timeout's stack starts with, OpenCV, libjpeg, ...)
+# is in MRPT (libmrpt-*.so: its deserialization trusts length fields; docs/fuzzing.md), else "ours".
 classify() {
   awk '
     /ERROR: (AddressSanitizer|libFuzzer|LeakSanitizer)|runtime error:/ { in_report = 1 }
     in_report && /^ *#[0-9]+ 0x/ {
-      if ($0 ~ /__sanitizer|fuzzer::|__asan|asan_|libclang_rt|in (malloc|calloc|realloc|free|aligned_alloc|operator new|operator delete|__GI_|__run_exit_handlers|raise|abort|exit|_exit)[ (]|\.\/(stdlib|nptl|signal|csu)\/|libc\.so|libstdc\+\+|in std::|__gnu_cxx|libopencv|libjpeg|libpng|libz\.so|unknown module/) next
+      if ($0 ~ /__sanitizer|fuzzer::|__asan|asan_|libclang_rt|in (malloc|calloc|realloc|free|aligned_alloc|operator new|operator delete|__GI_|__run_exit_handlers|raise|abort|exit|_exit)[ (]|\.\/(stdlib|nptl|signal|csu)\/|libc\.so|libstdc\+\+|in std::|__gnu_cxx|libopencv|libjpeg|libpng|libz\.so|libgcc_s|in _dl_|[ (]elf\/|unknown module/) next
       print ($0 ~ /libmrpt-/ ? "mrpt" : "ours"); found = 1; exit
     }
     END { if (!found) print "ours" }

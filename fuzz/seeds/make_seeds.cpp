@@ -4,8 +4,14 @@
 // mutations reach the archive rather than the deflate stream. Each seed is a few KB at most.
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
 #include <cstring>
@@ -251,32 +257,65 @@ void programIni()
     writeBytes("fuzz_program_ini", "Eval.ini", text);
 }
 
+mrpt::obs::CObservationStereoImages::Ptr stereoSeed(const core::StereoRig& r, int k)
+{
+    auto s = mrpt::obs::CObservationStereoImages::Create();
+    s->timestamp = dataset::mrptTimeFromNs(1'000'000'000LL + k * 50'000'000LL);
+    s->leftCamera = r.left.toTCamera();
+    s->rightCamera = r.right.toTCamera();
+    s->rightCameraPose = mrpt::poses::CPose3DQuat(r.T_left_right);
+    s->cameraPose = mrpt::poses::CPose3DQuat(r.T_body_left);
+    cv::Mat img(12, 16, CV_8UC1, cv::Scalar(40 + 20 * k));
+    s->imageLeft = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+    s->imageRight = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+    s->hasImageRight = true;
+    return s;
+}
+
+mrpt::obs::CObservationIMU::Ptr imuSeed(int k)
+{
+    auto imu = mrpt::obs::CObservationIMU::Create();
+    imu->timestamp = dataset::mrptTimeFromNs(1'000'000'000LL + k * 50'000'000LL - 1'000'000LL);
+    for (auto i : {mrpt::obs::IMU_X_ACC, mrpt::obs::IMU_Y_ACC, mrpt::obs::IMU_Z_ACC, mrpt::obs::IMU_WX,
+                   mrpt::obs::IMU_WY, mrpt::obs::IMU_WZ})
+        imu->set(i, i == mrpt::obs::IMU_Z_ACC ? 9.81 : 0.0);
+    return imu;
+}
+
 void rawlog()
 {
     const core::StereoRig r = rig();
     fs::create_directories(root / "fuzz_rawlog");
-    mrpt::io::CFileOutputStream out((root / "fuzz_rawlog" / "two_frames.rawlog").string());
-    auto arch = mrpt::serialization::archiveFrom(out);
-    for (int k = 0; k < 2; ++k)
     {
-        auto imu = mrpt::obs::CObservationIMU::Create();
-        imu->timestamp = dataset::mrptTimeFromNs(1'000'000'000LL + k * 50'000'000LL - 1'000'000LL);
-        for (auto i : {mrpt::obs::IMU_X_ACC, mrpt::obs::IMU_Y_ACC, mrpt::obs::IMU_Z_ACC, mrpt::obs::IMU_WX,
-                       mrpt::obs::IMU_WY, mrpt::obs::IMU_WZ})
-            imu->set(i, i == mrpt::obs::IMU_Z_ACC ? 9.81 : 0.0);
-        arch << *imu;
-        auto s = mrpt::obs::CObservationStereoImages::Create();
-        s->timestamp = dataset::mrptTimeFromNs(1'000'000'000LL + k * 50'000'000LL);
-        s->leftCamera = r.left.toTCamera();
-        s->rightCamera = r.right.toTCamera();
-        s->rightCameraPose = mrpt::poses::CPose3DQuat(r.T_left_right);
-        s->cameraPose = mrpt::poses::CPose3DQuat(r.T_body_left);
-        cv::Mat img(12, 16, CV_8UC1, cv::Scalar(40 + 20 * k));
-        s->imageLeft = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
-        s->imageRight = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
-        s->hasImageRight = true;
-        arch << *s;
+        mrpt::io::CFileOutputStream out((root / "fuzz_rawlog" / "two_frames.rawlog").string());
+        auto arch = mrpt::serialization::archiveFrom(out);
+        for (int k = 0; k < 2; ++k) arch << *imuSeed(k) << *stereoSeed(r, k);
     }
+    // Classes the reader does not parse, which MRPT reads in a child process (isolated_object_reader.h): an action
+    // collection with an action and a sensory frame with an odometry observation, a 2D scan and a GPS observation
+    // at the top level.
+    mrpt::io::CFileOutputStream out((root / "fuzz_rawlog" / "other_classes.rawlog").string());
+    auto arch = mrpt::serialization::archiveFrom(out);
+    mrpt::obs::CActionCollection actions;
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+    actions.insert(move);
+    mrpt::obs::CSensoryFrame frame;
+    auto odometry = mrpt::obs::CObservationOdometry::Create();
+    odometry->timestamp = dataset::mrptTimeFromNs(990'000'000);
+    frame.insert(odometry);
+    frame.insert(imuSeed(0));
+    frame.insert(stereoSeed(r, 0));
+    mrpt::obs::CObservation2DRangeScan scan;
+    scan.timestamp = dataset::mrptTimeFromNs(1'010'000'000);
+    scan.resizeScan(8);
+    for (size_t i = 0; i < 8; ++i) scan.setScanRange(i, 1.0f + 0.5f * float(i));
+    mrpt::obs::CObservationGPS gps;
+    gps.timestamp = dataset::mrptTimeFromNs(1'020'000'000);
+    mrpt::obs::gnss::Message_NMEA_GGA gga;
+    gga.fields.latitude_degrees = 36.8;
+    gps.setMsg(gga);
+    arch << actions << frame << scan << gps << *imuSeed(1) << *stereoSeed(r, 1);
 }
 }  // namespace
 

@@ -2,9 +2,19 @@
 #include <gtest/gtest.h>
 #include <mrpt/img/CImage.h>
 #include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservation3DScene.h>
 #include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationImage.h>
+#include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CSetOfObjects.h>
 #include <mrpt/serialization/CArchive.h>
+#include <sys/resource.h>
 
 #include <cstdint>
 #include <fstream>
@@ -389,4 +399,196 @@ TEST(FuzzFindings, RawlogTruncatedAnywhereIsAnInputErrorOrACleanEnd)
     }
     EXPECT_EQ(clean_ends, 2u);
     EXPECT_EQ(errors, bytes.size() - 2);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Objects of the classes the reader does not parse, which MRPT still reads (docs/fuzzing.md, finding 11): MRPT read
+// them in this process, so a corrupt one allocated what a length field said, ended the process with exit(1) or
+// crashed it. They are read in a child process now (isolated_object_reader.h); each case is an InputError naming the
+// file, the entry, the object's byte offset and its class.
+namespace
+{
+mrpt::obs::CObservationStereoImages::Ptr smallStereo(std::int64_t t_ns)
+{
+    auto stereo = mrpt::obs::CObservationStereoImages::Create();
+    stereo->timestamp = mrptTimeFromNs(t_ns);
+    stereo->leftCamera = stereo->rightCamera = core::CameraModel::pinhole(16, 12, 10, 10, 8, 6).toTCamera();
+    stereo->rightCameraPose = mrpt::poses::CPose3DQuat(mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0));
+    const cv::Mat img(12, 16, CV_8UC1, cv::Scalar(50));
+    stereo->imageLeft = stereo->imageRight = mrpt::img::CImage(img, mrpt::img::DEEP_COPY);
+    stereo->hasImageRight = true;
+    return stereo;
+}
+
+/** Entry 0: a stereo observation; entry 1: `object`. Returns the file's bytes. */
+std::string writeStereoThen(const std::string& path, const mrpt::serialization::CSerializable& object)
+{
+    {
+        mrpt::io::CFileOutputStream out(path);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        arch << *smallStereo(1'000'000'000) << object;
+    }
+    return fileBytes(path);
+}
+}  // namespace
+
+// A 2D scan whose beam count says 2^31: MRPT's CObservation2DRangeScan::serializeFrom resizes its arrays to it
+// (18 GB, zeroed). In the child the allocation fails at its 4 GiB budget; MRPT's aligned allocator then returns a
+// null pointer (mrpt::aligned_malloc does not throw), which the vector writes through: SIGSEGV. In this process it
+// was 18 GB of memory touched, or the same crash under a memory limit.
+TEST(FuzzFindings, RawlogUnparsedObservationWithAHugeLengthIsAnInputError)
+{
+    TempDir dir;
+    const std::string path = dir / "scan.rawlog";
+    mrpt::obs::CObservation2DRangeScan scan;
+    scan.resizeScan(3);
+    for (size_t i = 0; i < 3; ++i) scan.setScanRange(i, 1.25f * float(i + 1));
+    std::string bytes = writeStereoThen(path, scan);
+    const float first = 1.25f;
+    const size_t at = bytes.find(std::string(reinterpret_cast<const char*>(&first), 4));
+    ASSERT_NE(at, std::string::npos);
+    ASSERT_EQ(bytes[at - 4], 3) << "MRPT's CObservation2DRangeScan layout changed";
+    putU32(bytes, at - 4, 0x80000000u);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path,
+                           {"entry 1", "MRPT could not read the object of class mrpt::obs::CObservation2DRangeScan",
+                            "the reading process ended with signal 11 (SIGSEGV)"});
+}
+
+// Found by fuzz_rawlog (24 times in the 300 s run before this change; ASan: SEGV inside libmrpt-obs): an action whose
+// estimation method is not odometry, so that MRPT reads its pose PDF as an object, followed by an object that is no
+// CPosePDF (here the CPose2D of the odometry): ReadObject<CPosePDF> gives a null pointer, which
+// CActionRobotMovement2D::serializeFrom clones through (its deepcopy_poly_ptr).
+TEST(FuzzFindings, RawlogActionWhoseMrptReaderCrashesIsAnInputError)
+{
+    TempDir dir;
+    const std::string path = dir / "action.rawlog";
+    {
+        mrpt::io::CFileOutputStream out(path);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        mrpt::obs::CActionCollection actions;
+        mrpt::obs::CActionRobotMovement2D move;
+        move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+        actions.insert(move);
+        mrpt::obs::CSensoryFrame frame;
+        frame.insert(smallStereo(1'000'000'000));
+        arch << actions << frame;
+    }
+    std::string bytes = fileBytes(path);
+    const std::string name = "mrpt::obs::CActionRobotMovement2D";
+    const size_t at = bytes.find(name) + name.size();  // version, then the estimation method (int32)
+    ASSERT_EQ(bytes[at], 7) << "MRPT's CActionRobotMovement2D version changed";
+    ASSERT_EQ(bytes.substr(at + 1, 4), std::string(4, '\0')) << "not emOdometry";
+    bytes[at + 1] = 1;  // emScan2DMatching: the PDF is read as an object
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 0", "mrpt::obs::CActionCollection > action 0",
+                                  "MRPT could not read the object of class mrpt::obs::CActionRobotMovement2D",
+                                  "the reading process ended with signal 11 (SIGSEGV)"});
+}
+
+// A corrupt JPEG inside an observation class we do not parse (CObservationImage): MRPT's CImage decodes it with
+// libjpeg's default error handler, which calls exit(1).
+TEST(FuzzFindings, RawlogUnparsedObjectWhoseReaderCallsExitIsAnInputError)
+{
+    TempDir dir;
+    const std::string path = dir / "image.rawlog";
+    mrpt::obs::CObservationImage image;
+    image.image = mrpt::img::CImage(cv::Mat(12, 16, CV_8UC3, cv::Scalar(50, 90, 130)), mrpt::img::DEEP_COPY);
+    const bool raw_colour = mrpt::img::CImage::DISABLE_JPEG_COMPRESSION();
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(false);  // colour stored as JPEG
+    std::string bytes = writeStereoThen(path, image);
+    mrpt::img::CImage::DISABLE_JPEG_COMPRESSION(raw_colour);
+    const size_t sof = bytes.find("\xFF\xC0", bytes.find("CObservationImage"));
+    ASSERT_NE(sof, std::string::npos) << "no baseline JPEG frame header: MRPT's JPEG storage changed";
+    ASSERT_EQ(bytes[sof + 4], 8);  // sample precision
+    bytes[sof + 4] = 13;
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "MRPT could not read the object of class mrpt::obs::CObservationImage",
+                                  "the reading process ended with exit status 1"});
+}
+
+// A 3D scene whose objects nest 100,000 deep (a CSetOfObjects in a CSetOfObjects ...; a well-formed object): MRPT's
+// recursive reader overflows the stack (SIGSEGV).
+TEST(FuzzFindings, RawlogDeeplyNestedUnparsedObjectIsAnInputErrorNotAStackOverflow)
+{
+    rlimit stack{};
+    ASSERT_EQ(::getrlimit(RLIMIT_STACK, &stack), 0);
+    if (stack.rlim_cur == RLIM_INFINITY || stack.rlim_cur > (64u << 20))
+        GTEST_SKIP() << "the stack may grow beyond 64 MiB here: 100,000 levels may not overflow it";
+    // Three levels written by MRPT; the middle one (header, CRenderizable fields, a count of 1) repeats.
+    auto inner = mrpt::opengl::CSetOfObjects::Create(), middle = mrpt::opengl::CSetOfObjects::Create();
+    auto outer = mrpt::opengl::CSetOfObjects::Create();
+    middle->insert(inner);
+    outer->insert(middle);
+    mrpt::obs::CObservation3DScene scene;
+    scene.scene = mrpt::opengl::COpenGLScene::Create();
+    scene.scene->insert(outer);
+    TempDir dir;
+    const std::string path = dir / "nested.rawlog";
+    const std::string bytes = writeStereoThen(path, scene);
+    const std::string name = "mrpt::opengl::CSetOfObjects";
+    const size_t p0 = bytes.find(name) - 1, p1 = bytes.find(name, p0 + 2) - 1, p2 = bytes.find(name, p1 + 2) - 1;
+    const std::string level = bytes.substr(p1, p2 - p1);
+    ASSERT_EQ(bytes.substr(p0, p1 - p0), level) << "MRPT's CSetOfObjects layout changed";
+    const size_t inner_end = p2 + level.size() + 1;  // the inner set: a count of 0, then its end flag
+    ASSERT_EQ(static_cast<unsigned char>(bytes[inner_end - 1]), 0x88);
+    std::string nested = bytes.substr(0, p2);
+    for (int i = 0; i < 100'000; ++i) nested += level;
+    nested += bytes.substr(p2, inner_end - p2) + std::string(100'000, '\x88') + bytes.substr(inner_end);
+    writeFileBytes(path, nested);
+    expectRawlogInputError(path, {"entry 1", "MRPT could not read the object of class mrpt::obs::CObservation3DScene",
+                                  "the reading process ended with signal 11 (SIGSEGV)"});
+}
+
+// A file cut anywhere, with objects MRPT reads (an action, observations in a sensory frame and at the top level): a
+// clean end between entries, otherwise "truncated" naming the entry, and inside an object MRPT reads, its class.
+TEST(FuzzFindings, RawlogTruncatedInsideAnUnparsedObjectIsAnInputError)
+{
+    TempDir dir;
+    const std::string path = dir / "cut.rawlog";
+    {
+        mrpt::io::CFileOutputStream out(path);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        mrpt::obs::CActionCollection actions;
+        mrpt::obs::CActionRobotMovement2D move;
+        move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+        actions.insert(move);
+        mrpt::obs::CSensoryFrame frame;
+        auto odometry = mrpt::obs::CObservationOdometry::Create();
+        odometry->timestamp = mrptTimeFromNs(900'000'000);
+        frame.insert(odometry);
+        frame.insert(smallStereo(1'000'000'000));
+        arch << actions << frame << *odometry;
+    }
+    const std::string bytes = fileBytes(path);
+    size_t clean_ends = 0, truncated = 0, inside_unparsed = 0;
+    for (size_t cut = 0; cut < bytes.size(); ++cut)
+    {
+        writeFileBytes(path, bytes.substr(0, cut));
+        try
+        {
+            auto source = openRawlog(path);
+            StereoFrame frame;
+            while (source->next(frame))
+            {
+            }
+            ++clean_ends;  // cut after the sensory frame, before the last odometry
+        }
+        catch (const core::InputError& e)
+        {
+            const std::string what = e.what();
+            if (what.find("holds no CObservationStereoImages") != std::string::npos)
+            {
+                ++clean_ends;  // cut at 0
+                continue;
+            }
+            ++truncated;
+            EXPECT_NE(what.find("truncated"), std::string::npos) << what;
+            if (what.find("the file ends inside the object of class mrpt::obs::C") != std::string::npos)
+                ++inside_unparsed;
+        }
+    }
+    EXPECT_EQ(clean_ends, 2u);
+    EXPECT_EQ(truncated, bytes.size() - 2);
+    EXPECT_GT(inside_unparsed, 100u) << "the action and the odometry observations are read by MRPT";
 }

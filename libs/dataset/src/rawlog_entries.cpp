@@ -4,9 +4,9 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/serialization/CArchive.h>
 
-#include <new>
+#include <algorithm>
+#include <cmath>
 #include <quasiloc/core/error.h>
 
 namespace quasiloc::dataset::detail
@@ -20,9 +20,17 @@ std::string compactMessage(const std::string& what)
     for (char c : what.substr(0, 400)) s += (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
     return s;
 }
+
+IsolatedObjectReader::Options isolatedOptions(double timeout_s)
+{
+    IsolatedObjectReader::Options o;
+    o.timeout_ms = int(std::clamp(std::isnan(timeout_s) ? 10.0 : timeout_s, 0.001, 3600.0) * 1000);
+    return o;
+}
 }  // namespace
 
-RawlogEntries::RawlogEntries(const std::string& path) : path_(path), stream_(file_), reader_(stream_, path)
+RawlogEntries::RawlogEntries(const std::string& path, double mrpt_object_timeout_s)
+    : path_(path), stream_(file_), reader_(stream_, path), isolated_(isolatedOptions(mrpt_object_timeout_s))
 {
     core::require(file_.open(path), path, "cannot open rawlog");
 }
@@ -72,12 +80,12 @@ RawlogEntries::Kind RawlogEntries::readTopLevel(std::vector<RawlogObservation>& 
 
 bool RawlogEntries::readObject(const ObjectHeader& header, std::vector<RawlogObservation>& out)
 {
-    RawlogObservation o;
-    o.entry = reader_.entry();
     if (isParsedClass(header.id))
     {
         auto stored = parseKnownObject(reader_, header);
         if (!stored) return false;
+        RawlogObservation o;
+        o.entry = reader_.entry();
         o.class_name = header.id->className;
         o.timestamp = stored->timestamp;
         if (stored->stereo) o.stereo = std::make_shared<const StoredStereo>(std::move(*stored->stereo));
@@ -85,27 +93,27 @@ bool RawlogEntries::readObject(const ObjectHeader& header, std::vector<RawlogObs
         out.push_back(std::move(o));
         return true;
     }
-    // A class we do not parse: MRPT reads it (header included) from the same stream. Not validated.
+    return readUnparsedObject(header, out);
+}
+
+bool RawlogEntries::readUnparsedObject(const ObjectHeader& header, std::vector<RawlogObservation>& out)
+{
+    // MRPT reads it (header included) in a child process, where a corrupt object can allocate, crash or exit
+    // without harm to this one (isolated_object_reader.h).
+    const std::string object = "the object of class " + header.class_name + " (at byte " +
+                               std::to_string(stream_.getPosition() - header.raw.size()) + ")";
     stream_.pushBack(header.raw);
-    mrpt::serialization::CSerializable::Ptr obj;
-    try
-    {
-        auto arch = mrpt::serialization::archiveFrom(stream_);
-        obj = arch.ReadObject();
-    }
-    catch (const std::bad_alloc&)
-    {
-        throw;  // an allocation MRPT took from the file: left visible (the fuzzer counts it as MRPT's)
-    }
-    catch (const std::exception& e)
-    {
-        reader_.fail("MRPT cannot read this object of class " + header.class_name + ": " + compactMessage(e.what()));
-    }
-    if (!obj) reader_.fail("class " + header.class_name + " cannot be instantiated (abstract or not serializable)");
-    const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj);
-    if (!obs) return false;
-    o.class_name = obs->GetRuntimeClass()->className;
-    o.timestamp = obs->timestamp;
+    const IsolatedObject obj = isolated_.read(stream_);
+    if (obj.truncated && stream_.corrupt())
+        reader_.fail("the gz-compressed data is corrupt (zlib cannot decompress it) inside " + object);
+    if (obj.truncated)
+        reader_.fail("truncated: the file ends inside " + object + " (MRPT: " + compactMessage(obj.error) + ")");
+    if (!obj.error.empty()) reader_.fail("MRPT could not read " + object + ": " + compactMessage(obj.error));
+    if (!obj.is_observation) return false;
+    RawlogObservation o;
+    o.entry = reader_.entry();
+    o.class_name = obj.class_name;
+    o.timestamp = obj.timestamp;
     out.push_back(std::move(o));
     return true;
 }

@@ -11,15 +11,18 @@
 // the entry, the byte offset and the field.
 //
 // Classes we do not parse (other observations, which the reader counts and ignores, and the actions of an action
-// collection) are still read by MRPT, from the same stream: their bytes have no length prefix, so only their own
-// serializeFrom() knows where they end. Those objects are NOT validated; a corrupt one can still make MRPT
-// allocate what it says. Rawlogs of quasiloc (euroc2rawlog, bag2rawlog, sim-rawlog) hold only the parsed classes.
+// collection) are read by MRPT, because their bytes have no length prefix and only their own serializeFrom() knows
+// where they end. MRPT reads them in a child process (isolated_object_reader.h): whatever a corrupt object makes
+// MRPT do there (allocate what a length field says, crash, call exit()) ends the child, and this reader reports an
+// InputError naming the file, the entry, the object's byte offset and its class. Rawlogs of quasiloc
+// (euroc2rawlog, bag2rawlog, sim-rawlog) hold only the parsed classes and never start a child.
 #include <mrpt/io/CFileGZInputStream.h>
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "isolated_object_reader.h"
 #include "rawlog_bytes.h"
 #include "rawlog_objects.h"
 
@@ -38,8 +41,9 @@ struct RawlogObservation
 class RawlogEntries
 {
    public:
-    /** Opens the file (plain or gz); InputError naming it when it cannot. */
-    explicit RawlogEntries(const std::string& path);
+    /** Opens the file (plain or gz); InputError naming it when it cannot. `mrpt_object_timeout_s`: see
+     *  FrameSourceOptions. */
+    explicit RawlogEntries(const std::string& path, double mrpt_object_timeout_s = 10);
 
     /** The next observation, or the observations of the next sensory frame, into `out`, following CRawlog's
      *  layouts: a top-level observation is returned alone; an action collection is followed by a sensory frame,
@@ -60,14 +64,16 @@ class RawlogEntries
     Kind readTopLevel(std::vector<RawlogObservation>& out, bool end_allowed);
     void readSensoryFrame(const ObjectHeader& header, std::vector<RawlogObservation>& out);
     void readActionCollection(const ObjectHeader& header);
-    /** An object whose header was just read: parsed when its class is known, else read by MRPT. Appends it to `out`
-     *  when it is an observation; returns whether it is one. */
+    /** An object whose header was just read: parsed when its class is known, else read by MRPT in the child
+     *  process. Appends it to `out` when it is an observation; returns whether it is one. */
     bool readObject(const ObjectHeader& header, std::vector<RawlogObservation>& out);
+    bool readUnparsedObject(const ObjectHeader& header, std::vector<RawlogObservation>& out);
 
     std::string path_;
     mrpt::io::CFileGZInputStream file_;
     RawlogStream stream_;
     FieldReader reader_;
+    IsolatedObjectReader isolated_;  // the classes we do not parse
     size_t next_entry_ = 0;
 };
 

@@ -4,13 +4,19 @@
 // produced before the scanner existed (MRPT's CRawlog::getActionObservationPairOrObservation deserializing
 // every entry), recorded here as a constant.
 #include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationComment.h>
+#include <mrpt/obs/CObservationGPS.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CObservationStereoImages.h>
+#include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3DQuat.h>
 #include <mrpt/serialization/CArchive.h>
@@ -27,6 +33,7 @@
 #include <quasiloc/dataset/timestamps.h>
 #include <sstream>
 
+#include "rawlog_entries.h"
 #include "test_helpers.h"
 
 using namespace quasiloc;
@@ -276,4 +283,97 @@ TEST(RawlogReadIdentity, UncompressedObservationsWithEmbeddedImages)
         }
     }
     expectDigest(path, 3, 3, 0xcc163df43eb5633aULL);
+}
+
+// Observation and action classes the reader does not parse are read by MRPT in a child process
+// (isolated_object_reader.h): the reader yields the same observations (class, timestamp, order) as MRPT's
+// CRawlog::getActionObservationPairOrObservation reading the file in this process, and counts the ignored classes
+// in its warnings. gz-compressed, every layout: observations at the top level, action collections (with two
+// action classes) followed by sensory frames, a top-level object that is no observation.
+TEST(RawlogReadIdentity, OtherClassesAsMrptReadsThem)
+{
+    using namespace mrpt::obs;
+    TempDir dir;
+    const std::string path = dir / "other.rawlog";
+    core::StereoRig rig;
+    rig.left = rig.right = core::CameraModel::pinhole(16, 12, 10, 10, 8, 6);
+    rig.T_left_right = mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0);
+    const std::int64_t t0 = 1'403'715'273'262'142'976LL, ms = 1'000'000;
+    {
+        mrpt::io::CFileGZOutputStream out(path);
+        auto arch = mrpt::serialization::archiveFrom(out);
+        auto odometry = CObservationOdometry::Create();
+        odometry->timestamp = mrptTimeFromNs(t0 - 20 * ms);
+        odometry->odometry = mrpt::poses::CPose2D(1, 2, 0.3);
+        auto gps = CObservationGPS::Create();
+        gps->timestamp = mrptTimeFromNs(t0 - 10 * ms);
+        gnss::Message_NMEA_GGA gga;
+        gga.fields.latitude_degrees = 36.8;
+        gps->setMsg(gga);
+        arch << *odometry << *gps << mrpt::poses::CPose2D(1, 2, 3);
+
+        CActionCollection actions;
+        CActionRobotMovement2D move2d;
+        move2d.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+        actions.insert(move2d);
+        CActionRobotMovement3D move3d;
+        move3d.computeFromOdometry(mrpt::poses::CPose3D(0.1, 0, 0, 0.01, 0, 0), {});
+        actions.insert(move3d);
+        CSensoryFrame frame;
+        frame.insert(imuObs(t0 - 2 * ms, true));
+        auto s0 = stereoObs(rig, t0);
+        s0->imageLeft = s0->imageRight =
+            mrpt::img::CImage(cv::Mat(12, 16, CV_8UC1, cv::Scalar(7)), mrpt::img::DEEP_COPY);
+        frame.insert(s0);
+        auto scan = CObservation2DRangeScan::Create();
+        scan->timestamp = mrptTimeFromNs(t0 + 1 * ms);
+        scan->resizeScan(181);
+        frame.insert(scan);
+        auto comment = CObservationComment::Create();
+        comment->timestamp = mrptTimeFromNs(t0 + 2 * ms);
+        comment->text = "a comment";
+        frame.insert(comment);
+        odometry->timestamp = mrptTimeFromNs(t0 + 3 * ms);
+        frame.insert(odometry);
+        arch << actions << frame;
+
+        auto s1 = stereoObs(rig, t0 + 50 * ms);
+        s1->imageLeft = s1->imageRight =
+            mrpt::img::CImage(cv::Mat(12, 16, CV_8UC1, cv::Scalar(9)), mrpt::img::DEEP_COPY);
+        gps->timestamp = mrptTimeFromNs(t0 + 40 * ms);
+        arch << *gps << *imuObs(t0 + 45 * ms, true) << *s1;
+    }
+
+    // MRPT, in this process: (class, timestamp) of every observation, in order.
+    std::vector<std::pair<std::string, std::int64_t>> mrpt_read, ours;
+    {
+        mrpt::io::CFileGZInputStream in(path);
+        auto arch = mrpt::serialization::archiveFrom(in);
+        CActionCollection::Ptr acts;
+        CSensoryFrame::Ptr sf;
+        CObservation::Ptr obs;
+        size_t entry = 0;
+        while (CRawlog::getActionObservationPairOrObservation(arch, acts, sf, obs, entry))
+        {
+            if (obs) mrpt_read.emplace_back(obs->GetRuntimeClass()->className, mrptTimeToNs(obs->timestamp));
+            if (sf)
+                for (const auto& o : *sf)
+                    mrpt_read.emplace_back(o->GetRuntimeClass()->className, mrptTimeToNs(o->timestamp));
+        }
+    }
+    detail::RawlogEntries entries(path);
+    std::vector<detail::RawlogObservation> read;
+    while (entries.next(read))
+        for (const auto& o : read) ours.emplace_back(o.class_name, mrptTimeToNs(o.timestamp));
+    EXPECT_EQ(ours, mrpt_read);
+    ASSERT_EQ(ours.size(), 10u);
+
+    const Digest d = digestOf(path);
+    EXPECT_EQ(d.frames, 2u);
+    EXPECT_EQ(d.imu_samples, 2u);
+    for (const char* warning : {"warning: 1 observations of class mrpt::obs::CObservation2DRangeScan (ignored)",
+                                "warning: 1 observations of class mrpt::obs::CObservationComment (ignored)",
+                                "warning: 2 observations of class mrpt::obs::CObservationGPS (ignored)",
+                                "warning: 2 observations of class mrpt::obs::CObservationOdometry (ignored)"})
+        EXPECT_NE(d.text.find(warning), std::string::npos) << warning << " not in:\n" << d.text;
 }

@@ -44,7 +44,7 @@ class RawlogSource : public FrameSource
         : path_(path), images_folder_(rawlogImagesFolder(path)), max_gt_dt_s_(options.max_gt_dt_s)
     {
         require(fs::is_regular_file(path), path, "rawlog file not found");
-        entries_ = std::make_unique<detail::RawlogEntries>(path);
+        entries_ = std::make_unique<detail::RawlogEntries>(path, options.mrpt_object_timeout_s);
         while (!eof_ && stereo_.empty()) readOne();
         require(!stereo_.empty(), path, "holds no CObservationStereoImages with a right image");
         if (!options.calibration_ini.empty())

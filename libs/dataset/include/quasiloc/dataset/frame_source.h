@@ -34,12 +34,18 @@ struct FrameSourceOptions
     double max_gt_dt_s = 0.005;
     /** Optional calibration INI (StereoRig keys, prefix "camera_"); overrides what the data carries. */
     std::string calibration_ini;
+    /** Rawlogs: how long MRPT may go without progress (asking for bytes, or finishing) while it reads one object of
+     *  a class the reader does not parse, in its child process; after that the child is killed and the object is an
+     *  InputError. Reading a valid object takes milliseconds. */
+    double mrpt_object_timeout_s = 10;
 };
 
 /** Streams a rawlog (never loads it whole). Stereo frames come from CObservationStereoImages (external
  *  images resolved in `<name>_Images/` beside the rawlog); IMU from CObservationIMU. The rig comes from the
  *  first stereo observation (leftCamera, rightCamera, rightCameraPose, cameraPose) unless a calibration INI
- *  is given. */
+ *  is given. Objects of other classes (observations, which warnings() counts, and actions) are read by MRPT in a
+ *  child process that the first of them forks (rawlogs of quasiloc's tools hold none): a corrupt one is an
+ *  InputError, not a crash or an exit of the calling program. */
 std::unique_ptr<FrameSource> openRawlog(const std::string& rawlog_path, const FrameSourceOptions& options = {});
 
 /** Reads an EuRoC ASL folder (the one holding mav0/, or mav0/ itself). cam1 rows without an image
