@@ -101,6 +101,8 @@ TEST(ImuPreintegration, GapStepCarriesTheUnmeasuredMotionsVariance)
     // the rotation's variance beyond the sensor noise's; steps no longer than gap_s are untouched.
     const Eigen::Vector3d w(0.3, -0.5, 0.8), f(0.5, 0.2, 9.7);
     ImuNoise with_gap, without_gap;
+    with_gap.gap_acc_sigma = 1.0;
+    with_gap.gap_gyro_sigma = 0.25;
     without_gap.gap_acc_sigma = without_gap.gap_gyro_sigma = 0;
     ImuPreintegration a(with_gap, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
     ImuPreintegration b(without_gap, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());

@@ -37,8 +37,8 @@ struct EstimatorOptions : public core::DeclaredOptions
     /** IMU gaps (ImuNoise::gap_*): a step between two samples longer than imu_gap_s also carries the variance of
      *  an unmeasured acceleration / angular rate of these sigmas. */
     double imu_gap_s = 0.025;
-    double imu_gap_acc_sigma = 1.0;
-    double imu_gap_gyro_sigma = 0.25;
+    double imu_gap_acc_sigma = 0;  ///< off by default: docs/reliability.md
+    double imu_gap_gyro_sigma = 0;
 
     void declare(core::OptionTable& t) override;
     /** InputError naming `input` and the key for a value out of its declared range (no two keys relate). */

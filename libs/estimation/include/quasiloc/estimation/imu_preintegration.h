@@ -34,8 +34,8 @@ struct ImuNoise
      *  measured, so the step also carries the variance of an unmeasured acceleration and angular rate of the
      *  sigmas below (the sensor noise alone would claim the held sample is exact over the whole gap). */
     double gap_s = 0.025;
-    double gap_acc_sigma = 1.0;   ///< m/s^2
-    double gap_gyro_sigma = 0.25; ///< rad/s
+    double gap_acc_sigma = 0;  ///< m/s^2 (0: off)
+    double gap_gyro_sigma = 0;  ///< rad/s (0: off)
     Eigen::Vector3d gravity() const { return Eigen::Vector3d(0, 0, -gravity_m_s2); }
 };
 
