@@ -310,6 +310,13 @@ void initLanes(const uint8_t* bits, int W, Lanes far_v, Lanes* row)
     }
 }
 
+/** One class's lane of a finished pixel back to pixels, truncated. */
+inline float lanePixels(int16_t lane, float inv_s, float truncation)
+{
+    const float f = float(lane) * inv_s;
+    return f < truncation ? f : truncation;
+}
+
 /** Pixels x0 .. x0 + 7 of a finished row, back to pixels (lane / s, truncated), one float row per class. The
  *  same arithmetic as one pixel at a time; an 8 x 8 transpose first, so each class is stored 8 floats at once. */
 void storeEightPixels(const Lanes* px, int classes, float inv_s, float truncation, float* const* out, int x0)
@@ -344,11 +351,7 @@ void storeEightPixels(const Lanes* px, int classes, float inv_s, float truncatio
     }
 #else
     for (int i = 0; i < 8; ++i)
-        for (int k = 0; k < classes; ++k)
-        {
-            const float f = float(px[i][k]) * inv_s;
-            out[k][x0 + i] = f < truncation ? f : truncation;
-        }
+        for (int k = 0; k < classes; ++k) out[k][x0 + i] = lanePixels(px[i][k], inv_s, truncation);
 #endif
 }
 }  // namespace
@@ -410,11 +413,7 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
         int x = 0;
         for (; x + 8 <= W; x += 8) storeEightPixels(row + 1 + x, classes, inv_s, truncation, out.data(), x);
         for (; x < W; ++x)
-            for (int k = 0; k < classes; ++k)
-            {
-                const float f = float(row[1 + x][k]) * inv_s;
-                out[size_t(k)][x] = f < truncation ? f : truncation;
-            }
+            for (int k = 0; k < classes; ++k) out[size_t(k)][x] = lanePixels(row[1 + x][k], inv_s, truncation);
     }
 }
 
