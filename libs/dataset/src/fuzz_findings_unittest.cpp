@@ -421,6 +421,16 @@ mrpt::obs::CObservationStereoImages::Ptr smallStereo(std::int64_t t_ns)
 }
 
 /** Entry 0: a stereo observation; entry 1: `object`. Returns the file's bytes. */
+/** An action collection with one 2D odometry movement: an action, which MRPT reads in the child process. */
+mrpt::obs::CActionCollection odometryActions()
+{
+    mrpt::obs::CActionCollection actions;
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+    actions.insert(move);
+    return actions;
+}
+
 std::string writeStereoThen(const std::string& path, const mrpt::serialization::CSerializable& object)
 {
     {
@@ -466,10 +476,7 @@ TEST(FuzzFindings, RawlogActionWhoseMrptReaderCrashesIsAnInputError)
     {
         mrpt::io::CFileOutputStream out(path);
         auto arch = mrpt::serialization::archiveFrom(out);
-        mrpt::obs::CActionCollection actions;
-        mrpt::obs::CActionRobotMovement2D move;
-        move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
-        actions.insert(move);
+        const mrpt::obs::CActionCollection actions = odometryActions();
         mrpt::obs::CSensoryFrame frame;
         frame.insert(smallStereo(1'000'000'000));
         arch << actions << frame;
@@ -549,10 +556,7 @@ TEST(FuzzFindings, RawlogTruncatedInsideAnUnparsedObjectIsAnInputError)
     {
         mrpt::io::CFileOutputStream out(path);
         auto arch = mrpt::serialization::archiveFrom(out);
-        mrpt::obs::CActionCollection actions;
-        mrpt::obs::CActionRobotMovement2D move;
-        move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
-        actions.insert(move);
+        const mrpt::obs::CActionCollection actions = odometryActions();
         mrpt::obs::CSensoryFrame frame;
         auto odometry = mrpt::obs::CObservationOdometry::Create();
         odometry->timestamp = mrptTimeFromNs(900'000'000);
