@@ -1,5 +1,5 @@
-// Fuzz target: the YAML readers: EuRoC camera sensor.yaml (OpenCV FileStorage: camera model, then the rig's
-// T_BS), EuRoC imu0 sensor.yaml, and Kalibr camchain / imu YAML (yaml-cpp). The same bytes go to each.
+// Fuzz target: the YAML readers (all on yaml-cpp, core/yaml_read.h): EuRoC camera sensor.yaml (camera model, then
+// the rig's T_BS), EuRoC imu0 sensor.yaml, and Kalibr camchain / imu YAML. The same bytes go to each.
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/core/stereo_rig.h>
 #include <quasiloc/dataset/calibration.h>

@@ -1,9 +1,9 @@
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/yaml_read.h>
 
 #include <algorithm>
 #include <cmath>
-#include <opencv2/core/persistence.hpp>
 
 namespace quasiloc::core
 {
@@ -248,40 +248,26 @@ void CameraModel::saveToIni(mrpt::config::CConfigFileBase& cfg, const std::strin
 
 CameraModel CameraModel::fromEurocYaml(const std::string& path)
 {
-    cv::FileStorage fs;
-    try
-    {
-        fs.open(path, cv::FileStorage::READ);
-    }
-    catch (const std::exception& e)  // cv::Exception, and std::length_error from OpenCV's YAML parser on some
-    {                                 // malformed files (found by fuzz_sensor_yaml)
-        throw InputError(path, std::string("cannot parse as YAML: ") + e.what());
-    }
-    require(fs.isOpened(), path, "cannot open camera sensor.yaml");
-    std::vector<double> intr, distc;
-    std::vector<int> res;
-    std::string cam_model, dist_model;
-    try
-    {
-        fs["intrinsics"] >> intr;
-        fs["resolution"] >> res;
-        fs["distortion_coefficients"] >> distc;
-        fs["camera_model"] >> cam_model;
-        fs["distortion_model"] >> dist_model;
-    }
-    catch (const std::exception& e)  // a key of the wrong type (a map where numbers are expected, ...)
-    {
-        throw InputError(path, std::string("bad value in camera sensor.yaml: ") + e.what());
-    }
-    require(intr.size() == 4, path, "'intrinsics' must hold 4 values [fu, fv, cu, cv]");
-    require(res.size() == 2, path, "'resolution' must hold 2 values [width, height]");
-    require(cam_model.empty() || cam_model == "pinhole", path,
-            "camera_model '" + cam_model + "' is not supported (only pinhole)");
-    CameraModel m = pinhole(res[0], res[1], intr[0], intr[1], intr[2], intr[3]);
+    const YAML::Node doc = loadYamlMap(path, "camera sensor.yaml");
+    const auto key = [&](const char* name) { return path + ": " + name; };
+    const auto intr = yamlNumbers(doc["intrinsics"], key("intrinsics"));
+    require(intr.size() == 4, key("intrinsics"), "must hold 4 values [fu, fv, cu, cv]");
+    const auto res = yamlNumbers(doc["resolution"], key("resolution"));
+    require(res.size() == 2, key("resolution"), "must hold 2 values [width, height]");
+    const int width = yamlInteger(doc["resolution"][0], key("resolution") + "[0]", 1, 1 << 16);
+    const int height = yamlInteger(doc["resolution"][1], key("resolution") + "[1]", 1, 1 << 16);
+    const std::string cam_model = yamlText(doc["camera_model"], key("camera_model"), "");
+    require(cam_model.empty() || cam_model == "pinhole", key("camera_model"),
+            "'" + cam_model + "' is not supported (only pinhole)");
+    CameraModel m = pinhole(width, height, intr[0], intr[1], intr[2], intr[3]);
+    const std::string dist_model = yamlText(doc["distortion_model"], key("distortion_model"), "");
     m.model = distortionModelFromString(dist_model, path + " (distortion_model)");
-    const size_t expected = m.model == DistortionModel::RadTan ? 4 : m.model == DistortionModel::Equidistant ? 4 : 0;
-    require(distc.size() >= expected && distc.size() <= 5, path,
-            "'distortion_coefficients' must hold " + std::to_string(expected) + " values for " + dist_model);
+    const size_t expected = m.model == DistortionModel::None ? 0 : 4;
+    const auto distc = doc["distortion_coefficients"].IsDefined()
+                           ? yamlNumbers(doc["distortion_coefficients"], key("distortion_coefficients"))
+                           : std::vector<double>{};
+    require(distc.size() >= expected && distc.size() <= 5, key("distortion_coefficients"),
+            "must hold " + std::to_string(expected) + " values for " + dist_model);
     for (size_t i = 0; i < distc.size(); ++i) m.dist[i] = distc[i];
     m.check(path);
     return m;

@@ -40,12 +40,24 @@ void expectInputErrorNaming(Fn&& fn, const std::string& path, const std::string&
 
 // fuzz_sensor_yaml: OpenCV's YAML parser throws std::length_error ("basic_string::_M_create") on this 17-byte file
 // (found as a 700-byte mutation of EuRoC's cam0 sensor.yaml, then minimised); it escaped as a bare std::exception
-// that named neither the file nor the problem.
+// that named neither the file nor the problem. The reader is now yaml-cpp, which rejects the file as unparsable.
 TEST(FuzzFindings, SensorYamlThatBreaksOpenCvsParserIsAnInputError)
 {
     const std::string path = writeTemp("broken_sensor.yaml", "%YAML:1.\n l:4\n :");
     expectInputErrorNaming([&] { CameraModel::fromEurocYaml(path); }, path, "cannot parse as YAML");
     expectInputErrorNaming([&] { StereoRig::fromEuroc(path, path); }, path, "cannot parse as YAML");
+    std::filesystem::remove(path);
+}
+
+// fuzz_sensor_yaml (CI, 2026-11-26): OpenCV 4.6's YAML parser (cv::FileStorage::open) never returned on a
+// 198-byte mutation of EuRoC's cam0 sensor.yaml, minimised to these 19 bytes. The camera sensor.yaml is now read with
+// yaml-cpp, for which the document is a single scalar: not a sensor.yaml. A regression hangs this test (ctest's
+// timeout fails it).
+TEST(FuzzFindings, SensorYamlThatHangsOpenCvsParserIsAnInputError)
+{
+    const std::string path = writeTemp("hanging_sensor.yaml", "%YAML:1.\n a:.\nsdy-\n");
+    expectInputErrorNaming([&] { CameraModel::fromEurocYaml(path); }, path, "not a map of keys");
+    expectInputErrorNaming([&] { StereoRig::fromEuroc(path, path); }, path, "not a map of keys");
     std::filesystem::remove(path);
 }
 

@@ -9,6 +9,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/stereo_rig.h>
+#include <quasiloc/core/yaml_read.h>
 
 namespace quasiloc::core
 {
@@ -128,27 +129,8 @@ void StereoRig::saveToIni(mrpt::config::CConfigFileBase& cfg, const std::string&
 
 mrpt::poses::CPose3D readEurocSensorPose(const std::string& yaml_path)
 {
-    cv::FileStorage fs;
-    try
-    {
-        fs.open(yaml_path, cv::FileStorage::READ);
-    }
-    catch (const std::exception& e)  // cv::Exception, and std::length_error from OpenCV's YAML parser on some
-    {                                 // malformed files (found by fuzz_sensor_yaml)
-        throw InputError(yaml_path, std::string("cannot parse as YAML: ") + e.what());
-    }
-    require(fs.isOpened(), yaml_path, "cannot open sensor.yaml");
-    std::vector<double> data;
-    try
-    {
-        fs["T_BS"]["data"] >> data;
-    }
-    catch (const std::exception& e)  // T_BS of the wrong type
-    {
-        throw InputError(yaml_path, std::string("bad T_BS in sensor.yaml: ") + e.what());
-    }
-    require(data.size() == 16, yaml_path, "'T_BS.data' must hold 16 values (4x4 row-major)");
-    return fromMatrixRowMajor(data, yaml_path + " (T_BS)");
+    const YAML::Node doc = loadYamlMap(yaml_path, "sensor.yaml");
+    return yamlTransform(doc["T_BS"], yaml_path + ": T_BS");
 }
 
 StereoRig StereoRig::fromEuroc(const std::string& cam0_yaml, const std::string& cam1_yaml)

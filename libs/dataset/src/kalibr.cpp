@@ -1,96 +1,35 @@
 // Kalibr camchain and IMU YAML files <-> the calibration INI's types (kalibr.h).
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/core/yaml_read.h>
 #include <quasiloc/dataset/kalibr.h>
 #include <sstream>
 
 using quasiloc::core::InputError;
 using quasiloc::core::require;
+using quasiloc::core::yamlNumber;
+using quasiloc::core::yamlNumbers;
+using quasiloc::core::yamlText;
+using quasiloc::core::yamlTransform;
 
 namespace quasiloc::dataset
 {
 namespace
 {
-/** The YAML document of `path`. OpenCV writes "%YAML:1.0" as the first line (EuRoC's sensor.yaml), which is not
- *  a valid YAML directive: it is dropped. */
-YAML::Node loadYaml(const std::string& path)
-{
-    std::ifstream f(path);
-    require(f.good(), path, "cannot open the YAML file");
-    std::stringstream text;
-    text << f.rdbuf();
-    std::string s = text.str();
-    if (s.rfind("%YAML:", 0) == 0) s = s.substr(s.find('\n') == std::string::npos ? s.size() : s.find('\n'));
-    try
-    {
-        return YAML::Load(s);
-    }
-    catch (const YAML::Exception& e)
-    {
-        throw InputError(path, std::string("cannot parse as YAML: ") + e.what());
-    }
-}
-
-double number(const YAML::Node& node, const std::string& where)
-{
-    require(node.IsDefined() && node.IsScalar(), where, "missing or not a number");
-    try
-    {
-        const double v = node.as<double>();
-        require(std::isfinite(v), where, "is not finite");
-        return v;
-    }
-    catch (const YAML::Exception&)
-    {
-        throw InputError(where, "not a number ('" + node.as<std::string>() + "')");
-    }
-}
-
-std::vector<double> numbers(const YAML::Node& node, const std::string& where)
-{
-    require(node.IsDefined() && node.IsSequence(), where, "missing or not a list of numbers");
-    std::vector<double> v;
-    for (size_t i = 0; i < node.size(); ++i) v.push_back(number(node[i], where + "[" + std::to_string(i) + "]"));
-    return v;
-}
-
-/** A 4x4 transform written as four rows of four numbers (Kalibr) or as an opencv-matrix with data (EuRoC). */
-mrpt::poses::CPose3D transform(const YAML::Node& node, const std::string& where)
-{
-    require(node.IsDefined(), where, "missing (a 4x4 transform expected)");
-    std::vector<double> values;
-    if (node.IsMap())
-        values = numbers(node["data"], where + ".data");
-    else
-    {
-        require(node.IsSequence() && node.size() == 4, where, "must be 4 rows of 4 numbers");
-        for (size_t r = 0; r < 4; ++r)
-        {
-            const auto row = numbers(node[r], where + " row " + std::to_string(r));
-            require(row.size() == 4, where, "row " + std::to_string(r) + " must hold 4 numbers");
-            values.insert(values.end(), row.begin(), row.end());
-        }
-    }
-    require(values.size() == 16, where, "must hold 16 values (4x4)");
-    return core::fromMatrixRowMajor(values, where);
-}
-
 core::CameraModel camera(const YAML::Node& cam, const std::string& where)
 {
-    const std::string camera_model = cam["camera_model"] ? cam["camera_model"].as<std::string>() : "pinhole";
+    const std::string camera_model = yamlText(cam["camera_model"], where + ".camera_model", "pinhole");
     require(camera_model == "pinhole", where + ".camera_model",
             "'" + camera_model + "' is not supported (pinhole only: pinhole-radtan, pinhole-equidistant)");
-    const auto intr = numbers(cam["intrinsics"], where + ".intrinsics");
+    const auto intr = yamlNumbers(cam["intrinsics"], where + ".intrinsics");
     require(intr.size() == 4, where + ".intrinsics", "must hold 4 values [fu fv pu pv]");
-    const auto res = numbers(cam["resolution"], where + ".resolution");
+    const auto res = yamlNumbers(cam["resolution"], where + ".resolution");
     require(res.size() == 2, where + ".resolution", "must hold 2 values [width height]");
     core::CameraModel m = core::CameraModel::pinhole(int(res[0]), int(res[1]), intr[0], intr[1], intr[2], intr[3]);
-    const std::string dist_model = cam["distortion_model"] ? cam["distortion_model"].as<std::string>() : "none";
+    const std::string dist_model = yamlText(cam["distortion_model"], where + ".distortion_model", "none");
     if (dist_model == "radtan")
         m.model = core::DistortionModel::RadTan;
     else if (dist_model == "equidistant")
@@ -102,7 +41,7 @@ core::CameraModel camera(const YAML::Node& cam, const std::string& where)
                          "'" + dist_model + "' is not supported (radtan, equidistant or none)");
     if (m.model != core::DistortionModel::None)
     {
-        const auto d = numbers(cam["distortion_coeffs"], where + ".distortion_coeffs");
+        const auto d = yamlNumbers(cam["distortion_coeffs"], where + ".distortion_coeffs");
         require(d.size() == 4, where + ".distortion_coeffs", "must hold 4 values for " + dist_model);
         for (size_t i = 0; i < 4; ++i) m.dist[i] = d[i];
     }
@@ -150,22 +89,22 @@ std::string cameraText(const core::CameraModel& c, const std::string& topic, con
 
 core::StereoRig stereoRigFromKalibr(const std::string& camchain_yaml)
 {
-    const YAML::Node doc = loadYaml(camchain_yaml);
+    const YAML::Node doc = core::loadYamlFile(camchain_yaml);
     require(doc.IsMap(), camchain_yaml, "not a Kalibr camchain (expected cam0: and cam1: at the top)");
     const std::string cam0 = camchain_yaml + ": cam0", cam1 = camchain_yaml + ": cam1";
-    require(bool(doc["cam0"]), cam0, "missing (the left camera)");
-    require(bool(doc["cam1"]), cam1, "missing (the right camera)");
+    require(doc["cam0"].IsDefined() && doc["cam0"].IsMap(), cam0, "missing or not a map of keys (the left camera)");
+    require(doc["cam1"].IsDefined() && doc["cam1"].IsMap(), cam1, "missing or not a map of keys (the right camera)");
     core::StereoRig rig;
     rig.left = camera(doc["cam0"], cam0);
     rig.right = camera(doc["cam1"], cam1);
-    const auto T_cam0_imu = transform(doc["cam0"]["T_cam_imu"], cam0 + ".T_cam_imu");
+    const auto T_cam0_imu = yamlTransform(doc["cam0"]["T_cam_imu"], cam0 + ".T_cam_imu");
     rig.T_body_left = -T_cam0_imu;
     if (doc["cam1"]["T_cn_cnm1"])
-        rig.T_left_right = -transform(doc["cam1"]["T_cn_cnm1"], cam1 + ".T_cn_cnm1");
+        rig.T_left_right = -yamlTransform(doc["cam1"]["T_cn_cnm1"], cam1 + ".T_cn_cnm1");
     else
     {
         require(bool(doc["cam1"]["T_cam_imu"]), cam1, "has neither T_cn_cnm1 nor T_cam_imu");
-        const auto T_body_right = -transform(doc["cam1"]["T_cam_imu"], cam1 + ".T_cam_imu");
+        const auto T_body_right = -yamlTransform(doc["cam1"]["T_cam_imu"], cam1 + ".T_cam_imu");
         rig.T_left_right = T_body_right - rig.T_body_left;  // inverse(T_body_left) * T_body_right
     }
     rig.check(camchain_yaml);
@@ -174,11 +113,12 @@ core::StereoRig stereoRigFromKalibr(const std::string& camchain_yaml)
 
 ImuCalibration imuCalibrationFromKalibr(const std::string& imu_yaml)
 {
-    const YAML::Node doc = loadYaml(imu_yaml);
+    const YAML::Node doc = core::loadYamlFile(imu_yaml);
     require(doc.IsMap(), imu_yaml, "not an IMU YAML (expected a map of keys)");
     const YAML::Node imu_node = doc["imu0"] ? doc["imu0"] : doc;
+    require(imu_node.IsMap(), imu_yaml + ": imu0", "not a map of keys");
     const std::string prefix = doc["imu0"] ? imu_yaml + ": imu0." : imu_yaml + ": ";
-    const auto value = [&](const char* key) { return number(imu_node[key], prefix + key); };
+    const auto value = [&](const char* key) { return yamlNumber(imu_node[key], prefix + key); };
     ImuCalibration imu;
     imu.rate_hz = imu_node["update_rate"] ? value("update_rate") : value("rate_hz");
     imu.gyroscope_noise_density = value("gyroscope_noise_density");

@@ -142,4 +142,9 @@ TEST(Kalibr, BadFilesAreErrorsNamingTheFileAndTheKey)
     const std::string imu = write(dir, "imu.yaml", "update_rate: 200\ngyroscope_noise_density: 0.1\n");
     EXPECT_NE(errorOf([&] { imuCalibrationFromKalibr(imu); }).find("imu.yaml: gyroscope_random_walk"),
               std::string::npos);
+    // A camera or imu0 that is a single value: yaml-cpp throws an unnamed BadSubscript on a key lookup in it.
+    const std::string scalar_cam = write(dir, "scalar_cam.yaml", "cam0: 5\ncam1: {}\n");
+    EXPECT_NE(errorOf([&] { stereoRigFromKalibr(scalar_cam); }).find("scalar_cam.yaml: cam0"), std::string::npos);
+    const std::string scalar_imu = write(dir, "scalar_imu.yaml", "imu0: 200\n");
+    EXPECT_NE(errorOf([&] { imuCalibrationFromKalibr(scalar_imu); }).find("scalar_imu.yaml: imu0"), std::string::npos);
 }
