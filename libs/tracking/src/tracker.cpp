@@ -49,6 +49,7 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       refiner_(refinement, renderer, frontend),
       map_(renderer.map()),
       frontend_(frontend),
+      right_frontend_(std::make_unique<frontend::Frontend>(frontend.options())),
       stereo_matcher_(rig, frontend.options().stereo)
 {
     // Options set in code (a library caller) meet the same ranges as loaded ones.
@@ -317,11 +318,19 @@ bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignme
     return !rep.stereo_rejected;
 }
 
-void Tracker::extractStereoPoints(const dataset::StereoFrame& frame, StereoPoints& sp)
+// Points only: the stereo and temporal matching use no line, so the front-end's line branch is skipped.
+void Tracker::extractLeftPoints(const dataset::StereoFrame& frame, StereoPoints& sp)
 {
-    // Points only: the stereo and temporal matching use no line, so the front-end's line branch is skipped.
     frontend_.extractPoints(frame.left, cv::Mat(), sp.left);
-    frontend_.extractPoints(frame.right, cv::Mat(), sp.right);
+}
+
+void Tracker::extractRightPoints(const dataset::StereoFrame& frame, StereoPoints& sp)
+{
+    right_frontend_->extractPoints(frame.right, cv::Mat(), sp.right);
+}
+
+void Tracker::matchStereoPoints(StereoPoints& sp) const
+{
     sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
     sp.stereo_of_left.assign(sp.left.points.size(), -1);
     for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
@@ -335,7 +344,9 @@ void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints
 Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
 {
     StereoPoints sp;
-    extractStereoPoints(frame, sp);
+    extractLeftPoints(frame, sp);
+    extractRightPoints(frame, sp);
+    matchStereoPoints(sp);
     extractDenseStereo(frame, sp);
     return sp;
 }
@@ -532,10 +543,13 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     StereoPoints stereo_points;
     if (options_.temporal_landmarks)
     {
-        // The dense stereo (about 6 ms) before the points (about 9 ms): the tracking thread, done rendering before
-        // the edge field is ready, takes the shorter one and reaches the alignment sooner (docs/benchmarks.md).
+        // The dense stereo (about 6 ms) before the points (about 4.5 ms per image): the tracking thread, done
+        // rendering before the edge field is ready, takes the dense stereo and then one image's points; the worker,
+        // done with the edge field, takes the other image's. One task for both images made the alignment wait for
+        // the second image while the worker stood idle (docs/benchmarks.md).
         if (denseStereo()) tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); });
-        tasks.add([this, &frame, &stereo_points] { extractStereoPoints(frame, stereo_points); });
+        tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); });
+        tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); });
     }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
     if (rep.keyframe && options_.factors.map_lines)
@@ -576,6 +590,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         worker_->wait();
         wait_at_exit.w = nullptr;
     }
+    if (options_.temporal_landmarks) matchStereoPoints(stereo_points);
     const bool stereo_ok = checkStereoAgainstMap(stereo_points, alignment, rep);
     addVisualTerms(std::move(stereo_points), camera_lines, map_lines, alignment, stereo_ok, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;

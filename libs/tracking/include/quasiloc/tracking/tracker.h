@@ -165,8 +165,11 @@ class Tracker
                      const MapAlignment& a, estimation::WindowInput& in, FrameReport& rep);
     /** Depends on the images alone (and the front-end, used by no other stage): may run on a second thread. */
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
-    /** Its two halves (independent tasks of a frame): the points and their stereo matches, and the dense cloud. */
-    void extractStereoPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
+    /** Its parts. Independent tasks of a frame: the left points (frontend_), the right points (right_frontend_)
+     *  and the dense cloud. Then, with both points: their stereo matches. */
+    void extractLeftPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
+    void extractRightPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
+    void matchStereoPoints(StereoPoints& sp) const;
     void extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const;
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
@@ -193,6 +196,9 @@ class Tracker
     estimation::MapRefiner refiner_;
     const map::LidarMap& map_;  ///< the renderer's (map_points: lifting through provenance)
     frontend::Frontend& frontend_;
+    /** The right image's points, so that the two images are extracted concurrently (a Frontend is not reentrant):
+     *  same options as frontend_. */
+    std::unique_ptr<frontend::Frontend> right_frontend_;
     frontend::StereoMatcher stereo_matcher_;
     frontend::FrameFeatures prev_left_;
     std::vector<cv::KeyPoint> prev_right_keypoints_;
