@@ -26,6 +26,8 @@ void EstimatorOptions::declare(core::OptionTable& t)
           "added to the diagonal of the marginalised block (gauge, unseen landmarks)");
     t.add("imu_gap_s", imu_gap_s, "s", Range::above(0),
           "a step between two IMU samples longer than this is a gap (dropped samples): its motion was not measured");
+    t.add("imu_gap_max_s", imu_gap_max_s, "s", Range::above(0),
+          "longer gaps get no added variance: the loss check and the relocalization handle them");
     t.add("imu_gap_acc_sigma", imu_gap_acc_sigma, "m/s^2", Range::atLeast(0),
           "unmeasured acceleration in a gap: added to the step's variance (0: the held sample is trusted)");
     t.add("imu_gap_gyro_sigma", imu_gap_gyro_sigma, "rad/s", Range::atLeast(0),

@@ -47,7 +47,7 @@ void ImuPreintegration::integrate(const Eigen::Vector3d& acc, const Eigen::Vecto
     Bg.topRows<3>() = Jr * dt;
     Ba.middleRows<3>(3) = dR_ * dt;
     Ba.bottomRows<3>() = 0.5 * dR_ * dt2;
-    const bool gap = dt > noise_.gap_s;
+    const bool gap = dt > noise_.gap_s && dt <= noise_.gap_max_s;
     const double var_g = noise_.gyro_noise_density * noise_.gyro_noise_density / dt +
                          (gap ? noise_.gap_gyro_sigma * noise_.gap_gyro_sigma : 0.0);
     const double var_a = noise_.acc_noise_density * noise_.acc_noise_density / dt +

@@ -122,6 +122,25 @@ TEST(ImuPreintegration, GapStepCarriesTheUnmeasuredMotionsVariance)
     EXPECT_EQ(a.deltaV(), b.deltaV());
 }
 
+TEST(ImuPreintegration, GapLongerThanTheMaximumGetsNoAddedVariance)
+{
+    // A 1 s hole is left to the loss check: its step carries the sensor noise alone, like without the option.
+    const Eigen::Vector3d w(0.3, -0.5, 0.8), f(0.5, 0.2, 9.7);
+    ImuNoise with_gap, without_gap;
+    without_gap.gap_acc_sigma = without_gap.gap_gyro_sigma = 0;
+    ASSERT_GT(with_gap.gap_acc_sigma, 0) << "on by default";
+    const double long_gap = 1.0, short_gap = 0.4;
+    ASSERT_GT(long_gap, with_gap.gap_max_s);
+    ASSERT_LE(short_gap, with_gap.gap_max_s);
+    ImuPreintegration a(with_gap, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    ImuPreintegration b(without_gap, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    a.integrate(f, w, long_gap), b.integrate(f, w, long_gap);
+    EXPECT_EQ(a.covariance(), b.covariance());
+    a.integrate(f, w, short_gap), b.integrate(f, w, short_gap);
+    EXPECT_GT((a.covariance().block<3, 3>(3, 3).trace()), (b.covariance().block<3, 3>(3, 3).trace() + 0.1))
+        << "a 0.4 s gap adds (1 m/s^2 * 0.4 s)^2 per axis to the velocity's variance";
+}
+
 TEST(ImuFactor, JacobiansMatchNumeric)
 {
     const ImuPreintegration pre = constantMotion(Eigen::Vector3d(0.3, -0.5, 0.8), Eigen::Vector3d(0.5, 0.2, 9.7), 40,

@@ -178,7 +178,7 @@ TEST(Options, IniRoundTripAndCheck)
     for (const char* k : {"mode", "tau", "beta", "kappa", "epsilon"})
         EXPECT_NE(std::find(rk.begin(), rk.end(), k), rk.end()) << k;
     const auto ek = quasiloc::core::knownKeys(eo, "Estimator");
-    EXPECT_EQ(ek.size(), 12u);
+    EXPECT_EQ(ek.size(), 13u);
     quasiloc::core::loadOptionsChecked(ro, cfg, "Reweighting", "test.ini");
     cfg.write("Reweighting", "taus", "1");
     EXPECT_THROW(quasiloc::core::loadOptionsChecked(ro, cfg, "Reweighting", "test.ini"), quasiloc::core::InputError);

@@ -291,6 +291,12 @@ void Tracker::addStereoMapTerm(const StereoPoints& points, estimation::WindowInp
     if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
 }
 
+bool Tracker::edgesAsUsual(const FrameReport& r) const
+{
+    const double usual = edge_inlier_ratio_usual_;
+    return std::isnan(usual) || r.edge_inlier_ratio >= options_.factors.stereo_check_min_edge_ratio * usual;
+}
+
 bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignment& a, FrameReport& rep)
 {
     // The pose of an accepted map alignment (set with T_map_body): it rests on the left image alone.
@@ -310,8 +316,7 @@ bool Tracker::checkStereoAgainstMap(const StereoPoints& points, const MapAlignme
     // pose (a restart, a kidnap, the end of a gap) the alignment settles in a poorer optimum, and then the stereo,
     // not the pose, is the one to believe.
     const double usual = edge_inlier_ratio_usual_;
-    const bool edges_as_usual =
-        std::isnan(usual) || rep.edge_inlier_ratio >= options_.factors.stereo_check_min_edge_ratio * usual;
+    const bool edges_as_usual = edgesAsUsual(rep);
     rep.stereo_rejected = edges_as_usual && stereo_check_bound_ > 0 && rep.stereo_map_sigmas > stereo_check_bound_;
     if (edges_as_usual && !rep.stereo_rejected)
         edge_inlier_ratio_usual_ = std::isnan(usual) ? rep.edge_inlier_ratio : 0.95 * usual + 0.05 * rep.edge_inlier_ratio;

@@ -112,6 +112,7 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
     const TrackerOptions& o = options_.tracker;
     estimation::ImuNoise noise = imuNoise(imu_);
     noise.gap_s = options_.estimator.imu_gap_s;
+    noise.gap_max_s = options_.estimator.imu_gap_max_s;
     noise.gap_acc_sigma = options_.estimator.imu_gap_acc_sigma;
     noise.gap_gyro_sigma = options_.estimator.imu_gap_gyro_sigma;
     tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting,
@@ -361,9 +362,13 @@ double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameRep
     const bool failed =
         c.refined && (c.refined_explained - c.explained >= o.lost_min_gain || c.explained < o.lost_explained_floor);
     failed_checks_ = failed ? failed_checks_ + 1 : 0;
+    // After a restart at a fix, the stereo that passes the check is the stereo the fix came from: the pose is
+    // confirmed only when the edges (the left image alone) fit as usual too.
+    const bool confirms = !failed && (!restart_unconfirmed_ || tracker_->edgesAsUsual(r));
     if (failed) flagUnverified(last_verified_t_);  // since the last confirmed pose
-    else
+    else if (confirms)
     {
+        restart_unconfirmed_ = false;
         edge_pose_trusted_ = true;
         closeUnverified(r.t);
         last_verified_t_ = r.t;
@@ -371,7 +376,9 @@ double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameRep
     if (c.refined)
         out_ << "check at t " << std::fixed << std::setprecision(3) << r.t << ": explained " << c.explained << ", "
              << c.refined_explained << " after aligning (moved " << c.moved_m << " m, " << c.moved_deg
-             << " deg): " << (failed ? "failed" : "passed") << std::endl;
+             << " deg): " << (failed ? "failed" : confirms ? "passed" : "passed, not confirming the restart (edges "
+                                                                               "poorer than usual)")
+             << std::endl;
     return c.explained;
 }
 
@@ -447,6 +454,7 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
     // from it is unverified until a check confirms it.
     flagUnverified(t_fix);
     edge_pose_trusted_ = false;
+    restart_unconfirmed_ = true;
     estimation::FrameState track_at_fix = tracker_->state();
     for (const auto& [frame, state] : since_loss_)
         if (frame.timestamp <= t_fix) track_at_fix = state;

@@ -34,11 +34,12 @@ struct EstimatorOptions : public core::DeclaredOptions
     double robust_threshold = 2.0;
     double min_depth_m = 0.05;
     double marginal_damping = 1e-9;
-    /** IMU gaps (ImuNoise::gap_*): a step between two samples longer than imu_gap_s also carries the variance of
-     *  an unmeasured acceleration / angular rate of these sigmas. */
+    /** IMU gaps (ImuNoise::gap_*): a step between two samples longer than imu_gap_s, and not longer than
+     *  imu_gap_max_s, also carries the variance of an unmeasured acceleration / angular rate of these sigmas. */
     double imu_gap_s = 0.025;
-    double imu_gap_acc_sigma = 0;  ///< off by default: docs/reliability.md
-    double imu_gap_gyro_sigma = 0;
+    double imu_gap_max_s = 0.5;
+    double imu_gap_acc_sigma = 1.0;
+    double imu_gap_gyro_sigma = 0.25;
 
     void declare(core::OptionTable& t) override;
     /** InputError naming `input` and the key for a value out of its declared range (no two keys relate). */

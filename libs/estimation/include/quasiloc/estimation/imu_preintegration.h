@@ -34,8 +34,13 @@ struct ImuNoise
      *  measured, so the step also carries the variance of an unmeasured acceleration and angular rate of the
      *  sigmas below (the sensor noise alone would claim the held sample is exact over the whole gap). */
     double gap_s = 0.025;
-    double gap_acc_sigma = 0;  ///< m/s^2 (0: off)
-    double gap_gyro_sigma = 0;  ///< rad/s (0: off)
+    /** Only gaps up to this long get that variance. A longer one leaves the prediction as uncertain as the
+     *  sensor claims, so the tracker's gate rejects the large map corrections it needs and the loss check and the
+     *  relocalization take over: with the variance of a 1 s gap (0.5 m), the gate let through a wrong alignment
+     *  whose velocity and biases the window then kept (docs/reliability.md). */
+    double gap_max_s = 0.5;
+    double gap_acc_sigma = 1.0;   ///< m/s^2 (0: off)
+    double gap_gyro_sigma = 0.25;  ///< rad/s (0: off)
     Eigen::Vector3d gravity() const { return Eigen::Vector3d(0, 0, -gravity_m_s2); }
 };
 

@@ -119,6 +119,12 @@ class Tracker
      *  restart can be the wrong one while the stereo is what brings the track back. */
     void setStereoCheckBound(double max_sigmas) { stereo_check_bound_ = max_sigmas; }
 
+    /** Whether the frame's map alignment fits the camera's edges as well as they usually do (edge inlier ratio at
+     *  least stereo_check_min_edge_ratio of the running mean over frames whose stereo agreed; true before there is
+     *  a mean). Aligned from a wrong pose (a restart, a kidnap, the end of a gap) the edges settle in a poorer
+     *  optimum. */
+    bool edgesAsUsual(const FrameReport& r) const;
+
     /** Tracks one stereo frame (its IMU samples since the previous frame included). */
     FrameReport track(const dataset::StereoFrame& frame);
     /** The last tracked frame's dense stereo cloud (left camera frame; empty unless stereo_map_points = dense): the

@@ -12,8 +12,9 @@
 //   unverified    the diagnostics flag a frame `unverified` when it lies in a stretch the session could not
 //                 confirm: from the last passed check to the fix that ended a loss (or to the end of the frames),
 //                 or from a missed map update, a restart at a fix, or an input fault (rejected frames, a gap
-//                 between frames or in the IMU longer than input_gap_s) to the next passed check; while
-//                 unverified, every frame is checked.
+//                 between frames or in the IMU longer than input_gap_s) to the next passed check (after a
+//                 restart: a passed check on a frame whose edges fit as usual); while unverified, every frame is
+//                 checked.
 // quasiloc-track is options -> session -> outputs; the unit tests drive the session without the program.
 #include <mrpt/system/CTimeLogger.h>
 
@@ -126,6 +127,9 @@ class TrackingSession
      *  edge-aligned pose may then be the wrong one, and the stereo check (which trusts it) is off. A failed loss check
      *  leaves it: the stereo it weighs may be the broken part. */
     bool edge_pose_trusted_ = true;
+    /** From a restart at a fix until a passed loss check on a frame whose edges fit as usual: the fix and the check
+     *  weigh the same stereo, so a check alone would confirm a fix from desynchronised stereo (docs/reliability.md). */
+    bool restart_unconfirmed_ = false;
     std::optional<double> unverified_after_;  ///< the track is unverified after this time
     Eigen::Isometry3d T_body_cam_;
     std::unique_ptr<frontend::Frontend> frontend_;
