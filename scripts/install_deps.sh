@@ -11,6 +11,8 @@ PACKAGES=(
   # The fuzz targets (fuzz/, scripts/fuzz.sh, docs/fuzzing.md): clang with libFuzzer, ASan and UBSan.
   clang-14 libfuzzer-14-dev
   libyaml-cpp-dev
+  # The system-call filter of the rawlog reader's child process (libs/dataset/src/isolated_object_child.cpp).
+  libseccomp-dev
   # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros is skipped without them).
   librosbag-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev
   python3-numpy python3-matplotlib python3-opencv python3-scipy

@@ -2,6 +2,7 @@
 // parent for, and the child reports what it read. Everything here runs in the forked child only.
 #include <fcntl.h>
 #include <mrpt/io/CStream.h>
+#include <seccomp.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/serialization/CArchive.h>
 #include <sys/resource.h>
@@ -213,6 +214,33 @@ void sanitizerDied()
 }
 #endif
 
+/** What MRPT's readers may still do in the child: compute, allocate, talk on the socket it inherited, end. Every other
+ *  system call (open, exec, socket, connect, fork, unlink, ...) fails with EPERM: a reader that a crafted file turned
+ *  against the system can neither reach files nor the network. EPERM rather than death, so that an unexpected call
+ *  on a valid file costs that call, not the read. Without seccomp in the kernel the child goes on unfiltered. */
+void restrictSystemCalls()
+{
+    scmp_filter_ctx filter = seccomp_init(SCMP_ACT_ERRNO(EPERM));
+    if (!filter) return;
+    const int allowed[] = {
+        // the socket (fd 3; stderr for sanitizer reports)
+        SCMP_SYS(read), SCMP_SYS(write), SCMP_SYS(readv), SCMP_SYS(writev), SCMP_SYS(recvfrom), SCMP_SYS(sendto),
+        SCMP_SYS(recvmsg), SCMP_SYS(sendmsg), SCMP_SYS(close), SCMP_SYS(fstat), SCMP_SYS(newfstatat), SCMP_SYS(lseek),
+        // memory
+        SCMP_SYS(brk), SCMP_SYS(mmap), SCMP_SYS(munmap), SCMP_SYS(mremap), SCMP_SYS(madvise), SCMP_SYS(mprotect),
+        // threads of MRPT or OpenCV, time, waiting
+        SCMP_SYS(futex), SCMP_SYS(sched_yield), SCMP_SYS(clock_gettime), SCMP_SYS(gettimeofday),
+        SCMP_SYS(clock_nanosleep), SCMP_SYS(nanosleep), SCMP_SYS(pause), SCMP_SYS(ppoll), SCMP_SYS(poll),
+        SCMP_SYS(getrandom),
+        // ending: _exit, abort() and crashes (which raise their signal with tgkill)
+        SCMP_SYS(exit), SCMP_SYS(exit_group), SCMP_SYS(rt_sigreturn), SCMP_SYS(rt_sigprocmask),
+        SCMP_SYS(rt_sigaction), SCMP_SYS(sigaltstack), SCMP_SYS(getpid), SCMP_SYS(gettid), SCMP_SYS(tgkill)};
+    bool ok = true;
+    for (const int call : allowed) ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, call, 0) == 0;
+    if (ok) (void)seccomp_load(filter);
+    seccomp_release(filter);
+}
+
 void prepareChild(int socket_fd, std::uint64_t memory_budget_bytes)
 {
     // Only the socket stays open: the child must not keep the parent's files, or other children's sockets, open.
@@ -240,6 +268,7 @@ void prepareChild(int socket_fd, std::uint64_t memory_budget_bytes)
     if (null >= 0) ::dup2(null, STDERR_FILENO);
     if (null > STDERR_FILENO) ::close(null);
 #endif
+    restrictSystemCalls();  // last: the set-up above opens /proc/self/statm and /dev/null
 }
 }  // namespace
 

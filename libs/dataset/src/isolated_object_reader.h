@@ -23,7 +23,9 @@
 //
 // The child: its address space may grow by at most `memory_budget_bytes` beyond what it inherited (RLIMIT_AS, set
 // relative to its size at the fork, so a large parent does not leave it without memory; under ASan it bounds large
-// blocks only); default signal handlers, no core files, only its socket open; it leaves by _exit only (an exit()
+// blocks only); default signal handlers, no core files, only its socket open; a seccomp filter (libseccomp) lets it
+// compute, allocate, use that socket and end, and makes every other system call fail with EPERM (no file, network,
+// process or exec: restrictSystemCalls in isolated_object_child.cpp); it leaves by _exit only (an exit()
 // inside MRPT included), so no atexit handler or death callback of the parent (libFuzzer's would save the input as a
 // finding) runs in it. libFuzzer's malloc hook does run in it: fuzz_rawlog.options keeps single allocations under
 // its limit. The parent writes with send(MSG_NOSIGNAL): a dead child is an error, not a SIGPIPE. Children are

@@ -17,6 +17,8 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 #include <sys/resource.h>
+#include <fcntl.h>
+#include <netinet/in.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -37,6 +39,8 @@
 
 namespace quasiloc_test
 {
+constexpr const char* kEscapeFile = "/tmp/quasiloc_isolated_reader_escape_test";
+
 /** An observation whose reading misbehaves as `mode` says (it is read before anything else is done). */
 class CObservationMisbehaving : public mrpt::obs::CObservation
 {
@@ -51,6 +55,7 @@ class CObservationMisbehaving : public mrpt::obs::CObservation
         Exit3,
         Hang,
         Garbage,  ///< writes a report of more bytes than it was sent on the child's socket (fd 3), then waits
+        Escape,   ///< tries to create a file, open a network socket and fork; reads a timestamp of 1 ns if any worked
     };
     std::uint8_t mode = Fine;
 
@@ -72,6 +77,16 @@ void CObservationMisbehaving::serializeFrom(mrpt::serialization::CArchive& in, u
     if (mode == Abort) std::abort();
     if (mode == Exit3) std::exit(3);
     while (mode == Hang) ::pause();
+    if (mode == Escape)
+    {
+        const int fd = ::open(kEscapeFile, O_CREAT | O_WRONLY, 0600);
+        const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
+        const pid_t pid = ::fork();
+        if (pid == 0) _exit(0);
+        in >> timestamp;
+        if (fd >= 0 || sock >= 0 || pid > 0) timestamp = quasiloc::dataset::mrptTimeFromNs(1);
+        return;
+    }
     if (mode == Garbage)
     {
         const char done[1 + 4 + 17 + 1] = {'D', 18, 0, 0, 0, 0, 0, 0, 0, 0, 1 /* 2^40 bytes consumed */};
@@ -197,6 +212,23 @@ TEST(IsolatedObjectReader, ChildThatCrashesAbortsOrExitsIsAnErrorAndIsReplaced)
     EXPECT_EQ(o.class_name, "quasiloc_test::CObservationMisbehaving");
     EXPECT_EQ(mrptTimeToNs(o.timestamp), 7'000'000'000);
     EXPECT_EQ(reader.childrenStarted(), 4);
+}
+
+// The child's system-call filter: MRPT's reading may compute, allocate and use its socket, nothing else. A reader
+// that tries to create a file, open a network socket or fork is refused (EPERM) and its object still reads.
+TEST(IsolatedObjectReader, ChildCannotCreateFilesOpenSocketsOrFork)
+{
+    TempDir dir;
+    const std::string path = dir / "escape.rawlog";
+    std::filesystem::remove(quasiloc_test::kEscapeFile);
+    writeObjects(path, misbehaving(CObservationMisbehaving::Escape));
+    StreamOf in(path);
+    IsolatedObjectReader reader;
+    const IsolatedObject o = reader.read(in.stream);
+    EXPECT_EQ(o.error, "");
+    EXPECT_EQ(mrptTimeToNs(o.timestamp), 7'000'000'000) << "a file, a socket or a process was created";
+    EXPECT_FALSE(std::filesystem::exists(quasiloc_test::kEscapeFile));
+    std::filesystem::remove(quasiloc_test::kEscapeFile);
 }
 
 TEST(IsolatedObjectReader, ChildThatHangsIsKilledAtTheTimeout)
