@@ -40,7 +40,7 @@ bool RawlogEntries::next(std::vector<RawlogObservation>& out)
     out.clear();
     for (;;)
     {
-        const Kind kind = readTopLevel(out, true);
+        const Kind kind = readTopLevel(out);
         if (kind == Kind::End) return false;
         if (kind == Kind::Observation) return true;
         out.clear();  // a skipped object (CRawlog reads it and drops it)
@@ -48,22 +48,23 @@ bool RawlogEntries::next(std::vector<RawlogObservation>& out)
     }
     for (;;)
     {
-        const Kind kind = readTopLevel(out, false);
+        const Kind kind = readTopLevel(out);
         if (kind == Kind::SensoryFrame) return true;
         out.clear();
+        if (kind == Kind::End)
+        {
+            // CRawlog ends there too (MRPT's own sample rawlogs do): the action is dropped, the file is not an error.
+            ended_after_action_ = true;
+            return false;
+        }
     }
 }
 
-RawlogEntries::Kind RawlogEntries::readTopLevel(std::vector<RawlogObservation>& out, bool end_allowed)
+RawlogEntries::Kind RawlogEntries::readTopLevel(std::vector<RawlogObservation>& out)
 {
     reader_.startEntry(next_entry_);
     const auto header = readObjectHeader(reader_, true);
-    if (!header)
-    {
-        if (!end_allowed)
-            reader_.fail("truncated: the file ends after an action collection, before its sensory frame");
-        return Kind::End;
-    }
+    if (!header) return Kind::End;
     ++next_entry_;
     if (header->id == CLASS_ID(mrpt::obs::CSensoryFrame))
     {

@@ -48,9 +48,12 @@ class RawlogEntries
     /** The next observation, or the observations of the next sensory frame, into `out`, following CRawlog's
      *  layouts: a top-level observation is returned alone; an action collection is followed by a sensory frame,
      *  whose observations are returned (objects between them are skipped); any other top-level object (a sensory
-     *  frame without an action collection before it, a pose, ...) is skipped. False at the clean end of the file.
-     *  A corrupt or truncated entry is an InputError. */
+     *  frame without an action collection before it, a pose, ...) is skipped. False at the clean end of the file,
+     *  which may come after an action collection whose sensory frame is missing, as CRawlog reads it
+     *  (endedAfterAction()). A corrupt or truncated entry is an InputError. */
     bool next(std::vector<RawlogObservation>& out);
+    /** The file ended after an action collection, before the sensory frame that should follow it. */
+    bool endedAfterAction() const { return ended_after_action_; }
 
    private:
     enum class Kind
@@ -61,7 +64,7 @@ class RawlogEntries
         SensoryFrame,
         Other
     };
-    Kind readTopLevel(std::vector<RawlogObservation>& out, bool end_allowed);
+    Kind readTopLevel(std::vector<RawlogObservation>& out);
     void readSensoryFrame(const ObjectHeader& header, std::vector<RawlogObservation>& out);
     void readActionCollection(const ObjectHeader& header);
     /** An object whose header was just read: parsed when its class is known, else read by MRPT in the child
@@ -75,6 +78,7 @@ class RawlogEntries
     FieldReader reader_;
     IsolatedObjectReader isolated_;  // the classes we do not parse
     size_t next_entry_ = 0;
+    bool ended_after_action_ = false;
 };
 
 }  // namespace quasiloc::dataset::detail

@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/obs/CRawlog.h>
@@ -160,6 +163,48 @@ TEST(RawlogWriter, RoundTripThroughOpenRawlog)
     }
     EXPECT_FALSE(src->next(frame));
     EXPECT_TRUE(src->warnings().empty());
+}
+
+// A rawlog whose last entry is an action collection without the sensory frame that should follow it (recording
+// stopped between the two; four of MRPT's own sample rawlogs end so): CRawlog ends there, and so does the reader,
+// with a warning, after every frame before it.
+TEST(RawlogWriter, FileEndingAfterAnActionCollectionReadsToItsEndWithAWarning)
+{
+    TempDir dir;
+    const std::string path = dir / "ends_after_action.rawlog";  // its images: ends_after_action_Images/
+    {
+        RawlogWriter w(path, smallRig());
+        for (int f = 0; f < 3; ++f)
+        {
+            for (int i = 0; i < 10; ++i) w.writeImu(imuSample(100.0 + f * 0.1 + i * 0.01 - 0.09, f * 10 + i));
+            w.writeStereo(100.0 + f * 0.1, randomImage(64, 48, 10 + f), randomImage(64, 48, 20 + f));
+        }
+        w.close();
+    }
+    {
+        // The written (compressed) file's objects, then the action, in a plain rawlog of the same name.
+        std::string bytes(1 << 20, '\0');
+        {
+            mrpt::io::CFileGZInputStream in(path);
+            bytes.resize(in.Read(bytes.data(), bytes.size()));
+        }
+        ASSERT_LT(bytes.size(), size_t(1 << 20));
+        mrpt::io::CFileOutputStream out(path);
+        out.Write(bytes.data(), bytes.size());
+        mrpt::obs::CActionRobotMovement2D move;
+        move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+        mrpt::obs::CActionCollection actions;
+        actions.insert(move);
+        mrpt::serialization::archiveFrom(out) << actions;
+    }
+    auto src = openRawlog(path);
+    StereoFrame frame;
+    int frames = 0;
+    while (src->next(frame)) ++frames;
+    EXPECT_EQ(frames, 3);
+    const auto warnings = src->warnings();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("ends after an action collection without its sensory frame"), std::string::npos);
 }
 
 TEST(RawlogWriter, RejectsImagesOfWrongSizeOrType)
