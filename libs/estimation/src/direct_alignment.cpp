@@ -4,7 +4,9 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <opencv2/core/utility.hpp>
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/estimation/pose_parametrization.h>
 
@@ -19,30 +21,73 @@ using detail::projectToLevel;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
 
+/** The sum of body(begin, end, part) over [0, n) in kStripes fixed stripes, each summed in order and then added in
+ *  stripe order: the same bits whichever thread runs which stripe, and whether the pool runs them at all. The LM
+ *  runs on the tracking thread while the worker has often finished its tasks: the second core takes stripes. */
+constexpr int kStripes = 4;
+template <class Part, class Body>
+Part sumInStripes(size_t n, const Part& zero, const Body& body)
+{
+    std::array<Part, kStripes> parts;
+    parts.fill(zero);
+    const auto run = [&](int s) { body(n * size_t(s) / kStripes, n * size_t(s + 1) / kStripes, parts[size_t(s)]); };
+    if (n < 1024)
+        for (int s = 0; s < kStripes; ++s) run(s);
+    else
+        cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& r) {
+            for (int s = r.start; s < r.end; ++s) run(s);
+        }, kStripes);
+    Part total = parts[0];
+    for (int s = 1; s < kStripes; ++s) total += parts[size_t(s)];
+    return total;
+}
+
+struct CostPart
+{
+    double cost = 0;
+    size_t inliers = 0;
+    CostPart& operator+=(const CostPart& o)
+    {
+        cost += o.cost, inliers += o.inliers;
+        return *this;
+    }
+};
+
+struct NormalPart
+{
+    Matrix6d H = Matrix6d::Zero();
+    Vector6d b = Vector6d::Zero();
+    NormalPart& operator+=(const NormalPart& o)
+    {
+        H += o.H, b += o.b;
+        return *this;
+    }
+};
+
 double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
                  const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
-    double cost = 0;
-    size_t inliers = 0;
     const double trunc_cost = huberCost(o.truncation_px, o.huber_px);
-    for (size_t i = 0; i < model.edge_points_world.size(); ++i)
-    {
-        Eigen::Vector3d p_cam;
-        Eigen::Vector2d u;
-        if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, nullptr))
+    const CostPart sum = sumInStripes(model.edge_points_world.size(), CostPart{}, [&](size_t begin, size_t end, CostPart& part) {
+        for (size_t i = begin; i < end; ++i)
         {
-            cost += trunc_cost;
-            continue;
+            Eigen::Vector3d p_cam;
+            Eigen::Vector2d u;
+            if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, nullptr))
+            {
+                part.cost += trunc_cost;
+                continue;
+            }
+            const double r = std::min<double>(bilinear(L.distance[model.edge_bin[i]], float(u.x()), float(u.y())),
+                                              o.truncation_px);
+            part.cost += huberCost(r, o.huber_px);
+            part.inliers += r < o.huber_px;
         }
-        const double r = std::min<double>(bilinear(L.distance[model.edge_bin[i]], float(u.x()), float(u.y())),
-                                          o.truncation_px);
-        cost += huberCost(r, o.huber_px);
-        inliers += r < o.huber_px;
-    }
+    });
     const size_t n = std::max<size_t>(1, model.edge_points_world.size());
-    if (inlier_ratio) *inlier_ratio = double(inliers) / double(n);
-    return cost / double(n);
+    if (inlier_ratio) *inlier_ratio = double(sum.inliers) / double(n);
+    return sum.cost / double(n);
 }
 
 /** Gauss-Newton normal equations of the Huber-weighted edge residuals at one level. Points at the
@@ -51,30 +96,30 @@ void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, 
                      const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, Matrix6d& H, Vector6d& b)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
-    H.setZero();
-    b.setZero();
     const double flat = o.truncation_px - 1e-3;
-    for (size_t i = 0; i < model.edge_points_world.size(); ++i)
-    {
-        Eigen::Vector3d p_cam;
-        Eigen::Vector2d u;
-        Eigen::Matrix<double, 2, 3> J_u_p;
-        if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, &J_u_p)) continue;
-        const float x = float(u.x()), y = float(u.y());
-        const size_t bin = model.edge_bin[i];
-        const double r = bilinear(L.distance[bin], x, y);
-        if (r >= flat) continue;
-        const cv::Mat& D = L.distance[bin];
-        const Eigen::RowVector2d g(0.5 * (bilinear(D, x + 1, y) - bilinear(D, x - 1, y)),
-                                   0.5 * (bilinear(D, x, y + 1) - bilinear(D, x, y - 1)));
-        // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
-        const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
-        const double w = huberWeight(r, o.huber_px);
-        H.noalias() += w * J.transpose() * J;
-        b.noalias() += w * r * J.transpose();
-    }
+    const NormalPart sum = sumInStripes(model.edge_points_world.size(), NormalPart{}, [&](size_t begin, size_t end, NormalPart& part) {
+        for (size_t i = begin; i < end; ++i)
+        {
+            Eigen::Vector3d p_cam;
+            Eigen::Vector2d u;
+            Eigen::Matrix<double, 2, 3> J_u_p;
+            if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, &J_u_p)) continue;
+            const float x = float(u.x()), y = float(u.y());
+            const size_t bin = model.edge_bin[i];
+            const double r = bilinear(L.distance[bin], x, y);
+            if (r >= flat) continue;
+            const cv::Mat& D = L.distance[bin];
+            const Eigen::RowVector2d g(0.5 * (bilinear(D, x + 1, y) - bilinear(D, x - 1, y)),
+                                       0.5 * (bilinear(D, x, y + 1) - bilinear(D, x, y - 1)));
+            // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
+            const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
+            const double w = huberWeight(r, o.huber_px);
+            part.H.noalias() += w * J.transpose() * J;
+            part.b.noalias() += w * r * J.transpose();
+        }
+    });
     const double n = double(std::max<size_t>(1, model.edge_points_world.size()));
-    H /= n, b /= n;  // levelCost is a mean
+    H = sum.H / n, b = sum.b / n;  // levelCost is a mean
 }
 
 /** The prior's cost weight * 0.5 |delta / sigma|^2 with delta = T (-) T_prior, and its Gauss-Newton terms
