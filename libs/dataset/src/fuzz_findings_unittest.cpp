@@ -31,6 +31,7 @@
 using namespace quasiloc;
 using namespace quasiloc::dataset;
 using quasiloc::dataset::test::TempDir;
+using quasiloc::dataset::test::odometryActions;
 
 // fuzz_rawlog: MRPT reads CObservationIMU::dataIsPresent as raw bytes, so a corrupt rawlog can hold a flag byte
 // that is no valid bool (177 here); CObservationIMU::has() loading it is undefined behaviour (UBSan: "load of value
@@ -421,16 +422,6 @@ mrpt::obs::CObservationStereoImages::Ptr smallStereo(std::int64_t t_ns)
 }
 
 /** Entry 0: a stereo observation; entry 1: `object`. Returns the file's bytes. */
-/** An action collection with one 2D odometry movement: an action, which MRPT reads in the child process. */
-mrpt::obs::CActionCollection odometryActions()
-{
-    mrpt::obs::CActionCollection actions;
-    mrpt::obs::CActionRobotMovement2D move;
-    move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
-    actions.insert(move);
-    return actions;
-}
-
 std::string writeStereoThen(const std::string& path, const mrpt::serialization::CSerializable& object)
 {
     {

@@ -1,8 +1,6 @@
 #include <gtest/gtest.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileOutputStream.h>
-#include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/obs/CRawlog.h>
@@ -191,11 +189,7 @@ TEST(RawlogWriter, FileEndingAfterAnActionCollectionReadsToItsEndWithAWarning)
         ASSERT_LT(bytes.size(), size_t(1 << 20));
         mrpt::io::CFileOutputStream out(path);
         out.Write(bytes.data(), bytes.size());
-        mrpt::obs::CActionRobotMovement2D move;
-        move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
-        mrpt::obs::CActionCollection actions;
-        actions.insert(move);
-        mrpt::serialization::archiveFrom(out) << actions;
+        mrpt::serialization::archiveFrom(out) << quasiloc::dataset::test::odometryActions();
     }
     auto src = openRawlog(path);
     StereoFrame frame;

@@ -1,6 +1,8 @@
 #pragma once
 // Helpers for the dataset unit tests (header-only, test code only).
 #include <gtest/gtest.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -58,6 +60,16 @@ void expectInputErrorMentioning(F&& f, const std::string& needle)
         EXPECT_NE(std::string(e.what()).find(needle), std::string::npos)
             << "message '" << e.what() << "' does not mention '" << needle << "'";
     }
+}
+
+/** An action collection with one 2D odometry movement: an action, which MRPT reads in the child process. */
+inline mrpt::obs::CActionCollection odometryActions()
+{
+    mrpt::obs::CActionCollection actions;
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0.01), {});
+    actions.insert(move);
+    return actions;
 }
 
 }  // namespace quasiloc::dataset::test

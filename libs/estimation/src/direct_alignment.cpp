@@ -4,13 +4,12 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <opencv2/core/utility.hpp>
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/estimation/pose_parametrization.h>
 
 #include "direct_alignment_detail.h"
+#include "parallel_points.h"
 
 namespace quasiloc::estimation
 {
@@ -20,27 +19,6 @@ using detail::bilinear;
 using detail::projectToLevel;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
-
-/** The sum of body(begin, end, part) over [0, n) in kStripes fixed stripes, each summed in order and then added in
- *  stripe order: the same bits whichever thread runs which stripe, and whether the pool runs them at all. The LM
- *  runs on the tracking thread while the worker has often finished its tasks: the second core takes stripes. */
-constexpr int kStripes = 4;
-template <class Part, class Body>
-Part sumInStripes(size_t n, const Part& zero, const Body& body)
-{
-    std::array<Part, kStripes> parts;
-    parts.fill(zero);
-    const auto run = [&](int s) { body(n * size_t(s) / kStripes, n * size_t(s + 1) / kStripes, parts[size_t(s)]); };
-    if (n < 1024)
-        for (int s = 0; s < kStripes; ++s) run(s);
-    else
-        cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& r) {
-            for (int s = r.start; s < r.end; ++s) run(s);
-        }, kStripes);
-    Part total = parts[0];
-    for (int s = 1; s < kStripes; ++s) total += parts[size_t(s)];
-    return total;
-}
 
 struct CostPart
 {
@@ -69,7 +47,7 @@ double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, cons
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     const double trunc_cost = huberCost(o.truncation_px, o.huber_px);
-    const CostPart sum = sumInStripes(model.edge_points_world.size(), CostPart{}, [&](size_t begin, size_t end, CostPart& part) {
+    const CostPart sum = detail::sumInStripes(model.edge_points_world.size(), CostPart{}, [&](size_t begin, size_t end, CostPart& part) {
         for (size_t i = begin; i < end; ++i)
         {
             Eigen::Vector3d p_cam;
@@ -97,7 +75,7 @@ void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, 
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     const double flat = o.truncation_px - 1e-3;
-    const NormalPart sum = sumInStripes(model.edge_points_world.size(), NormalPart{}, [&](size_t begin, size_t end, NormalPart& part) {
+    const NormalPart sum = detail::sumInStripes(model.edge_points_world.size(), NormalPart{}, [&](size_t begin, size_t end, NormalPart& part) {
         for (size_t i = begin; i < end; ++i)
         {
             Eigen::Vector3d p_cam;
