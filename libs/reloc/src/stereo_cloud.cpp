@@ -34,6 +34,11 @@ StereoCloud::StereoCloud(const core::StereoRig& rig, const StereoCloudOptions& o
 std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const cv::Mat& right_raw,
                                                   const std::string& input) const
 {
+    return points(disparity(left_raw, right_raw, input));
+}
+
+StereoDisparity StereoCloud::disparity(const cv::Mat& left_raw, const cv::Mat& right_raw, const std::string& input) const
+{
     for (const cv::Mat* im : {&left_raw, &right_raw})
     {
         core::require(!im->empty() && im->type() == CV_8UC1, input, "stereo images must be 8-bit grey");
@@ -42,18 +47,27 @@ std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const
                           " differs from the calibration's " + std::to_string(size_.width) + " x " +
                           std::to_string(size_.height));
     }
-    cv::Mat left, right, disparity;
-    rect_.rectify(left_raw, right_raw, left, right);
+    StereoDisparity d;
+    rect_.rectify(left_raw, right_raw, d.left_rect, d.right_rect);
     const int s = options_.downscale;
+    d.scale = s;
+    cv::Mat left = d.left_rect, right = d.right_rect;
     if (s > 1)
     {
-        cv::resize(left, left, cv::Size(), 1.0 / s, 1.0 / s, cv::INTER_AREA);
-        cv::resize(right, right, cv::Size(), 1.0 / s, 1.0 / s, cv::INTER_AREA);
+        cv::resize(d.left_rect, left, cv::Size(), 1.0 / s, 1.0 / s, cv::INTER_AREA);
+        cv::resize(d.right_rect, right, cv::Size(), 1.0 / s, 1.0 / s, cv::INTER_AREA);
     }
     const int b = options_.block_size;
     auto sgbm = cv::StereoSGBM::create(0, options_.num_disparities / s, b, 8 * b * b, 32 * b * b, 1, 63,
                                        options_.uniqueness_ratio, 100 / (s * s), 2, cv::StereoSGBM::MODE_SGBM_3WAY);
-    sgbm->compute(left, right, disparity);  // CV_16S, disparity x 16, in pixels of the (scaled) pair
+    sgbm->compute(left, right, d.disparity);  // CV_16S, disparity x 16, in pixels of the (scaled) pair
+    return d;
+}
+
+std::vector<Eigen::Vector3f> StereoCloud::points(const StereoDisparity& d) const
+{
+    const cv::Mat& disparity = d.disparity;
+    const int s = d.scale;
 
     const double f = rect_.P_left(0, 0), cx = rect_.P_left(0, 2), cy = rect_.P_left(1, 2);
     const double fb = f * rect_.baseline_m;

@@ -5,8 +5,8 @@
 //     bench_tracking [config.ini] [--set Section.key=value]... [--benchmark_filter=...] [other Google Benchmark flags]
 //
 // Stages (the tracker's order, tracker.h): IMU prediction, the camera edge field, the quasi-image render at the
-// pose, the map edge model, the direct alignment from a pose 2 cm / 0.5 deg off, the stereo points of both images,
-// the dense stereo cloud (stereo_map_points = dense), and the whole Tracker::track (the window included: its share is the counter window_ms). Every benchmark cycles
+// pose, the map edge model, the direct alignment from a pose 2 cm / 0.5 deg off, the stereo points of both images
+// (descriptor matching) or of the left image guided by the dense disparity (guided matching), the dense stereo cloud (stereo_map_points = dense), and the whole Tracker::track (the window included: its share is the counter window_ms). Every benchmark cycles
 // over the first [Bench] frames frames of the rawlog. The real EuRoC micro set: the same with the --set lines of
 // scripts/real_micro.sh (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
@@ -162,6 +162,29 @@ void BM_StereoPoints(benchmark::State& state)
     state.counters["matches"] = double(matches) / double(std::max<size_t>(1, k));
 }
 
+/** Tracking.stereo_matching = guided: ORB on the left image only, the right match searched around the frame's
+ *  dense disparity (computed beforehand, untimed: the frame computes it for the surface factor anyway). */
+void BM_GuidedStereoPoints(benchmark::State& state)
+{
+    frontend::Frontend frontend(fixture().options.frontend);
+    const reloc::StereoCloud cloud(fixture().calibration.rig, fixture().options.localization.stereo);
+    const tracking::GuidedStereo guided(fixture().calibration.rig, cloud.rectification(),
+                                        fixture().options.frontend.stereo, fixture().options.tracker.guided);
+    std::vector<reloc::StereoDisparity> disparities;
+    for (size_t i = 0; i < std::min(kFrames, fixture().frames.size()); ++i)
+        disparities.push_back(cloud.disparity(frameAt(i).left, frameAt(i).right, "bench"));
+    size_t k = 0, matches = 0;
+    for (auto _ : state)
+    {
+        const size_t i = k++ % disparities.size();
+        frontend::FrameFeatures left;
+        frontend.extractPoints(frameAt(i).left, cv::Mat(), left);
+        std::vector<cv::KeyPoint> right;
+        matches += guided.match(left.points.keypoints, disparities[i], right).size();
+    }
+    state.counters["matches"] = double(matches) / double(std::max<size_t>(1, k));
+}
+
 void BM_DenseStereo(benchmark::State& state)
 {
     const reloc::StereoCloud cloud(fixture().calibration.rig, fixture().options.localization.stereo);
@@ -226,6 +249,7 @@ BENCHMARK(BM_Render)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_EdgeModel)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DirectAlignment)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StereoPoints)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GuidedStereoPoints)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DenseStereo)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TrackFrame)->Unit(benchmark::kMillisecond)->MinTime(5.0);
 

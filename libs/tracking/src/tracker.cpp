@@ -50,7 +50,8 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
       map_(renderer.map()),
       frontend_(frontend),
       right_frontend_(std::make_unique<frontend::Frontend>(frontend.options())),
-      stereo_matcher_(rig, frontend.options().stereo)
+      stereo_matcher_(rig, frontend.options().stereo),
+      rig_(rig)
 {
     // Options set in code (a library caller) meet the same ranges as loaded ones.
     options_.checkRanges("Tracker", "Tracking");
@@ -75,6 +76,15 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
         line_extractor_ = std::make_unique<MapLineExtractor>(stereo_.left.model, mapLineOptions(), frontend.options().lines);
         line_detector_ = std::make_unique<frontend::LineDetector>(frontend.options().lines);
     }
+}
+
+void Tracker::setStereoCloud(const reloc::StereoCloud* cloud)
+{
+    stereo_cloud_ = cloud;
+    guided_stereo_.reset();
+    if (cloud && options_.stereo_matching == StereoMatching::Guided)
+        guided_stereo_ = std::make_unique<GuidedStereo>(rig_, cloud->rectification(), frontend_.options().stereo,
+                                                        options_.guided);
 }
 
 MapLineOptions Tracker::mapLineOptions() const
@@ -336,23 +346,28 @@ void Tracker::extractRightPoints(const dataset::StereoFrame& frame, StereoPoints
 
 void Tracker::matchStereoPoints(StereoPoints& sp) const
 {
-    sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
+    if (guidedStereo())
+        sp.stereo = guided_stereo_->match(sp.left.points.keypoints, sp.disparity, sp.right.points.keypoints);
+    else
+        sp.stereo = stereo_matcher_.match(sp.left.points, sp.right.points);
     sp.stereo_of_left.assign(sp.left.points.size(), -1);
     for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
 }
 
 void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
 {
-    if (denseStereo()) sp.dense = stereo_cloud_->compute(frame.left, frame.right, "frame " + std::to_string(frame.index));
+    if (!denseStereo()) return;
+    sp.disparity = stereo_cloud_->disparity(frame.left, frame.right, "frame " + std::to_string(frame.index));
+    sp.dense = stereo_cloud_->points(sp.disparity);
 }
 
 Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
 {
     StereoPoints sp;
     extractLeftPoints(frame, sp);
-    extractRightPoints(frame, sp);
-    matchStereoPoints(sp);
+    if (!guidedStereo()) extractRightPoints(frame, sp);
     extractDenseStereo(frame, sp);
+    matchStereoPoints(sp);
     return sp;
 }
 
@@ -554,7 +569,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         // the second image while the worker stood idle (docs/benchmarks.md).
         if (denseStereo()) tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); });
         tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); });
-        tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); });
+        if (!guidedStereo()) tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); });
     }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
     if (rep.keyframe && options_.factors.map_lines)

@@ -104,6 +104,20 @@ void TrackerOptions::declare(core::OptionTable& t)
     t.add("temporal_window_px", temporal_window_px, "px", Range::above(0),
           "a current keypoint's match lies within this of the previous one");
     t.add("max_landmarks", max_landmarks, "", Range::atLeast(0), "temporal landmarks per frame at most");
+    t.addEnum("stereo_matching", stereo_matching,
+              {{"guided", StereoMatching::Guided}, {"descriptors", StereoMatching::Descriptors}},
+              "the right image's match of a left keypoint: guided = searched around the frame's dense SGBM "
+              "disparity (no features on the right image; needs MapFactors.stereo_map_points = dense, else the "
+              "descriptors are used); descriptors = ORB on the right image too, matched along the epipolar band");
+    t.add("guided_patch_radius_px", guided.patch_radius_px, "px", Range::between(1, 15),
+          "guided matching: the compared patches are (2 r + 1)^2 pixels of the rectified pair");
+    t.add("guided_search_px", guided.search_px, "px", Range::between(1, 20),
+          "guided matching: columns searched on each side of the SGBM disparity (full resolution)");
+    t.add("guided_max_prior_spread_px", guided.max_prior_spread_px, "px", Range::atLeast(0),
+          "guided matching: SGBM disparities around the keypoint that differ more mark a depth edge (no point)");
+    t.add("guided_max_mean_abs_diff", guided.max_mean_abs_diff, "", Range::above(0),
+          "guided matching: the patches' mean absolute difference per pixel, each patch's mean removed, at most "
+          "(gray levels)");
     t.add("concurrent_stages", concurrent_stages,
           "a frame's independent tasks (edge field, stereo points, dense stereo) on a worker thread and the tracking thread");
 }

@@ -33,6 +33,15 @@ struct StereoCloudOptions
     void check(const std::string& input, const std::string& section) const;
 };
 
+/** One frame's SGBM disparity, and the rectified pair it was computed on (the tracker searches the right image
+ *  for its left keypoints around it: tracking/guided_stereo.h). */
+struct StereoDisparity
+{
+    cv::Mat left_rect, right_rect;  ///< the rectified pair at full resolution, CV_8UC1
+    cv::Mat disparity;              ///< CV_16S, 16 x the disparity in pixels of the scaled pair (<= 0: none)
+    int scale = 1;                  ///< downscale: disparity pixel (x, y) covers full-resolution pixels s x .. s x + s - 1
+};
+
 class StereoCloud
 {
    public:
@@ -42,6 +51,12 @@ class StereoCloud
      *  that are empty, not CV_8UC1 or not of the calibrated size. */
     std::vector<Eigen::Vector3f> compute(const cv::Mat& left_raw, const cv::Mat& right_raw,
                                          const std::string& input = "stereo frame") const;
+    /** compute()'s two steps: the disparity of the pair (same errors), then its points. */
+    StereoDisparity disparity(const cv::Mat& left_raw, const cv::Mat& right_raw,
+                              const std::string& input = "stereo frame") const;
+    std::vector<Eigen::Vector3f> points(const StereoDisparity& d) const;
+    /** The rectification the disparities refer to. */
+    const core::StereoRectification& rectification() const { return rect_; }
 
     /** Depth noise [m] of a point at depth z [m] (disparity_sigma_px through z = f b / d). */
     double depthSigma(double z_m) const { return z_m * z_m / (rect_.P_left(0, 0) * rect_.baseline_m) * options_.disparity_sigma_px; }

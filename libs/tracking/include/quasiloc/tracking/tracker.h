@@ -34,6 +34,7 @@
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/reloc/stereo_cloud.h>
+#include <quasiloc/tracking/guided_stereo.h>
 #include <quasiloc/tracking/map_lines.h>
 #include <quasiloc/tracking/map_planes.h>
 #include <quasiloc/tracking/static_initialization.h>
@@ -111,8 +112,9 @@ class Tracker
 
     /** The map's distance field (must outlive the tracker; nullptr: none): enables stereo_map_factor. */
     void setMapDistanceField(const map::DistanceField* field) { distance_field_ = field; }
-    /** The dense stereo of stereo_map_points = dense (must outlive the tracker). */
-    void setStereoCloud(const reloc::StereoCloud* cloud) { stereo_cloud_ = cloud; }
+    /** The dense stereo of stereo_map_points = dense (must outlive the tracker); with stereo_matching = guided
+     *  the right image's matches are searched around its disparity. */
+    void setStereoCloud(const reloc::StereoCloud* cloud);
 
     /** The stereo check's bound for the next frames, in point sigmas (0: the stereo is never rejected); by default
      *  stereo_check_max_sigmas. The session sets it: the check trusts the edge-aligned pose, which after a gap or a
@@ -147,6 +149,7 @@ class Tracker
         std::vector<frontend::StereoPoint> stereo;
         std::vector<int> stereo_of_left;  ///< left keypoint -> index in stereo (-1: none)
         std::vector<Eigen::Vector3f> dense;  ///< stereo_map_points = dense: the SGBM cloud (left camera frame)
+        reloc::StereoDisparity disparity;    ///< the same: its disparity (guided stereo matching)
     };
     /** The standstill since the start (static_initialization): true while it lasts (the prior is then updated). */
     bool updateStandstill(const dataset::StereoFrame& frame);
@@ -171,8 +174,8 @@ class Tracker
                      const MapAlignment& a, estimation::WindowInput& in, FrameReport& rep);
     /** Depends on the images alone (and the front-end, used by no other stage): may run on a second thread. */
     StereoPoints extractStereo(const dataset::StereoFrame& frame);
-    /** Its parts. Independent tasks of a frame: the left points (frontend_), the right points (right_frontend_)
-     *  and the dense cloud. Then, with both points: their stereo matches. */
+    /** Its parts. Independent tasks of a frame: the left points (frontend_), the right points (right_frontend_;
+     *  not with guided matching) and the dense cloud. Then, with them: the stereo matches. */
     void extractLeftPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
     void extractRightPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
     void matchStereoPoints(StereoPoints& sp) const;
@@ -182,6 +185,8 @@ class Tracker
                const ImuBiasPrior& biases);
     /** The surface factor takes the dense SGBM cloud (stereo_map_points = dense and a cloud given). */
     bool denseStereo() const { return stereo_cloud_ && options_.factors.stereo_map_points == StereoMapPoints::Dense; }
+    /** The right image's matches come from the dense disparity (stereo_matching = guided, with the dense stereo). */
+    bool guidedStereo() const { return guided_stereo_ && denseStereo(); }
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const StereoPoints& points, estimation::WindowInput& in) const;
     /** The points that term and the stereo check use (the dense cloud, or the sparse matches) with their sigmas. */
@@ -206,6 +211,8 @@ class Tracker
      *  same options as frontend_. */
     std::unique_ptr<frontend::Frontend> right_frontend_;
     frontend::StereoMatcher stereo_matcher_;
+    core::StereoRig rig_;
+    std::unique_ptr<GuidedStereo> guided_stereo_;  ///< stereo_matching = guided, once a stereo cloud is set
     frontend::FrameFeatures prev_left_;
     std::vector<cv::KeyPoint> prev_right_keypoints_;
     std::vector<frontend::StereoPoint> prev_stereo_;

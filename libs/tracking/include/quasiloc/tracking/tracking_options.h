@@ -8,6 +8,7 @@
 // docs/options.md lists every key with its unit, range, default and documentation; docs/experiments.md the
 // measurements behind the defaults.
 #include <quasiloc/core/declared_options.h>
+#include <quasiloc/tracking/guided_stereo_options.h>
 
 #include <string>
 
@@ -25,6 +26,13 @@ enum class InitMode
 {
     GroundTruth,  ///< the first frames' ground truth gives the pose and velocity
     Global        ///< global localization by geometry of two frames and the IMU between them
+};
+
+/** How the right image's match of a left keypoint is found (the temporal landmarks' stereo points). */
+enum class StereoMatching
+{
+    Guided,      ///< around the frame's dense SGBM disparity, patches along the rectified row (guided_stereo.h)
+    Descriptors  ///< ORB on the right image too, matched by descriptor along the epipolar band (stereo_matcher.h)
 };
 
 /** Which stereo points the surface factor uses. */
@@ -79,6 +87,8 @@ struct TrackerOptions : public core::DeclaredOptions
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
     int max_landmarks = 150;
+    StereoMatching stereo_matching = StereoMatching::Guided;
+    GuidedStereoOptions guided;  ///< stereo_matching = guided: the guided_* keys
     bool concurrent_stages = true;
     InitializationOptions initialization;  ///< [Initialization]
     MapFactorOptions factors;              ///< [MapFactors]
