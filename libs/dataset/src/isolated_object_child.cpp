@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <mrpt/io/CStream.h>
 #include <seccomp.h>
+#include <sys/mman.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/serialization/CArchive.h>
 #include <sys/resource.h>
@@ -215,9 +216,9 @@ void sanitizerDied()
 #endif
 
 #ifndef QUASILOC_SANITIZED
-/** What MRPT's readers may still do in the child: compute, allocate, talk on the socket it inherited, end. Every other
- *  system call (open, exec, socket, connect, fork, unlink, ...) fails with EPERM: a reader that a crafted file turned
- *  against the system can neither reach files nor the network. EPERM rather than death, so that an unexpected call
+/** What MRPT's readers may still do in the child: compute, allocate (no executable memory), talk on the socket it
+ *  inherited, end. Every other system call (open, exec, socket, connect, fork, unlink, ...) fails with EPERM: a reader
+ *  that a crafted file turned against the system can neither reach files nor the network. EPERM rather than death, so that an unexpected call
  *  on a valid file costs that call, not the read. Without seccomp in the kernel the child goes on unfiltered. */
 void restrictSystemCalls()
 {
@@ -228,7 +229,7 @@ void restrictSystemCalls()
         SCMP_SYS(read), SCMP_SYS(write), SCMP_SYS(readv), SCMP_SYS(writev), SCMP_SYS(recvfrom), SCMP_SYS(sendto),
         SCMP_SYS(recvmsg), SCMP_SYS(sendmsg), SCMP_SYS(close), SCMP_SYS(fstat), SCMP_SYS(newfstatat), SCMP_SYS(lseek),
         // memory
-        SCMP_SYS(brk), SCMP_SYS(mmap), SCMP_SYS(munmap), SCMP_SYS(mremap), SCMP_SYS(madvise), SCMP_SYS(mprotect),
+        SCMP_SYS(brk), SCMP_SYS(munmap), SCMP_SYS(mremap), SCMP_SYS(madvise),
         // threads of MRPT or OpenCV, time, waiting
         SCMP_SYS(futex), SCMP_SYS(sched_yield), SCMP_SYS(clock_gettime), SCMP_SYS(gettimeofday),
         SCMP_SYS(clock_nanosleep), SCMP_SYS(nanosleep), SCMP_SYS(pause), SCMP_SYS(ppoll), SCMP_SYS(poll),
@@ -238,6 +239,10 @@ void restrictSystemCalls()
         SCMP_SYS(rt_sigaction), SCMP_SYS(sigaltstack), SCMP_SYS(getpid), SCMP_SYS(gettid), SCMP_SYS(tgkill)};
     bool ok = true;
     for (const int call : allowed) ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, call, 0) == 0;
+    // Memory may be mapped and re-protected, but never executable: code that a crafted file smuggled into the
+    // child's memory cannot be run (the child needs no new code: it is a fork of a process that has all of it).
+    for (const int call : {SCMP_SYS(mmap), SCMP_SYS(mprotect)})
+        ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, call, 1, SCMP_A2(SCMP_CMP_MASKED_EQ, PROT_EXEC, 0)) == 0;
     if (ok) (void)seccomp_load(filter);
     seccomp_release(filter);
 }

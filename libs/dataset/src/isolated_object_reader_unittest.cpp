@@ -16,6 +16,7 @@
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <fcntl.h>
 #include <netinet/in.h>
@@ -55,7 +56,8 @@ class CObservationMisbehaving : public mrpt::obs::CObservation
         Exit3,
         Hang,
         Garbage,  ///< writes a report of more bytes than it was sent on the child's socket (fd 3), then waits
-        Escape,   ///< tries to create a file, open a network socket and fork; reads a timestamp of 1 ns if any worked
+        Escape,   ///< tries to create a file, open a network socket, fork and make memory executable; reads a
+                  ///< timestamp of 1 ns if any worked
     };
     std::uint8_t mode = Fine;
 
@@ -83,8 +85,13 @@ void CObservationMisbehaving::serializeFrom(mrpt::serialization::CArchive& in, u
         const int sock = ::socket(AF_INET, SOCK_STREAM, 0);
         const pid_t pid = ::fork();
         if (pid == 0) _exit(0);
+        // Executable memory, mapped so or re-protected: what injected code needs to run.
+        void* exec = ::mmap(nullptr, 4096, PROT_READ | PROT_WRITE | PROT_EXEC, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        void* page = ::mmap(nullptr, 4096, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        const bool reprotected = page != MAP_FAILED && ::mprotect(page, 4096, PROT_READ | PROT_EXEC) == 0;
         in >> timestamp;
-        if (fd >= 0 || sock >= 0 || pid > 0) timestamp = quasiloc::dataset::mrptTimeFromNs(1);
+        if (fd >= 0 || sock >= 0 || pid > 0 || exec != MAP_FAILED || reprotected)
+            timestamp = quasiloc::dataset::mrptTimeFromNs(1);
         return;
     }
     if (mode == Garbage)
@@ -216,7 +223,7 @@ TEST(IsolatedObjectReader, ChildThatCrashesAbortsOrExitsIsAnErrorAndIsReplaced)
 
 // The child's system-call filter: MRPT's reading may compute, allocate and use its socket, nothing else. A reader
 // that tries to create a file, open a network socket or fork is refused (EPERM) and its object still reads.
-TEST(IsolatedObjectReader, ChildCannotCreateFilesOpenSocketsOrFork)
+TEST(IsolatedObjectReader, ChildCannotCreateFilesOpenSocketsForkOrMakeMemoryExecutable)
 {
     TempDir dir;
     const std::string path = dir / "escape.rawlog";
@@ -226,7 +233,7 @@ TEST(IsolatedObjectReader, ChildCannotCreateFilesOpenSocketsOrFork)
     IsolatedObjectReader reader;
     const IsolatedObject o = reader.read(in.stream);
     EXPECT_EQ(o.error, "");
-    EXPECT_EQ(mrptTimeToNs(o.timestamp), 7'000'000'000) << "a file, a socket or a process was created";
+    EXPECT_EQ(mrptTimeToNs(o.timestamp), 7'000'000'000) << "a file, a socket, a process or executable memory was made";
     EXPECT_FALSE(std::filesystem::exists(quasiloc_test::kEscapeFile));
     std::filesystem::remove(quasiloc_test::kEscapeFile);
 }
