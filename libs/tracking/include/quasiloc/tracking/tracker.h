@@ -207,8 +207,8 @@ class Tracker
     estimation::MapRefiner refiner_;
     const map::LidarMap& map_;  ///< the renderer's (map_points: lifting through provenance)
     frontend::Frontend& frontend_;
-    /** The right image's points, so that the two images are extracted concurrently (a Frontend is not reentrant):
-     *  same options as frontend_. */
+    /** The right image's points (stereo_matching = descriptors), so that the two images are extracted concurrently
+     *  (a Frontend is not reentrant): same options as frontend_. */
     std::unique_ptr<frontend::Frontend> right_frontend_;
     frontend::StereoMatcher stereo_matcher_;
     core::StereoRig rig_;

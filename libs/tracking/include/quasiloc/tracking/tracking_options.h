@@ -87,7 +87,7 @@ struct TrackerOptions : public core::DeclaredOptions
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
     int max_landmarks = 150;
-    StereoMatching stereo_matching = StereoMatching::Guided;
+    StereoMatching stereo_matching = StereoMatching::Descriptors;
     GuidedStereoOptions guided;  ///< stereo_matching = guided: the guided_* keys
     bool concurrent_stages = true;
     InitializationOptions initialization;  ///< [Initialization]
