@@ -189,7 +189,7 @@ void Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen
     if (frame && options_.temporal_landmarks)
     {
         std::vector<estimation::TemporalLandmark> none;
-        temporalLandmarks(extractStereo(*frame), none);
+        temporalLandmarks(extractStereo(*frame), t, none);
     }
     initialized_ = true;
 }
@@ -371,11 +371,13 @@ Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
     return sp;
 }
 
-void Tracker::temporalLandmarks(StereoPoints current, std::vector<estimation::TemporalLandmark>& out)
+void Tracker::temporalLandmarks(StereoPoints current, double t, std::vector<estimation::TemporalLandmark>& out)
 {
     const frontend::FrameFeatures& left = current.left;
     const frontend::FrameFeatures& right = current.right;
-    if (!prev_stereo_.empty())
+    // The temporal matching looks for a keypoint within temporal_window_px of where it was: across a gap (dropped
+    // frames) the camera has moved farther than that, and what it matches there are other points.
+    if (!prev_stereo_.empty() && t - prev_stereo_t_ <= options_.temporal_max_gap_s)
     {
         frontend::PointMatchingOptions pm = frontend_.options().point_matching;
         pm.window_px = options_.temporal_window_px;
@@ -394,6 +396,7 @@ void Tracker::temporalLandmarks(StereoPoints current, std::vector<estimation::Te
             if (int(out.size()) >= options_.max_landmarks) break;
         }
     }
+    prev_stereo_t_ = t;
     prev_left_ = std::move(current.left);
     prev_right_keypoints_ = std::move(current.right.points.keypoints);
     prev_stereo_ = std::move(current.stereo);
@@ -489,7 +492,7 @@ void Tracker::addVisualTerms(StereoPoints stereo_points, const std::vector<front
         addStereoMapTerm(stereo_points, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
     last_dense_ = std::move(stereo_points.dense);
-    if (options_.temporal_landmarks && stereo_ok) temporalLandmarks(std::move(stereo_points), in.landmarks);
+    if (options_.temporal_landmarks && stereo_ok) temporalLandmarks(std::move(stereo_points), rep.t, in.landmarks);
     else if (!stereo_ok)
     {
         // Its stereo pairs would be the next frame's landmarks: they start again from the next good frame.

@@ -9,6 +9,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/trajectory_io.h>
+#include <quasiloc/dataset/fault_injection.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/tracking/tracking_session.h>
 #include <sstream>
@@ -76,13 +77,15 @@ class TrackingSessionTest : public ::testing::Test
         double last_error_m = 0;
         double ate_rmse_m = 0;
         std::string console;
+        std::string diagnostics_csv;
     };
     static Run run(const tracking::SessionOptions& o, const dataset::ImuCalibration* imu_override = nullptr)
     {
         dataset::FrameSourceOptions so;
         so.groundtruth_tum = (kSimDir / "gt.tum").string();
         so.calibration_ini = (kSimDir / "calib.ini").string();
-        auto source = dataset::openRawlog((kSimDir / "V1_01_easy.rawlog").string(), so);
+        std::unique_ptr<dataset::FrameSource> source = dataset::openRawlog((kSimDir / "V1_01_easy.rawlog").string(), so);
+        if (o.faults.any()) source = std::make_unique<dataset::FaultInjectingSource>(std::move(source), o.faults);
         const auto calibration = dataset::loadCalibration(so.calibration_ini);
         const dataset::ImuCalibration imu = imu_override ? *imu_override : calibration.requireImu(so.calibration_ini);
         std::ostringstream console;
@@ -94,6 +97,7 @@ class TrackingSessionTest : public ::testing::Test
         const std::string json = session.log().summaryJson(r.summary);
         r.ate_rmse_m = std::stod(json.substr(json.find("\"rmse_m\": ") + 10));
         r.console = console.str();
+        r.diagnostics_csv = session.log().csv();
         return r;
     }
 
@@ -109,6 +113,56 @@ TEST_F(TrackingSessionTest, StartFromGroundTruthTracksTheWholeFlightWithoutALoss
     EXPECT_EQ(r.summary.losses, 0) << r.console;
     // 2.07 cm measured: the start is in motion and the gyroscope bias (0.08 rad/s) is learned over ~2 s.
     EXPECT_LT(r.ate_rmse_m, 0.025);
+}
+
+namespace
+{
+/** (t, landmarks) of each row of diagnostics.csv. */
+std::vector<std::pair<double, int>> landmarksPerFrame(const std::string& csv)
+{
+    std::istringstream in(csv);
+    std::string line, cell;
+    std::getline(in, line);
+    std::vector<std::string> header;
+    for (std::istringstream h(line); std::getline(h, cell, ',');) header.push_back(cell);
+    const auto column = [&](const std::string& name) {
+        return size_t(std::find(header.begin(), header.end(), name) - header.begin());
+    };
+    const size_t t_col = column("t"), lm_col = column("landmarks");
+    std::vector<std::pair<double, int>> out;
+    while (std::getline(in, line))
+    {
+        std::vector<std::string> cells;
+        for (std::istringstream row(line); std::getline(row, cell, ',');) cells.push_back(cell);
+        out.emplace_back(std::stod(cells.at(t_col)), std::stoi(cells.at(lm_col)));
+    }
+    return out;
+}
+}  // namespace
+
+TEST_F(TrackingSessionTest, NoTemporalLandmarksAcrossDroppedFrames)
+{
+    // One second of frames dropped (their IMU kept): the first frame after it has moved too far from the last one
+    // for the windowed temporal matching, so it gets no landmark; the next frame has them again.
+    const auto gap = [](double max_gap_s) {
+        return options({{"FaultInjection.drop_from_s", "2"}, {"FaultInjection.drop_duration_s", "1"},
+                        {"Tracking.temporal_max_gap_s", std::to_string(max_gap_s)}});
+    };
+    const auto firstAfterGap = [](const std::vector<std::pair<double, int>>& rows) {
+        for (size_t i = 1; i < rows.size(); ++i)
+            if (rows[i].first - rows[i - 1].first > 0.5) return i;
+        return rows.size();
+    };
+    const Run r = run(gap(0.3));
+    const auto rows = landmarksPerFrame(r.diagnostics_csv);
+    const size_t k = firstAfterGap(rows);
+    ASSERT_LT(k + 1, rows.size()) << "no 1 s gap in the tracked frames";
+    EXPECT_GT(rows[k - 1].second, 0) << "landmarks before the gap";
+    EXPECT_EQ(rows[k].second, 0) << "landmarks across the gap";
+    EXPECT_GT(rows[k + 1].second, 0) << "landmarks again after it";
+    // Without the bound the windowed matching pairs points across the gap (what the bound is for).
+    const auto unbounded = landmarksPerFrame(run(gap(100)).diagnostics_csv);
+    EXPECT_GT(unbounded[firstAfterGap(unbounded)].second, 0);
 }
 
 TEST_F(TrackingSessionTest, KidnappedTrackerIsNoticedRelocalizedAndTrackedAgain)

@@ -196,8 +196,9 @@ class Tracker
      *  map: stereo_map_sigma_m and the disparity's depth noise (z^2 / (f b) stereo_disparity_sigma_px). */
     void mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
                             std::vector<double>& sigma_m) const;
-    /** Landmarks between the previous frame's stereo points and `current`, which are then kept for the next frame. */
-    void temporalLandmarks(StereoPoints current, std::vector<estimation::TemporalLandmark>& out);
+    /** Landmarks between the previous frame's stereo points and `current` (of time t), which are then kept for the
+     *  next frame; none when the previous stereo points are older than temporal_max_gap_s. */
+    void temporalLandmarks(StereoPoints current, double t, std::vector<estimation::TemporalLandmark>& out);
 
     TrackerOptions options_;
     estimation::EstimatorOptions estimator_;
@@ -217,6 +218,7 @@ class Tracker
     std::vector<cv::KeyPoint> prev_right_keypoints_;
     std::vector<frontend::StereoPoint> prev_stereo_;
     std::vector<int> prev_stereo_of_left_;  ///< previous left keypoint -> index in prev_stereo_ (-1: none)
+    double prev_stereo_t_ = 0;              ///< the time of prev_stereo_'s frame
     Eigen::Isometry3d T_body_cam_ = Eigen::Isometry3d::Identity();
 
     /** The map lines of the refiner's last quasi-image (map_lines), lifted at its pose. */

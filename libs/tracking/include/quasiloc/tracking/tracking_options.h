@@ -86,6 +86,7 @@ struct TrackerOptions : public core::DeclaredOptions
     int lost_after_misses = 20;
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
+    double temporal_max_gap_s = 0.3;
     int max_landmarks = 150;
     StereoMatching stereo_matching = StereoMatching::Descriptors;
     GuidedStereoOptions guided;  ///< stereo_matching = guided: the guided_* keys
