@@ -12,10 +12,11 @@
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/reloc/view_sampling.h>
-#include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/stereo_renderer.h>
-#include <quasiloc/sim/world_builder.h>
 #include <quasiloc/tracking/guided_stereo.h>
+
+// The reloc tests' simulated room and its LiDAR survey (one definition for both libraries' tests).
+#include "../../reloc/src/test_room.h"
 
 using namespace quasiloc;
 
@@ -33,13 +34,8 @@ struct Scene
 const Scene& scene()
 {
     static const Scene s = [] {
-        sim::WorldOptions wo;
-        wo.texture_size_px = 256;
-        sim::World world = sim::buildWorld(wo, kShared, 3, sim::loadRoomTrajectoryPositions(kShared, "v1"));
-        sim::LidarOptions lo;
-        lo.density_per_m2 = 6000;
-        lo.cubemap_size_px = 512;
-        const map::LidarMap map = sim::sampleSurveyMap(world, lo, 5);
+        sim::World world = reloc::test::testRoom(kShared);
+        const map::LidarMap map = reloc::test::testRoomMap(world);
         map::DistanceFieldOptions fo;
         fo.voxel_m = 0.02;
         const std::string calib = kShared + "/data/euroc/calib/";
