@@ -44,6 +44,22 @@ CameraModel CameraModel::pinhole(int width, int height, double fx, double fy, do
     return c;
 }
 
+CameraModel CameraModel::downscaled(int factor) const
+{
+    core::require(factor >= 1 && width % factor == 0 && height % factor == 0, "CameraModel::downscaled",
+                  "factor " + std::to_string(factor) + " must be >= 1 and divide the image size " +
+                      std::to_string(width) + "x" + std::to_string(height));
+    const double s = 1.0 / factor;
+    CameraModel c = *this;
+    c.width = width / factor;
+    c.height = height / factor;
+    c.fx = fx * s;
+    c.fy = fy * s;
+    c.cx = (cx + 0.5) * s - 0.5;
+    c.cy = (cy + 0.5) * s - 0.5;
+    return c;
+}
+
 Eigen::Vector2d CameraModel::distort(const Eigen::Vector2d& xn, Eigen::Matrix2d* J) const
 {
     const double x = xn.x(), y = xn.y();

@@ -90,6 +90,25 @@ TEST_P(AllModels, ProjectThenUnprojectGivesTheSameRay)
     }
 }
 
+TEST_P(AllModels, DownscaledCameraSeesEachPointAtTheSamePlaceOfTheCoarserGrid)
+{
+    const CameraModel c = cam();
+    const CameraModel h = c.downscaled(2);
+    EXPECT_EQ(h.width, c.width / 2);
+    EXPECT_EQ(h.height, c.height / 2);
+    for (const auto& px : pixelGrid(c, 16))
+    {
+        const Eigen::Vector3d p = 3.0 * c.unproject(px);
+        if (!p.allFinite()) continue;  // the fisheye's corners lie beyond 90 deg: no point on the plane z = 1
+        Eigen::Vector2d u;
+        ASSERT_TRUE(h.project(p, u));
+        // Pixel centres: full pixel x covers [x - 0.5, x + 0.5), half pixel (x + 0.5) / 2 - 0.5 the same span.
+        EXPECT_LT((u - ((px.array() + 0.5) / 2 - 0.5).matrix()).norm(), 1e-9) << "model " << GetParam();
+    }
+    EXPECT_THROW((void)c.downscaled(0), quasiloc::core::InputError);
+    EXPECT_THROW((void)c.downscaled(7), quasiloc::core::InputError);  // 7 divides none of the three sizes
+}
+
 TEST_P(AllModels, AnalyticJacobianEqualsNumeric)
 {
     const CameraModel c = cam();

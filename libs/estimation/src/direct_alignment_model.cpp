@@ -170,9 +170,12 @@ void forEachNonZero(const uint8_t* row, int width, F&& f)
 DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, const cv::Mat& depth,
                                                const cv::Mat& reflectivity, const cv::Mat& valid,
                                                const cv::Mat& sparse, const core::CameraModel& camera,
-                                               const Eigen::Isometry3d& T_world_cam)
+                                               const Eigen::Isometry3d& T_world_cam, int downscale)
 {
     const std::string in = "direct alignment model";
+    core::require(downscale >= 1 && o.model_block_px % downscale == 0, in,
+                  "downscale " + std::to_string(downscale) + " must be >= 1 and divide model_block_px (" +
+                      std::to_string(o.model_block_px) + ")");
     core::require(!depth.empty() && depth.type() == CV_32FC1, in, "depth must be a non-empty CV_32FC1 image");
     core::require(reflectivity.size() == depth.size() && reflectivity.type() == CV_32FC1, in,
                   "reflectivity must be CV_32FC1 of the depth's size");
@@ -183,7 +186,7 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, 
                   "the camera model's size differs from the planes'");
 
     // Edges are found on block-reduced planes (see reduceToBlocks) and lifted from the block centre.
-    const int B = o.model_block_px;
+    const int B = o.model_block_px / downscale;
     cv::Mat d_b, r_b, v_b;
     reduceToBlocks(depth, reflectivity, valid, B, o.depth_edge_rel, d_b, r_b, v_b);
     // Closing of the inverse depth fills the holes of a sparse near surface through which farther points show
@@ -223,7 +226,7 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, 
     }
     std::vector<cv::Point> edge_blocks;
     cv::findNonZero(mark, edge_blocks);
-    edge_blocks = spreadPixels(edge_blocks, d_b.size(), std::max(1, 16 / B), size_t(o.max_edge_points));
+    edge_blocks = spreadPixels(edge_blocks, d_b.size(), std::max(1, 16 / o.model_block_px), size_t(o.max_edge_points));
 
     DirectAlignmentModel model;
     model.edge_points_world.reserve(edge_blocks.size());

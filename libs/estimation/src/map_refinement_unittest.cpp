@@ -76,3 +76,36 @@ TEST(MapRefinement, APerCallPriorWeightReplacesTheOption)
     EXPECT_GT(error_m(held), 0.09);
     EXPECT_THROW(refiner.refine(estimation::RefinementMethod::Direct, T0, 0.1, M_PI / 180, -1.0), core::InputError);
 }
+
+// The edge model from a half-resolution render ([Tracking] model_downscale = 2): its points sit on the same 4 x 4
+// pixel blocks of the camera (each projects onto a block centre of the full-resolution image), and the alignment
+// on the full-resolution edge field recovers the pose as the full-resolution model does.
+TEST(MapRefinement, HalfResolutionModelLiesOnTheCamerasBlocksAndAligns)
+{
+    RoomRefiner room(false);
+    estimation::MapRefiner& refiner = room.refiner;
+    const int block = estimation::MapRefinementOptions{}.direct.model_block_px;
+    for (int seed = 1; seed <= 3; ++seed)
+    {
+        const Eigen::Isometry3d T0 = perturbedPose(room.T_true, 0.1, 1.0, seed);
+        const auto model = refiner.prepareDirect(room.camera, T0, false, 2);
+        EXPECT_EQ(refiner.quasiImage().depth.cols, room.camera.width / 2);
+        ASSERT_GT(model->edge_points_world.size(), 200u);
+        double worst_px = 0;
+        for (const Eigen::Vector3d& p : model->edge_points_world)
+        {
+            Eigen::Vector2d u;
+            ASSERT_TRUE(room.camera.project(T0.inverse() * p, u));
+            // A block centre: (b + 0.5) * block - 0.5 for an integer b.
+            const Eigen::Array2d b = (u.array() + 0.5) / block - 0.5;
+            worst_px = std::max(worst_px, ((b - b.round()) * block).abs().maxCoeff());
+        }
+        EXPECT_LT(worst_px, 1e-6) << "seed " << seed;
+        const auto r = refiner.alignPrepared(model, T0, 0.1, M_PI / 180);
+        const Eigen::Isometry3d E = room.T_true.inverse() * r.T_world_cam;
+        EXPECT_TRUE(r.success) << "seed " << seed;
+        EXPECT_LT(E.translation().norm(), 0.05) << "seed " << seed;
+        EXPECT_LT(Eigen::AngleAxisd(E.linear()).angle() * 180 / M_PI, 0.5) << "seed " << seed;
+    }
+    EXPECT_THROW(refiner.prepareDirect(room.camera, room.T_true, false, 3), core::InputError);  // 3 does not divide 4
+}

@@ -108,10 +108,14 @@ QuasiRenderer::QuasiRenderer(const map::LidarMap& map, const QuasiOptions& optio
 QuasiRenderer::~QuasiRenderer() = default;
 
 void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::CameraModel& camera, QuasiImage& out,
-                           bool encode)
+                           bool encode, int completion_radius_px)
 {
+    core::require(completion_radius_px <= options_.completion_radius_px, "QuasiRenderer::render completion_radius_px",
+                  std::to_string(completion_radius_px) + " exceeds the options' " +
+                      std::to_string(options_.completion_radius_px) + " (the buffers' margin)");
     Buffers& b = *buf_;
-    const QuasiOptions& o = options_;
+    QuasiOptions o = options_;
+    if (completion_radius_px >= 0) o.completion_radius_px = completion_radius_px;
     StageClock clock;
     const detail::PoseF pose = detail::PoseF::camFromWorld(T_world_cam);
 
@@ -128,7 +132,7 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
             zb.refl.assign(n, 0.f);
         }
         // Empty margin for the window loops of the see-through filter and completion (no border tests).
-        b.sparse.create(camera.width, camera.height, std::max(o.completion_radius_px, o.occlusion_radius_px));
+        b.sparse.create(camera.width, camera.height, std::max(options_.completion_radius_px, options_.occlusion_radius_px));
     }
     const int W = camera.width, H = camera.height;
     out.T_world_cam = T_world_cam;

@@ -341,6 +341,28 @@ TEST(QuasiRenderer, PlanesOnlyRenderHasTheFullRendersPlanes)
     EXPECT_TRUE(sameQuasi(full, again));
 }
 
+// A render's own completion radius (the tracker's half-resolution edge model) gives what a renderer built with
+// that radius gives, and the next render with the options' radius is the same as before it.
+TEST(QuasiRenderer, CompletionRadiusOfOneRenderEqualsARendererBuiltWithIt)
+{
+    const core::CameraModel cam = eurocCam0().downscaled(2);
+    const CPose3D T_world_cam = cameraPose(0.2, 0.1, 1.5, 2.0, 0.2);
+    quasi::QuasiOptions o;
+    o.completion_radius_px = 2;
+    quasi::QuasiOptions o0 = o;
+    o0.completion_radius_px = 0;
+    quasi::QuasiRenderer renderer(smallRoom(), o), renderer0(smallRoom(), o0);
+    quasi::QuasiImage with2, override0, built0, again2;
+    renderer.render(T_world_cam, cam, with2, false);
+    renderer.render(T_world_cam, cam, override0, false, 0);
+    renderer0.render(T_world_cam, cam, built0, false);
+    renderer.render(T_world_cam, cam, again2, false);
+    EXPECT_TRUE(sameQuasi(override0, built0));
+    EXPECT_TRUE(sameQuasi(with2, again2));
+    EXPECT_GT(with2.stats.completed_pixels, override0.stats.completed_pixels);
+    EXPECT_THROW(renderer.render(T_world_cam, cam, override0, false, 3), core::InputError);
+}
+
 // Rendering a pose from outside the room wall-on and from a pinhole camera works; bad input is rejected.
 TEST(QuasiRenderer, RejectsBadInput)
 {

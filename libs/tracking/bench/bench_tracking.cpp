@@ -11,6 +11,7 @@
 // scripts/real_micro.sh (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -85,38 +86,55 @@ void BM_CameraEdgeField(benchmark::State& state)
     for (auto _ : state) benchmark::DoNotOptimize(estimation::buildCameraEdgeField(directOptions(), frameAt(k++).left));
 }
 
-/** Argument 1: the tracker's render (planes only, no encoding: map_points off); 0: the full quasi-image. */
+/** The completion radius of a render at 1/downscale of the camera's resolution (MapRefiner::prepareDirect). */
+int completionRadius(int downscale)
+{
+    return downscale > 1 ? fixture().context->renderer().options().completion_radius_px / downscale : -1;
+}
+
+/** Arguments: (1: the tracker's render, planes only, no encoding: map_points off; 0: the full quasi-image) and
+ *  the resolution's divisor ([Tracking] model_downscale). */
 void BM_Render(benchmark::State& state)
 {
     const bool planes_only = state.range(0) != 0;
+    const int downscale = int(state.range(1));
+    const core::CameraModel camera = leftCamera().downscaled(downscale);
     quasi::QuasiImage q;
     size_t k = 0;
     for (auto _ : state)
-        fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k++)))), leftCamera(), q,
-                                             !planes_only);
-    state.SetLabel(planes_only ? "planes only (tracker)" : "with encoding");
+        fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k++)))), camera, q,
+                                             !planes_only, completionRadius(downscale));
+    state.SetLabel(std::string(planes_only ? "planes only (tracker)" : "with encoding") + ", " +
+                   std::to_string(camera.width) + "x" + std::to_string(camera.height));
 }
 
-/** A quasi-image at each frame's starting pose (rendered once, outside the timing). */
-std::vector<quasi::QuasiImage> renderAll()
+/** A quasi-image at each frame's starting pose (rendered once, outside the timing), at 1/downscale resolution. */
+std::vector<quasi::QuasiImage> renderAll(int downscale = 1)
 {
     std::vector<quasi::QuasiImage> out(fixture().frames.size());
     for (size_t k = 0; k < out.size(); ++k)
-        fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k)))), leftCamera(), out[k]);
+        fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k)))),
+                                             leftCamera().downscaled(downscale), out[k], true, completionRadius(downscale));
     return out;
 }
 
+/** Argument: the planes' resolution divisor ([Tracking] model_downscale). */
 void BM_EdgeModel(benchmark::State& state)
 {
-    const std::vector<quasi::QuasiImage> qs = renderAll();
+    const int downscale = int(state.range(0));
+    const std::vector<quasi::QuasiImage> qs = renderAll(downscale);
+    const core::CameraModel camera = leftCamera().downscaled(downscale);
     size_t k = 0;
+    size_t points = 0;
     for (auto _ : state)
     {
         const quasi::QuasiImage& q = qs[k % qs.size()];
-        benchmark::DoNotOptimize(estimation::buildDirectAlignmentModel(
-            directOptions(), q.depth, q.reflectivity, q.valid, q.sparse, leftCamera(), perturbed(truth(frameAt(k)))));
+        const auto model = estimation::buildDirectAlignmentModel(directOptions(), q.depth, q.reflectivity, q.valid,
+                                                                 q.sparse, camera, perturbed(truth(frameAt(k))), downscale);
+        points += model.edge_points_world.size();
         ++k;
     }
+    state.counters["edge_points"] = double(points) / double(std::max<size_t>(1, k));
 }
 
 void BM_DirectAlignment(benchmark::State& state)
@@ -245,8 +263,8 @@ void BM_TrackFrame(benchmark::State& state)
 
 BENCHMARK(BM_ImuPrediction)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CameraEdgeField)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_Render)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_EdgeModel)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Render)->Args({0, 1})->Args({1, 1})->Args({1, 2})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EdgeModel)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DirectAlignment)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StereoPoints)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GuidedStereoPoints)->Unit(benchmark::kMillisecond);

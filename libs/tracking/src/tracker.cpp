@@ -57,6 +57,10 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
     options_.checkRanges("Tracker", "Tracking");
     options_.initialization.checkRanges("Tracker", "Initialization");
     options_.factors.check("Tracker");
+    core::require(refinement.direct.model_block_px % options_.model_downscale == 0, "Tracker: [Tracking] model_downscale",
+                  std::to_string(options_.model_downscale) + " does not divide [DirectAlignment] model_block_px (" +
+                      std::to_string(refinement.direct.model_block_px) + ")");
+    (void)rig.left.downscaled(options_.model_downscale);  // InputError now, not at the first keyframe
     stereo_check_bound_ = options_.factors.stereo_check_max_sigmas;
     if (options_.map_term == MapTerm::Auto)
     {
@@ -445,7 +449,9 @@ Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicte
     // is computed; then the alignment waits for it, running other tasks of the frame while it is not ready.
     const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
     // The quasi-image's encoding is needed by the map point factors alone (features on its gray image).
-    auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred, options_.factors.map_points);
+    const MapFactorOptions& f = options_.factors;
+    const int downscale = f.map_points || f.map_lines || f.map_planes ? 1 : options_.model_downscale;
+    auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred, f.map_points, downscale);
     tasks.wait(edge_field_task, true);
     const auto r = refiner_.alignPrepared(std::move(model), T_world_cam_pred, rep.prior_sigma_m,
                                           rep.prior_sigma_deg * kDeg);
@@ -460,7 +466,6 @@ Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicte
                      rep.correction_deg <= std::max(options_.max_correction_deg, 3 * rep.prior_sigma_deg);
     misses_ = rep.map_update ? 0 : misses_ + 1;
     if (!rep.map_update) return a;
-    const MapFactorOptions& f = options_.factors;
     if (f.map_lines || f.map_points || f.map_planes) a.T_world_cam = r.T_world_cam;
     // The edge residuals themselves in the window, linearised from the alignment's pose.
     a.model = r.direct_model;

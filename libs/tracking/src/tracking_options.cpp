@@ -90,6 +90,10 @@ void TrackerOptions::declare(core::OptionTable& t)
 {
     t.add("map_updates", map_updates, "false: no map at all, the visual-inertial (or IMU-only) baselines");
     t.add("keyframe_every", keyframe_every, "frames", Range::atLeast(1), "a map alignment every N frames");
+    t.add("model_downscale", model_downscale, "", Range::between(1, 4),
+          "the map alignment renders the map at 1/N of the camera's resolution for its edge model (N divides "
+          "DirectAlignment.model_block_px); 1 whenever map_points, map_lines or map_planes is on: they read the "
+          "full-resolution quasi-image");
     t.addEnum("map_term", map_term, {{"auto", MapTerm::Auto}, {"factor", MapTerm::Factor}, {"none", MapTerm::None}},
               "map edges in the window: factor; none; auto = factor when the map's reflectivity varies, else none");
     t.add("min_prior_sigma_m", min_prior_sigma_m, "m", Range::above(0),

@@ -38,6 +38,11 @@ class CameraModel
     CameraModel() = default;
     static CameraModel pinhole(int width, int height, double fx, double fy, double cx, double cy);
 
+    /** The same camera at 1/factor of the resolution (factor 2: each pixel covers 2 x 2 of this one's): a pixel
+     *  centre u of this camera is (u + 0.5) / factor - 0.5 there; the distortion, on normalised coordinates, is
+     *  unchanged. InputError unless the width and height are multiples of factor (>= 1). */
+    CameraModel downscaled(int factor) const;
+
     /** Projects p_cam. Returns false (and leaves outputs unspecified) when z <= min_depth.
      *  J_px_p, if given, receives d(pixel)/d(p_cam), 2x3. Does not test image bounds. */
     bool project(const Eigen::Vector3d& p_cam, Eigen::Vector2d& px,

@@ -64,11 +64,13 @@ struct DirectAlignmentModel
 
 /** Builds the model from a quasi-image's completed depth, reflectivity, validity and sparse masks, rendered
  *  with `camera` at T_world_cam (any renderer: only the planes are read). Edge points are lifted along the
- *  pixel ray with the completed depth. Deterministic. */
+ *  pixel ray with the completed depth. `downscale`: the planes were rendered at 1/downscale of the tracked
+ *  camera's resolution (`camera` is the downscaled one); the blocks are model_block_px / downscale of their
+ *  pixels, which it must divide, so that the model is found on the same image blocks. Deterministic. */
 DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& options, const cv::Mat& depth,
                                                const cv::Mat& reflectivity, const cv::Mat& valid,
                                                const cv::Mat& sparse, const core::CameraModel& camera,
-                                               const Eigen::Isometry3d& T_world_cam);
+                                               const Eigen::Isometry3d& T_world_cam, int downscale = 1);
 
 /** Map points with reflectivity for the NMI measure: sparse pixels (exact map points) of a quasi-image rendered
  *  at T_world_cam, at most max_nmi_points spread over the image. Kept apart from the edge model because no stage

@@ -107,10 +107,13 @@ class MapRefiner
      *  prepareDirect renders the map at the prediction with `camera` and builds its edge model (it reads no member
      *  that setImage writes); alignPrepared aligns that model to the edge field of the last setImage(), with the
      *  prediction prior of refine(). refine(Direct) is the two in turn. `encode` false: quasiImage() gets the planes
-     *  only (QuasiRenderer::render), no bgr or gray, so no quasiFeatureImage(). */
+     *  only (QuasiRenderer::render), no bgr or gray, so no quasiFeatureImage(). `downscale` > 1: the map is rendered
+     *  at 1/downscale of the camera's resolution (CameraModel::downscaled) and its edges found on blocks of
+     *  model_block_px / downscale rendered pixels, the same blocks of the image (it must divide model_block_px);
+     *  quasiImage() is then at that resolution. */
     std::shared_ptr<const DirectAlignmentModel> prepareDirect(const core::CameraModel& camera,
                                                               const Eigen::Isometry3d& T_world_cam_pred,
-                                                              bool encode = true);
+                                                              bool encode = true, int downscale = 1);
     MapRefinementResult alignPrepared(std::shared_ptr<const DirectAlignmentModel> model,
                                       const Eigen::Isometry3d& T_world_cam_pred, double sigma_m, double sigma_rad,
                                       std::optional<double> direct_prior_weight = std::nullopt);

@@ -46,9 +46,12 @@ class QuasiRenderer
     /** Renders the map seen by `camera` at T_world_cam into `out` (its Mats are reused when their size
      *  matches). With `encode` false only the planes are made (depth, reflectivity, valid, sparse, provenance;
      *  bgr and gray are left empty): the tracker's edge model reads nothing else, and the encoding is a fifth of a
-     *  render's CPU time. InputError for a non-finite pose or an unusable camera model. */
+     *  render's CPU time. `completion_radius_px` >= 0: this render's completion radius instead of the options'
+     *  (at most theirs): a render at a fraction of the camera's resolution (the tracker's edge model) has holes of
+     *  the same angular size in fewer pixels. InputError for a non-finite pose, an unusable camera model or a
+     *  radius above the options'. */
     void render(const mrpt::poses::CPose3D& T_world_cam, const core::CameraModel& camera, QuasiImage& out,
-                bool encode = true);
+                bool encode = true, int completion_radius_px = -1);
 
     const QuasiOptions& options() const { return options_; }
     const map::LidarMap& map() const { return map_; }

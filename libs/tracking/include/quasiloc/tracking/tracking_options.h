@@ -80,6 +80,7 @@ struct TrackerOptions : public core::DeclaredOptions
 {
     bool map_updates = true;
     int keyframe_every = 1;
+    int model_downscale = 1;
     MapTerm map_term = MapTerm::Auto;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
