@@ -165,16 +165,13 @@ std::shared_ptr<const DirectAlignmentModel> MapRefiner::prepareDirect(const core
                                                                       const Eigen::Isometry3d& T_world_cam_pred,
                                                                       bool encode, int downscale)
 {
-    core::require(downscale >= 1 && options_.direct.model_block_px % downscale == 0, "MapRefiner::prepareDirect",
-                  "downscale " + std::to_string(downscale) + " must be >= 1 and divide DirectAlignment.model_block_px (" +
-                      std::to_string(options_.direct.model_block_px) + ")");
     mrpt::system::CTicTac tic;
     // The model reads the planes on blocks only: rendered at a lower resolution, the same blocks cost a fraction of
-    // the render's per-pixel work (completion, see-through filter). The completion radius is in the camera's
-    // pixels: at 1/downscale of them it fills the same angular gaps (radius 1 at half resolution: none).
+    // the render's per-pixel work (completion, see-through filter). buildDirectAlignmentModel checks that the
+    // downscale divides the blocks; CameraModel::downscaled that it divides the image.
     const core::CameraModel render_camera = camera.downscaled(downscale);
-    const int completion = downscale > 1 ? renderer_.options().completion_radius_px / downscale : -1;
-    renderer_.render(core::fromIsometry(T_world_cam_pred), render_camera, q_, encode, completion);
+    renderer_.render(core::fromIsometry(T_world_cam_pred), render_camera, q_, encode,
+                     renderer_.options().completionRadiusAt(downscale));
     auto model = std::make_shared<const DirectAlignmentModel>(buildDirectAlignmentModel(
         options_.direct, q_.depth, q_.reflectivity, q_.valid, q_.sparse, render_camera, T_world_cam_pred, downscale));
     prepare_ms_ = tic.Tac() * 1e3;

@@ -86,11 +86,8 @@ void BM_CameraEdgeField(benchmark::State& state)
     for (auto _ : state) benchmark::DoNotOptimize(estimation::buildCameraEdgeField(directOptions(), frameAt(k++).left));
 }
 
-/** The completion radius of a render at 1/downscale of the camera's resolution (MapRefiner::prepareDirect). */
-int completionRadius(int downscale)
-{
-    return downscale > 1 ? fixture().context->renderer().options().completion_radius_px / downscale : -1;
-}
+/** The completion radius of a render at 1/downscale of the camera's resolution, as MapRefiner::prepareDirect's. */
+int completionRadius(int downscale) { return fixture().context->renderer().options().completionRadiusAt(downscale); }
 
 /** Arguments: (1: the tracker's render, planes only, no encoding: map_points off; 0: the full quasi-image) and
  *  the resolution's divisor ([Tracking] model_downscale). */

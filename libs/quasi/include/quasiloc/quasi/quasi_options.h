@@ -76,6 +76,10 @@ struct QuasiOptions : public core::DeclaredOptions
     void check(const std::string& input) const;
 
     ReflectivityScope reflectivityScope() const;
+    /** completion_radius_px for a render at 1/downscale of the camera's resolution (QuasiRenderer::render's
+     *  per-call radius): the radius is in the camera's pixels, so it fills the same angular gaps there (radius 1
+     *  at half resolution: none). */
+    int completionRadiusAt(int downscale) const { return completion_radius_px / downscale; }
 };
 
 }  // namespace quasiloc::quasi
