@@ -19,6 +19,8 @@ STAGES = [
     ("align (render + direct)", "ms_align"),
     ("visual (stereo wait + matching)", "ms_visual"),
     ("window", "ms_window"),
+    ("window: Ceres solve", "ms_window_solve"),
+    ("window: marginal", "ms_window_marginal"),
     ("loss check", "ms_check"),
     ("tracker total", "ms_total"),
 ]

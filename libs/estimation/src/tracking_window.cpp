@@ -104,6 +104,7 @@ class Window
 
     void build();
     double medianDepth() const;
+    std::vector<double*> landmarkBlocks();
     Matrix6d currentPoseMarginal(bool structural_too);
     Eigen::MatrixXd currentStateMarginal();
     void setWeights(const std::vector<double>& w);
@@ -241,15 +242,22 @@ double Window::medianDepth() const
     return estimation::medianDepth(depths, 1.0);
 }
 
+std::vector<double*> Window::landmarkBlocks()
+{
+    std::vector<double*> out;
+    out.reserve(landmarks_.size());
+    for (auto& X : landmarks_) out.push_back(X.data());
+    return out;
+}
+
 Matrix6d Window::currentPoseMarginal(bool structural_too)
 {
     std::vector<double*> marg;
     if (in_.has_previous) marg.push_back(prev_.pose);
     if (use_imu_) marg.insert(marg.end(), {prev_.sb, cur_.sb});
-    for (auto& X : landmarks_) marg.push_back(X.data());
     std::vector<ceres::ResidualBlockId> blocks = base_blocks_;
     if (structural_too) blocks.insert(blocks.end(), structural_blocks_.begin(), structural_blocks_.end());
-    return detail::marginalInformation(*problem_, marg, {cur_.pose}, blocks, opt_.marginal_damping);
+    return detail::marginalInformation(*problem_, marg, landmarkBlocks(), {cur_.pose}, blocks, opt_.marginal_damping);
 }
 
 Eigen::MatrixXd Window::currentStateMarginal()
@@ -261,10 +269,9 @@ Eigen::MatrixXd Window::currentStateMarginal()
         marg.push_back(prev_.sb);
         keep.push_back(cur_.sb);
     }
-    for (auto& X : landmarks_) marg.push_back(X.data());
     std::vector<ceres::ResidualBlockId> blocks = base_blocks_;
     blocks.insert(blocks.end(), structural_blocks_.begin(), structural_blocks_.end());
-    return detail::marginalInformation(*problem_, marg, keep, blocks, opt_.marginal_damping);
+    return detail::marginalInformation(*problem_, marg, landmarkBlocks(), keep, blocks, opt_.marginal_damping);
 }
 
 void Window::setWeights(const std::vector<double>& w)

@@ -531,6 +531,8 @@ void Tracker::solveWindow(const estimation::FrameState& predicted, const estimat
         prior_.mean = predicted;
     }
     rep.ms_window = tic.Tac() * 1e3;
+    rep.ms_window_solve = result.stats.solve_ms;
+    rep.ms_window_marginal = result.stats.marginalize_ms;
     ++frames_;
     rep.T_world_cam0 = state_.T_map_body * T_body_cam_;
     rep.gyro_bias = state_.gyro_bias;

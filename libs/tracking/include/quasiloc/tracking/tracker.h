@@ -79,8 +79,10 @@ struct FrameReport
     /** Wall times [ms]. ms_image: the camera edge field (a task: with concurrent_stages it may overlap the
      *  render); ms_align: render, map model, the wait for the edge field and LM, on the tracking thread; ms_visual:
      *  the wait for the frame's remaining tasks (stereo points, dense stereo, segments), the temporal matching and
-     *  the map factors on the points; ms_total: the whole frame. */
+     *  the map factors on the points; ms_window: the window, of which ms_window_solve its Ceres solve and
+     *  ms_window_marginal the marginal handed to the next frame; ms_total: the whole frame. */
     double ms_predict = 0, ms_image = 0, ms_align = 0, ms_visual = 0, ms_window = 0, ms_total = 0;
+    double ms_window_solve = 0, ms_window_marginal = 0;
 };
 
 class Tracker
