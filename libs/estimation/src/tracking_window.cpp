@@ -8,6 +8,7 @@
 #include <quasiloc/estimation/direct_factor.h>
 #include <quasiloc/estimation/tracking_window.h>
 
+#include "gram_compressed_cost.h"
 #include "marginalization.h"
 
 namespace quasiloc::estimation
@@ -175,8 +176,8 @@ void Window::build()
         const double n = double(d.model->edge_points_world.size());
         const double sigma = d.sigma_px * std::sqrt(std::max(1.0, n / d.effective_points));
         // The Huber is inside the residual (direct_factor.h), in units of this sigma.
-        add(new DirectEdgeCostFunction(*d.field, 0, *d.camera, *d.model, cam.T_body_cam, sigma, d.truncation_px,
-                                       d.huber_px),
+        add(new detail::GramCompressedCost(std::make_unique<DirectEdgeCostFunction>(
+                *d.field, 0, *d.camera, *d.model, cam.T_body_cam, sigma, d.truncation_px, d.huber_px)),
             nullptr, {cur_.pose});
     }
     for (const auto& m : in_.map_distance_terms)
@@ -184,7 +185,8 @@ void Window::build()
         const double scale = std::sqrt(std::max(1.0, double(m.p_cam.size()) / m.effective_points));
         std::vector<double> sigma = m.sigma_m;
         for (double& s : sigma) s *= scale;
-        add(new MapDistanceCostFunction(*m.field, m.p_cam, sigma, cam.T_body_cam, m.truncation_m, m.huber_sigmas),
+        add(new detail::GramCompressedCost(std::make_unique<MapDistanceCostFunction>(
+                *m.field, m.p_cam, sigma, cam.T_body_cam, m.truncation_m, m.huber_sigmas)),
             nullptr, {cur_.pose});
     }
     if (opt_.usePoints())
