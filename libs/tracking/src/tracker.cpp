@@ -11,6 +11,7 @@
 #include <quasiloc/core/ordered_tasks.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
+#include <limits>
 #include <quasiloc/tracking/map_points.h>
 #include <quasiloc/tracking/tracker.h>
 
@@ -358,6 +359,17 @@ void Tracker::matchStereoPoints(StereoPoints& sp) const
     for (size_t k = 0; k < sp.stereo.size(); ++k) sp.stereo_of_left[size_t(sp.stereo[k].left)] = int(k);
 }
 
+void Tracker::matchTemporal(StereoPoints& sp, double t) const
+{
+    sp.temporal.clear();
+    // The temporal matching looks for a keypoint within temporal_window_px of where it was: across a gap (dropped
+    // frames) the camera has moved farther than that, and what it matches there are other points.
+    if (prev_stereo_.empty() || t - prev_stereo_t_ > options_.temporal_max_gap_s) return;
+    frontend::PointMatchingOptions pm = frontend_.options().point_matching;
+    pm.window_px = options_.temporal_window_px;
+    sp.temporal = frontend::matchPoints(prev_left_.points, sp.left.points, pm);
+}
+
 void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
 {
     if (!denseStereo()) return;
@@ -372,6 +384,7 @@ Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
     if (!guidedStereo()) extractRightPoints(frame, sp);
     extractDenseStereo(frame, sp);
     matchStereoPoints(sp);
+    matchTemporal(sp, frame.timestamp);
     return sp;
 }
 
@@ -379,26 +392,19 @@ void Tracker::temporalLandmarks(StereoPoints current, double t, std::vector<esti
 {
     const frontend::FrameFeatures& left = current.left;
     const frontend::FrameFeatures& right = current.right;
-    // The temporal matching looks for a keypoint within temporal_window_px of where it was: across a gap (dropped
-    // frames) the camera has moved farther than that, and what it matches there are other points.
-    if (!prev_stereo_.empty() && t - prev_stereo_t_ <= options_.temporal_max_gap_s)
+    const Eigen::Isometry3d T_map_cam_prev = state_.T_map_body * T_body_cam_;
+    const auto px = [](const cv::KeyPoint& k) { return Eigen::Vector2d(k.pt.x, k.pt.y); };
+    for (const frontend::PointMatch& m : current.temporal)
     {
-        frontend::PointMatchingOptions pm = frontend_.options().point_matching;
-        pm.window_px = options_.temporal_window_px;
-        const Eigen::Isometry3d T_map_cam_prev = state_.T_map_body * T_body_cam_;
-        const auto px = [](const cv::KeyPoint& k) { return Eigen::Vector2d(k.pt.x, k.pt.y); };
-        for (const frontend::PointMatch& m : frontend::matchPoints(prev_left_.points, left.points, pm))
-        {
-            const int a = prev_stereo_of_left_[size_t(m.query)], b = current.stereo_of_left[size_t(m.train)];
-            if (a < 0 || b < 0) continue;
-            const frontend::StereoPoint &sp = prev_stereo_[size_t(a)], &sc = current.stereo[size_t(b)];
-            estimation::TemporalLandmark lm;
-            lm.p_map_guess = T_map_cam_prev * sp.p_left;
-            lm.previous = {px(prev_left_.points.keypoints[size_t(sp.left)]), px(prev_right_keypoints_[size_t(sp.right)])};
-            lm.current = {px(left.points.keypoints[size_t(sc.left)]), px(right.points.keypoints[size_t(sc.right)])};
-            out.push_back(lm);
-            if (int(out.size()) >= options_.max_landmarks) break;
-        }
+        const int a = prev_stereo_of_left_[size_t(m.query)], b = current.stereo_of_left[size_t(m.train)];
+        if (a < 0 || b < 0) continue;
+        const frontend::StereoPoint &sp = prev_stereo_[size_t(a)], &sc = current.stereo[size_t(b)];
+        estimation::TemporalLandmark lm;
+        lm.p_map_guess = T_map_cam_prev * sp.p_left;
+        lm.previous = {px(prev_left_.points.keypoints[size_t(sp.left)]), px(prev_right_keypoints_[size_t(sp.right)])};
+        lm.current = {px(left.points.keypoints[size_t(sc.left)]), px(right.points.keypoints[size_t(sc.right)])};
+        out.push_back(lm);
+        if (int(out.size()) >= options_.max_landmarks) break;
     }
     prev_stereo_t_ = t;
     prev_left_ = std::move(current.left);
@@ -441,18 +447,20 @@ estimation::FrameState Tracker::predict(const dataset::StereoFrame& frame, estim
 }
 
 Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks,
-                                          size_t edge_field_task, estimation::WindowInput& in, FrameReport& rep)
+                                          size_t edge_field_task, size_t matching_task, estimation::WindowInput& in,
+                                          FrameReport& rep)
 {
     MapAlignment a;
     mrpt::system::CTicTac tic;
     // The render and the map's edge model need the prediction only: they run while the camera's edge field (a task)
-    // is computed; then the alignment waits for it, running other tasks of the frame while it is not ready.
+    // is computed; then the alignment waits for it, running other tasks of the frame while it is not ready, except
+    // the matching (and what follows it), which the worker runs beside the alignment.
     const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
     // The quasi-image's encoding is needed by the map point factors alone (features on its gray image).
     const MapFactorOptions& f = options_.factors;
     const int downscale = f.map_points || f.map_lines || f.map_planes ? 1 : options_.model_downscale;
     auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred, f.map_points, downscale);
-    tasks.wait(edge_field_task, true);
+    tasks.wait(edge_field_task, true, matching_task);
     const auto r = refiner_.alignPrepared(std::move(model), T_world_cam_pred, rep.prior_sigma_m,
                                           rep.prior_sigma_deg * kDeg);
     rep.ms_align = tic.Tac() * 1e3;
@@ -571,15 +579,27 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
             rep.ms_image = t.Tac() * 1e3;
         });
     StereoPoints stereo_points;
+    size_t matching_task = std::numeric_limits<size_t>::max();
     if (options_.temporal_landmarks)
     {
         // The dense stereo (about 6 ms) before the points (about 4.5 ms per image): the tracking thread, done
         // rendering before the edge field is ready, takes the dense stereo and then one image's points; the worker,
         // done with the edge field, takes the other image's. One task for both images made the alignment wait for
         // the second image while the worker stood idle (docs/benchmarks.md).
-        if (denseStereo()) tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); });
-        tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); });
-        if (!guidedStereo()) tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); });
+        std::vector<size_t> inputs;
+        if (denseStereo())
+            inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); }));
+        inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); }));
+        if (!guidedStereo())
+            inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); }));
+        // The matching (stereo, then temporal) after its inputs: the worker, done with the edge field, takes it
+        // while this thread runs the alignment (which does not wait for it). Its inputs are earlier tasks, so
+        // already claimed when it is.
+        matching_task = tasks.add([this, &tasks, &frame, &stereo_points, inputs] {
+            for (size_t i : inputs) tasks.wait(i);
+            matchStereoPoints(stereo_points);
+            matchTemporal(stereo_points, frame.timestamp);
+        });
     }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
     if (rep.keyframe && options_.factors.map_lines)
@@ -605,7 +625,8 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     } wait_at_exit{concurrent ? worker_.get() : nullptr};
 
     // 2. Map alignment on keyframes (its model stays alive until the window has used it).
-    const MapAlignment alignment = rep.keyframe ? alignToMap(predicted, tasks, edge_field_task, in, rep) : MapAlignment{};
+    const MapAlignment alignment =
+        rep.keyframe ? alignToMap(predicted, tasks, edge_field_task, matching_task, in, rep) : MapAlignment{};
     // The map side of the line factors needs only the quasi-image.
     std::vector<MapLine> map_lines;
     if (alignment.T_world_cam && options_.factors.map_lines) map_lines = quasiImageLines(rep);
@@ -620,7 +641,6 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         worker_->wait();
         wait_at_exit.w = nullptr;
     }
-    if (options_.temporal_landmarks) matchStereoPoints(stereo_points);
     const bool stereo_ok = checkStereoAgainstMap(stereo_points, alignment, rep);
     addVisualTerms(std::move(stereo_points), camera_lines, map_lines, alignment, stereo_ok, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;

@@ -152,6 +152,9 @@ class Tracker
         std::vector<int> stereo_of_left;  ///< left keypoint -> index in stereo (-1: none)
         std::vector<Eigen::Vector3f> dense;  ///< stereo_map_points = dense: the SGBM cloud (left camera frame)
         reloc::StereoDisparity disparity;    ///< the same: its disparity (guided stereo matching)
+        /** The previous frame's left points matched to these (query: previous, train: these); empty across a gap
+         *  longer than temporal_max_gap_s. */
+        std::vector<frontend::PointMatch> temporal;
     };
     /** The standstill since the start (static_initialization): true while it lasts (the prior is then updated). */
     bool updateStandstill(const dataset::StereoFrame& frame);
@@ -159,9 +162,10 @@ class Tracker
     estimation::FrameState predict(const dataset::StereoFrame& frame, estimation::ImuPreintegration& imu,
                                    FrameReport& rep) const;
     /** Direct map alignment from the prediction (the camera edge field is `edge_field_task` of `tasks`), gated; the
-     *  edge factor into `in` when accepted. */
+     *  edge factor into `in` when accepted. While it waits for the edge field it runs the tasks before
+     *  `matching_task`. */
     MapAlignment alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks, size_t edge_field_task,
-                            estimation::WindowInput& in, FrameReport& rep);
+                            size_t matching_task, estimation::WindowInput& in, FrameReport& rep);
     /** The factors on the frame's stereo points and segments: planes, points, lines, surfaces, landmarks. Without
      *  `stereo_ok` the stereo's factors (planes, surfaces, landmarks) are left out, and so is the frame's stereo as
      *  the next frame's landmarks. */
@@ -181,6 +185,9 @@ class Tracker
     void extractLeftPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
     void extractRightPoints(const dataset::StereoFrame& frame, StereoPoints& sp);
     void matchStereoPoints(StereoPoints& sp) const;
+    /** sp.temporal from the previous frame's points (sp taken at time t). Reads only what the frame's tasks leave
+     *  alone (the previous frame's points): a task of its own, beside the alignment. */
+    void matchTemporal(StereoPoints& sp, double t) const;
     void extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const;
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
@@ -198,8 +205,8 @@ class Tracker
      *  map: stereo_map_sigma_m and the disparity's depth noise (z^2 / (f b) stereo_disparity_sigma_px). */
     void mapPointsWithSigma(const StereoPoints& points, std::vector<Eigen::Vector3d>& p_cam,
                             std::vector<double>& sigma_m) const;
-    /** Landmarks between the previous frame's stereo points and `current` (of time t), which are then kept for the
-     *  next frame; none when the previous stereo points are older than temporal_max_gap_s. */
+    /** Landmarks between the previous frame's stereo points and `current` (of time t; its temporal matches), which
+     *  are then kept for the next frame. */
     void temporalLandmarks(StereoPoints current, double t, std::vector<estimation::TemporalLandmark>& out);
 
     TrackerOptions options_;
