@@ -424,9 +424,44 @@ bool cpuHasAvx2()
 #endif
 }  // namespace
 
+namespace
+{
+/** completeRows without a window (radius 0: the tracker's half-resolution render): the output is the sparse planes,
+ *  pixel for pixel, as completePixel would write them, in a loop the compiler vectorises. */
+void copySparseRows(const SparsePlanes& sparse, int y0, int y1, QuasiImage& out)
+{
+    const int W = sparse.depth.cols;
+    for (int y = y0; y < y1; ++y)
+    {
+        const float* depth = sparse.depth.ptr<float>(y);
+        const float* refl = sparse.refl.ptr<float>(y);
+        const int32_t* index = sparse.index.ptr<int32_t>(y);
+        float* o_depth = out.depth.ptr<float>(y);
+        float* o_refl = out.reflectivity.ptr<float>(y);
+        int32_t* o_prov = out.provenance.ptr<int32_t>(y);
+        uint8_t* o_valid = out.valid.ptr<uint8_t>(y);
+        uint8_t* o_sparse = out.sparse.ptr<uint8_t>(y);
+        for (int x = 0; x < W; ++x)
+        {
+            const bool hit = index[x] >= 0;
+            o_depth[x] = hit ? depth[x] : 0.0f;
+            o_refl[x] = hit ? refl[x] : 0.0f;
+            o_prov[x] = hit ? index[x] : -1;
+            o_valid[x] = hit ? 255 : 0;
+            o_sparse[x] = hit ? 255 : 0;
+        }
+    }
+}
+}  // namespace
+
 size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptions& o, QuasiImage& out,
                     bool allow_simd)
 {
+    if (o.completion_radius_px == 0)
+    {
+        copySparseRows(sparse, y0, y1, out);
+        return 0;
+    }
     CompletionWindow win(o.completion_radius_px);
     win.setStride(ptrdiff_t(sparse.depth.step1()));
     const Planes P{sparse, sparse.depth.cols, sparse.depth.rows};

@@ -93,6 +93,41 @@ TEST(QuasiStages, SimdCompletionEqualsScalarReference)
         }
 }
 
+// Radius 0 (the tracker's half-resolution render): no completion, the output is the sparse planes, empty pixels
+// zero with provenance -1; also with the renderer's margin.
+TEST(QuasiStages, RadiusZeroCopiesTheSparsePlanes)
+{
+    const int W = 97, H = 61;
+    const auto sparse = randomSparse(W, H, 0.3, 11);
+    quasi::QuasiOptions o;
+    o.completion_radius_px = 0;
+    quasi::detail::SparsePlanes padded;
+    padded.create(W, H, 2);
+    sparse.depth.copyTo(padded.depth);
+    sparse.refl.copyTo(padded.refl);
+    sparse.index.copyTo(padded.index);
+    for (const quasi::detail::SparsePlanes* planes : {&sparse, static_cast<const quasi::detail::SparsePlanes*>(&padded)})
+    {
+        quasi::QuasiImage q;
+        allocate(q, W, H);
+        EXPECT_EQ(quasi::detail::completeRows(*planes, 0, H, o, q), 0u);
+        size_t hits = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x)
+            {
+                const int32_t i = sparse.index.at<int32_t>(y, x);
+                const bool hit = i >= 0;
+                hits += hit;
+                ASSERT_EQ(q.provenance.at<int32_t>(y, x), hit ? i : -1);
+                ASSERT_EQ(q.depth.at<float>(y, x), hit ? sparse.depth.at<float>(y, x) : 0.0f);
+                ASSERT_EQ(q.reflectivity.at<float>(y, x), hit ? sparse.refl.at<float>(y, x) : 0.0f);
+                ASSERT_EQ(q.valid.at<uint8_t>(y, x), hit ? 255 : 0);
+                ASSERT_EQ(q.sparse.at<uint8_t>(y, x), hit ? 255 : 0);
+            }
+        EXPECT_GT(hits, 1000u);
+    }
+}
+
 // Completed values follow the rule: reflectivity is a maximum of depth-consistent neighbours, depth lies within
 // the depth tolerance of a neighbour (never between the layers), provenance is a window neighbour.
 TEST(QuasiStages, CompletionFollowsTheRule)
