@@ -16,8 +16,8 @@ import sys
 STAGES = [
     ("predict", "ms_predict"),
     ("edge field", "ms_image"),
-    ("align (render + direct)", "ms_align"),
-    ("visual (stereo wait + matching)", "ms_visual"),
+    ("align (render, edge field, LM)", "ms_align"),
+    ("visual (wait for the stereo tasks)", "ms_visual"),
     ("window", "ms_window"),
     ("window: Ceres solve", "ms_window_solve"),
     ("window: marginal", "ms_window_marginal"),

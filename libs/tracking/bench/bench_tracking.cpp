@@ -238,11 +238,12 @@ void BM_TrackFrame(benchmark::State& state)
     };
     restart();
     size_t k = 1, n = 0;
-    double window = 0, align = 0, edge_field = 0, visual = 0;
+    double window = 0, solve = 0, marginal = 0, align = 0, edge_field = 0, visual = 0;
     for (auto _ : state)
     {
         const tracking::FrameReport r = tracker.track(fx.frames[k]);
         window += r.ms_window, align += r.ms_align, edge_field += r.ms_image, visual += r.ms_visual, ++n;
+        solve += r.ms_window_solve, marginal += r.ms_window_marginal;
         if (++k == fx.frames.size())
         {
             state.PauseTiming();
@@ -256,6 +257,8 @@ void BM_TrackFrame(benchmark::State& state)
     state.counters["align_ms"] = align / m;
     state.counters["visual_ms"] = visual / m;
     state.counters["window_ms"] = window / m;
+    state.counters["window_solve_ms"] = solve / m;
+    state.counters["window_marginal_ms"] = marginal / m;
 }
 
 BENCHMARK(BM_ImuPrediction)->Unit(benchmark::kMillisecond);

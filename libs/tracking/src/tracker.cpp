@@ -11,7 +11,6 @@
 #include <quasiloc/core/ordered_tasks.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/worker_thread.h>
-#include <limits>
 #include <quasiloc/tracking/map_points.h>
 #include <quasiloc/tracking/tracker.h>
 
@@ -446,21 +445,19 @@ estimation::FrameState Tracker::predict(const dataset::StereoFrame& frame, estim
     return predicted;
 }
 
-Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks,
-                                          size_t edge_field_task, size_t matching_task, estimation::WindowInput& in,
-                                          FrameReport& rep)
+Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicted, const dataset::StereoFrame& frame,
+                                          estimation::WindowInput& in, FrameReport& rep)
 {
     MapAlignment a;
     mrpt::system::CTicTac tic;
-    // The render and the map's edge model need the prediction only: they run while the camera's edge field (a task)
-    // is computed; then the alignment waits for it, running other tasks of the frame while it is not ready, except
-    // the matching (and what follows it), which the worker runs beside the alignment.
     const Eigen::Isometry3d T_world_cam_pred = predicted.T_map_body * T_body_cam_;
     // The quasi-image's encoding is needed by the map point factors alone (features on its gray image).
     const MapFactorOptions& f = options_.factors;
     const int downscale = f.map_points || f.map_lines || f.map_planes ? 1 : options_.model_downscale;
     auto model = refiner_.prepareDirect(stereo_.left.model, T_world_cam_pred, f.map_points, downscale);
-    tasks.wait(edge_field_task, true, matching_task);
+    mrpt::system::CTicTac edge_field;
+    refiner_.setImage(frame.left, stereo_.left.model, false);
+    rep.ms_image = edge_field.Tac() * 1e3;
     const auto r = refiner_.alignPrepared(std::move(model), T_world_cam_pred, rep.prior_sigma_m,
                                           rep.prior_sigma_deg * kDeg);
     rep.ms_align = tic.Tac() * 1e3;
@@ -563,39 +560,30 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     const estimation::FrameState predicted = predict(frame, imu, rep);
 
-    // The frame's independent tasks, in the order they are claimed: the camera's edge field (keyframes), the dense
-    // stereo (stereo_map_points = dense), the stereo points (temporal landmarks and the map factors on them) and
-    // the camera's segments (map_lines). With concurrent_stages the worker thread and this one share them; this
-    // one renders the map at the prediction meanwhile. Who runs a task changes its timing only.
+    // The frame's stereo tasks, in the order they are claimed: the left image's points (temporal landmarks and the map
+    // factors on them), the dense stereo (stereo_map_points = dense), the right image's points (descriptor
+    // matching), then their matching, and the camera's segments (map_lines). With concurrent_stages the worker
+    // thread runs them while this one renders the map at the prediction, computes the camera's edge field and runs
+    // the alignment; this one runs what is left after that. Who runs a task changes its timing only.
+    // Why this split: ORB (about 4.5 ms) and the dense stereo (about 6 ms) are single-threaded for the most part and
+    // only the window needs them; the alignment needs the render, the edge model and the edge field (parallel
+    // loops, about 10 ms together). Shared in claiming order, the two long serial tasks often ended up one after the
+    // other on this thread while the worker, done with the edge field, waited (docs/experiments.md, seventh round).
     estimation::WindowInput in;
     rep.keyframe = options_.map_updates && options_.map_term != MapTerm::None &&
                    frames_ % size_t(options_.keyframe_every) == 0;
     core::OrderedTasks tasks;
-    size_t edge_field_task = 0;
-    if (rep.keyframe)
-        edge_field_task = tasks.add([this, &frame, &rep] {
-            mrpt::system::CTicTac t;
-            refiner_.setImage(frame.left, stereo_.left.model, false);
-            rep.ms_image = t.Tac() * 1e3;
-        });
     StereoPoints stereo_points;
-    size_t matching_task = std::numeric_limits<size_t>::max();
     if (options_.temporal_landmarks)
     {
-        // The dense stereo (about 6 ms) before the points (about 4.5 ms per image): the tracking thread, done
-        // rendering before the edge field is ready, takes the dense stereo and then one image's points; the worker,
-        // done with the edge field, takes the other image's. One task for both images made the alignment wait for
-        // the second image while the worker stood idle (docs/benchmarks.md).
         std::vector<size_t> inputs;
+        inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); }));
         if (denseStereo())
             inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); }));
-        inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); }));
         if (!guidedStereo())
             inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); }));
-        // The matching (stereo, then temporal) after its inputs: the worker, done with the edge field, takes it
-        // while this thread runs the alignment (which does not wait for it). Its inputs are earlier tasks, so
-        // already claimed when it is.
-        matching_task = tasks.add([this, &tasks, &frame, &stereo_points, inputs] {
+        // The matching after its inputs (earlier tasks, so already claimed when it is).
+        tasks.add([this, &tasks, &frame, &stereo_points, inputs] {
             for (size_t i : inputs) tasks.wait(i);
             matchStereoPoints(stereo_points);
             matchTemporal(stereo_points, frame.timestamp);
@@ -626,7 +614,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
 
     // 2. Map alignment on keyframes (its model stays alive until the window has used it).
     const MapAlignment alignment =
-        rep.keyframe ? alignToMap(predicted, tasks, edge_field_task, matching_task, in, rep) : MapAlignment{};
+        rep.keyframe ? alignToMap(predicted, frame, in, rep) : MapAlignment{};
     // The map side of the line factors needs only the quasi-image.
     std::vector<MapLine> map_lines;
     if (alignment.T_world_cam && options_.factors.map_lines) map_lines = quasiImageLines(rep);

@@ -3,12 +3,10 @@
 // unclaimed task and runs it, so a thread that reaches a point where it must wait for one result does useful work
 // meanwhile instead (the tracker's edge field, stereo points and dense stereo, tracker.cpp). Who runs a task
 // changes only when it finishes, never what it computes.
-#include <algorithm>
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
 #include <functional>
-#include <limits>
 #include <mutex>
 #include <vector>
 
@@ -27,16 +25,13 @@ class OrderedTasks
 
     /** Claims the next queued task and runs it on this thread. False when none is left to claim. An exception
      *  is kept for wait(), never thrown here (the worker thread must not lose it). */
-    bool runNext() { return runNextBelow(std::numeric_limits<size_t>::max()); }
-
-    /** runNext() when the next queued task's number is below `limit`; false otherwise. */
-    bool runNextBelow(size_t limit)
+    bool runNext()
     {
         std::function<void()> task;
         size_t i = 0;
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            if (next_ == tasks_.size() || next_ >= limit) return false;
+            if (next_ == tasks_.size()) return false;
             i = next_++;
             tasks_[i].state = State::Running;
             task = std::move(tasks_[i].run);
@@ -66,10 +61,10 @@ class OrderedTasks
     }
 
     /** Until task i has finished: runs other queued tasks on this thread while task i is still queued or while
-     *  `help` and another task numbered below `help_below` is queued, then blocks. Rethrows what task i threw. */
-    void wait(size_t i, bool help = false, size_t help_below = std::numeric_limits<size_t>::max())
+     *  `help` and another task is queued, then blocks. Rethrows what task i threw. */
+    void wait(size_t i, bool help = false)
     {
-        while (!done(i) && (help || queued(i)) && runNextBelow(std::max(help_below, queued(i) ? i + 1 : 0)))
+        while (!done(i) && (help || queued(i)) && runNext())
         {
         }
         std::unique_lock<std::mutex> lock(mutex_);

@@ -76,9 +76,9 @@ struct FrameReport
     bool standing = false;  ///< the platform has stood still since the start (static_initialization)
     /** Their marginal sigmas per axis after the frame (rad/s, m/s^2). */
     Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero(), acc_bias_sigma = Eigen::Vector3d::Zero();
-    /** Wall times [ms]. ms_image: the camera edge field (a task: with concurrent_stages it may overlap the
-     *  render); ms_align: render, map model, the wait for the edge field and LM, on the tracking thread; ms_visual:
-     *  the wait for the frame's remaining tasks (stereo points, dense stereo, segments), the temporal matching and
+    /** Wall times [ms]. ms_image: the camera edge field (on the tracking thread, after the render); ms_align:
+     *  render, map model, edge field and LM, on the tracking thread, while the worker runs the stereo tasks;
+     *  ms_visual: the wait for what is left of those (stereo points, dense stereo, their matching, segments) and
      *  the map factors on the points; ms_window: the window, of which ms_window_solve its Ceres solve and
      *  ms_window_marginal the marginal handed to the next frame; ms_total: the whole frame. */
     double ms_predict = 0, ms_image = 0, ms_align = 0, ms_visual = 0, ms_window = 0, ms_total = 0;
@@ -161,11 +161,10 @@ class Tracker
     /** The IMU's prediction of the frame's state, and the alignment prior's sigmas into `rep`. */
     estimation::FrameState predict(const dataset::StereoFrame& frame, estimation::ImuPreintegration& imu,
                                    FrameReport& rep) const;
-    /** Direct map alignment from the prediction (the camera edge field is `edge_field_task` of `tasks`), gated; the
-     *  edge factor into `in` when accepted. While it waits for the edge field it runs the tasks before
-     *  `matching_task`. */
-    MapAlignment alignToMap(const estimation::FrameState& predicted, core::OrderedTasks& tasks, size_t edge_field_task,
-                            size_t matching_task, estimation::WindowInput& in, FrameReport& rep);
+    /** Direct map alignment of `frame` from the prediction (the render, the camera's edge field, the LM), gated; the
+     *  edge factor into `in` when accepted. */
+    MapAlignment alignToMap(const estimation::FrameState& predicted, const dataset::StereoFrame& frame,
+                            estimation::WindowInput& in, FrameReport& rep);
     /** The factors on the frame's stereo points and segments: planes, points, lines, surfaces, landmarks. Without
      *  `stereo_ok` the stereo's factors (planes, surfaces, landmarks) are left out, and so is the frame's stereo as
      *  the next frame's landmarks. */
