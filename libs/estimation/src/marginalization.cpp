@@ -26,14 +26,13 @@ class BlockIndex
     BlockIndex(ceres::Problem& problem, const std::vector<double*>& marginalize, const std::vector<double*>& points,
                const std::vector<double*>& keep)
     {
-        for (const auto* list : {&marginalize, &keep})
-            for (double* b : *list)
-            {
-                dense_[b] = dense_dim_;
-                dense_dim_ += problem.ParameterBlockTangentSize(b);
-            }
-        marginal_dim_ = 0;
-        for (double* b : marginalize) marginal_dim_ += problem.ParameterBlockTangentSize(b);
+        const auto place = [&](double* b) {
+            dense_[b] = dense_dim_;
+            dense_dim_ += problem.ParameterBlockTangentSize(b);
+        };
+        for (double* b : marginalize) place(b);
+        marginal_dim_ = dense_dim_;  // the marginalized blocks come first
+        for (double* b : keep) place(b);
         for (size_t i = 0; i < points.size(); ++i) point_[points[i]] = int(i);
     }
     int denseDim() const { return dense_dim_; }

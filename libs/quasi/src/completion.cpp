@@ -230,7 +230,7 @@ bool completePixel(const Planes& P, const CompletionWindow& win, int x, int y, f
     const bool rows_inside = y - R >= 0 && y + R < P.height;
     const bool inside = rows_inside && x >= R && x + R < P.width;
     float d_ref;
-    if (R == 0 || !referenceDepth(P, win, x, y, inside, d_ref)) return false;
+    if (!referenceDepth(P, win, x, y, inside, d_ref)) return false;  // R >= 1: completeRows copies at radius 0
 
     // Reflectivity: the max over the neighbours on the reference's surface (depth-consistent); depth: the mean
     // over those also consistent in reflectivity with that max. Never mixes the two sides of a depth step:
@@ -422,10 +422,7 @@ bool cpuHasAvx2()
     return has;
 }
 #endif
-}  // namespace
 
-namespace
-{
 /** completeRows without a window (radius 0: the tracker's half-resolution render): the output is the sparse planes,
  *  pixel for pixel, as completePixel would write them, in a loop the compiler vectorises. */
 void copySparseRows(const SparsePlanes& sparse, int y0, int y1, QuasiImage& out)
@@ -471,7 +468,7 @@ size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptio
 #if defined(QUASILOC_COMPLETION_AVX2)
     bool even_groups = true;  // the square window is symmetric: every distance group has 4 or 8 offsets
     for (size_t g = 0; g < win.group_end.size(); ++g) even_groups &= (win.group_end[g] - win.groupBegin(g)) % 2 == 0;
-    const bool vector_rows = allow_simd && R > 0 && even_groups && cpuHasAvx2() &&
+    const bool vector_rows = allow_simd && even_groups && cpuHasAvx2() &&
                              sparse.refl.step == sparse.depth.step && sparse.index.step == sparse.depth.step;
     // Pixels whose window columns are readable: x - R >= -M and x + R < W + M.
     const int xa = std::max(0, R - M);

@@ -369,6 +369,12 @@ void Tracker::matchTemporal(StereoPoints& sp, double t) const
     sp.temporal = frontend::matchPoints(prev_left_.points, sp.left.points, pm);
 }
 
+void Tracker::matchFramePoints(StereoPoints& sp, double t) const
+{
+    matchStereoPoints(sp);
+    matchTemporal(sp, t);
+}
+
 void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
 {
     if (!denseStereo()) return;
@@ -382,8 +388,7 @@ Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
     extractLeftPoints(frame, sp);
     if (!guidedStereo()) extractRightPoints(frame, sp);
     extractDenseStereo(frame, sp);
-    matchStereoPoints(sp);
-    matchTemporal(sp, frame.timestamp);
+    matchFramePoints(sp, frame.timestamp);
     return sp;
 }
 
@@ -585,8 +590,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         // The matching after its inputs (earlier tasks, so already claimed when it is).
         tasks.add([this, &tasks, &frame, &stereo_points, inputs] {
             for (size_t i : inputs) tasks.wait(i);
-            matchStereoPoints(stereo_points);
-            matchTemporal(stereo_points, frame.timestamp);
+            matchFramePoints(stereo_points, frame.timestamp);
         });
     }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
@@ -613,8 +617,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     } wait_at_exit{concurrent ? worker_.get() : nullptr};
 
     // 2. Map alignment on keyframes (its model stays alive until the window has used it).
-    const MapAlignment alignment =
-        rep.keyframe ? alignToMap(predicted, frame, in, rep) : MapAlignment{};
+    const MapAlignment alignment = rep.keyframe ? alignToMap(predicted, frame, in, rep) : MapAlignment{};
     // The map side of the line factors needs only the quasi-image.
     std::vector<MapLine> map_lines;
     if (alignment.T_world_cam && options_.factors.map_lines) map_lines = quasiImageLines(rep);

@@ -187,6 +187,8 @@ class Tracker
     /** sp.temporal from the previous frame's points (sp taken at time t). Reads only what the frame's tasks leave
      *  alone (the previous frame's points): a task of its own, beside the alignment. */
     void matchTemporal(StereoPoints& sp, double t) const;
+    /** Both matchings of the frame's points (taken at time t), once its stereo inputs are there. */
+    void matchFramePoints(StereoPoints& sp, double t) const;
     void extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const;
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
