@@ -306,6 +306,11 @@ TEST(FuzzFindings, RawlogClassNameLengthAndUnknownClassAreInputErrors)
     bytes[at - 1] = char(0xFF);  // 127 bytes
     writeFileBytes(path, bytes);
     expectRawlogInputError(path, {"entry 1", "imageLeft", "class name of 127 bytes"});
+    // Finding 13: a class name of 0 bytes read 0 bytes into an empty vector's null data() (UBSan: memcpy to null).
+    bytes = good;
+    bytes[at - 1] = char(0x80);
+    writeFileBytes(path, bytes);
+    expectRawlogInputError(path, {"entry 1", "imageLeft", "class name of 0 bytes"});
     bytes = good;
     bytes[at + image_class.size() - 1] = 'X';  // mrpt::img::CImagX
     writeFileBytes(path, bytes);

@@ -8,6 +8,8 @@ namespace quasiloc::dataset::detail
 {
 size_t RawlogStream::Read(void* buffer, size_t count)
 {
+    // An empty std::vector's data() may be null, and memcpy's arguments must not be, even for 0 bytes.
+    if (count == 0) return 0;
     auto* out = static_cast<std::uint8_t*>(buffer);
     size_t done = 0;
     if (pending_at_ < pending_.size())
@@ -56,6 +58,7 @@ size_t FieldReader::readSome(void* buffer, size_t count) { return in_.Read(buffe
 
 void FieldReader::readExactly(void* buffer, size_t count, const char* field)
 {
+    if (count == 0) return;
     const size_t got = in_.Read(buffer, count);
     if (got != count && in_.corrupt()) fail(kCorruptGz);
     if (got != count)

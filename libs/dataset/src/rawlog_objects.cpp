@@ -247,6 +247,7 @@ std::optional<ObjectHeader> readObjectHeader(FieldReader& r, bool end_allowed)
     h.raw.push_back(first);
     if (!(first & 0x80)) r.fail("object header in MRPT's format before 0.5.5 (not supported), or a corrupt file");
     const size_t length = first & 0x7F;
+    if (length == 0) r.fail("class name of 0 bytes (corrupt file)");
     if (length > 120) r.fail("class name of " + std::to_string(length) + " bytes (MRPT allows 120; corrupt file)");
     std::vector<std::uint8_t> name(length);
     r.readExactly(name.data(), length, "class name");
