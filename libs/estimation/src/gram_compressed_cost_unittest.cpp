@@ -4,6 +4,7 @@
 
 #include <ceres/ceres.h>
 
+#include <cstring>
 #include <memory>
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/pose_parametrization.h>
@@ -146,4 +147,61 @@ TEST(GramCompressedCost, RefusesSeveralParameterBlocks)
     f->AddParameterBlock(3);
     f->SetNumResiduals(3);
     EXPECT_THROW(detail::GramCompressedCost(std::unique_ptr<ceres::CostFunction>(f)), quasiloc::core::InputError);
+}
+
+namespace
+{
+/** Counts the calls that reach the wrapped function, with and without Jacobians. */
+class CountingCost final : public ceres::CostFunction
+{
+   public:
+    CountingCost(std::unique_ptr<ceres::CostFunction> inner, int& with_jacobians, int& without)
+        : inner_(std::move(inner)), with_(with_jacobians), without_(without)
+    {
+        set_num_residuals(inner_->num_residuals());
+        *mutable_parameter_block_sizes() = inner_->parameter_block_sizes();
+    }
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override
+    {
+        ++(jacobians && jacobians[0] ? with_ : without_);
+        return inner_->Evaluate(parameters, residuals, jacobians);
+    }
+
+   private:
+    std::unique_ptr<ceres::CostFunction> inner_;
+    int &with_, &without_;
+};
+}  // namespace
+
+// The window's marginal evaluates the Jacobians where Ceres's last accepted step already did: the kept evaluation
+// is returned, bit for bit; another point, or an evaluation without Jacobians, reaches the wrapped function.
+TEST(GramCompressedCost, AnotherEvaluationWithJacobiansAtTheSamePointIsTheKeptOne)
+{
+    int with = 0, without = 0;
+    const detail::GramCompressedCost f(std::make_unique<CountingCost>(manyRows(scene(300)), with, without));
+    double pose[kPoseSize];
+    perturbedPose(pose);
+    const double* params[1] = {pose};
+    constexpr int kOut = kPoseSize + 1;
+    double r1[kOut], J1[kOut * kPoseSize], r2[kOut], J2[kOut * kPoseSize];
+    double* jac1[1] = {J1};
+    double* jac2[1] = {J2};
+    ASSERT_TRUE(f.Evaluate(params, r1, jac1));
+    ASSERT_TRUE(f.Evaluate(params, r2, jac2));
+    EXPECT_EQ(with, 1);
+    EXPECT_EQ(0, std::memcmp(r1, r2, sizeof r1));
+    EXPECT_EQ(0, std::memcmp(J1, J2, sizeof J1));
+
+    double cost_only[kOut];
+    ASSERT_TRUE(f.Evaluate(params, cost_only, nullptr));
+    EXPECT_EQ(without, 1);
+    EXPECT_NEAR(cost_only[0], Eigen::Map<Eigen::VectorXd>(r1, kOut).norm(), 1e-9 * cost_only[0]);
+
+    pose[4] += 1e-9;  // another point: evaluated again, and kept in place of the first
+    ASSERT_TRUE(f.Evaluate(params, r2, jac2));
+    EXPECT_EQ(with, 2);
+    EXPECT_NE(0, std::memcmp(r1, r2, sizeof r1));
+    pose[4] -= 1e-9;
+    ASSERT_TRUE(f.Evaluate(params, r2, jac2));
+    EXPECT_EQ(with, 3);
 }
