@@ -10,6 +10,8 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/estimation/direct_alignment.h>
 
+#include "canny_l2.h"
+
 namespace quasiloc::estimation
 {
 namespace
@@ -144,7 +146,7 @@ void cannyByPercentile(const cv::Mat& dx, const cv::Mat& dy, double high_percent
         const size_t k = std::min(squared.size() - 1, size_t(squared.size() * high_percentile / 100.0));
         high = std::max(1.0, double(std::sqrt(float(kthSmallest(squared, k)))));  // float, as it always was
     }
-    cv::Canny(dx, dy, edges, low_ratio * high, high, true);
+    detail::cannyL2(dx, dy, low_ratio * high, high, edges);  // cv::Canny(dx, dy, edges, low, high, true)
 }
 
 /** Calls f(x) for every non-zero byte of row[0 .. width): 16 bytes at a time (edge pixels are a few percent of

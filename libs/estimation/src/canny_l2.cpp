@@ -1,0 +1,158 @@
+#include "canny_l2.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <quasiloc/core/error.h>
+#include <vector>
+
+namespace quasiloc::estimation::detail
+{
+namespace
+{
+// Map codes, as OpenCV's: 0 a candidate not (yet) reached from a strong pixel, 1 no edge, 2 an edge.
+constexpr uint8_t kCandidate = 0, kNone = 1, kEdge = 2;
+// tan(22.5 deg) in OpenCV's fixed point (15 bits): the direction tests are |dy| 2^15 against |dx| TG22 and
+// |dx| (TG22 + 2^16), tan(67.5 deg) = tan(22.5 deg) + 2.
+constexpr int kShift = 15;
+constexpr int kTg22 = int(0.4142135623730950488016887242097 * (1 << kShift) + 0.5);
+
+using Int4 = int32_t __attribute__((vector_size(16)));
+using Short4 = int16_t __attribute__((vector_size(8)));
+using Byte4 = uint8_t __attribute__((vector_size(4)));
+
+Int4 load(const int* p)
+{
+    Int4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+
+Int4 loadWidened(const int16_t* p)
+{
+    Short4 v;
+    std::memcpy(&v, p, sizeof v);
+    return __builtin_convertvector(v, Int4);
+}
+
+/** One pixel's code, as OpenCV's scalar loop decides it. `m`, `up`, `down`: this, the previous and the next row of
+ *  squared norms (zero outside the image). */
+uint8_t pixelCode(const int* m, const int* up, const int* down, int x, int xs, int ys, int low, int high)
+{
+    const int v = m[x];
+    if (v <= low) return kNone;
+    const int ax = std::abs(xs), ay = std::abs(ys) << kShift;
+    const int tg22x = ax * kTg22;
+    bool peak;
+    if (ay < tg22x) peak = v > m[x - 1] && v >= m[x + 1];
+    else if (ay > tg22x + (ax << (kShift + 1))) peak = v > up[x] && v >= down[x];
+    else
+    {
+        const int s = (xs ^ ys) < 0 ? -1 : 1;
+        peak = v > up[x - s] && v > down[x + s];
+    }
+    if (!peak) return kNone;
+    return v > high ? kEdge : kCandidate;
+}
+
+/** Codes of one row, four pixels at a time without branches (the same tests as pixelCode); the strong pixels'
+ *  map indices go on `stack`. */
+void suppressRow(const int16_t* gx, const int16_t* gy, const int* m, const int* up, const int* down, int width,
+                 int low, int high, uint8_t* row, int row_index, std::vector<int>& stack)
+{
+    const Int4 low_v = Int4{} + low, high_v = Int4{} + high, tg22 = Int4{} + kTg22;
+    const Int4 zero{}, one = Int4{} + kNone, two = Int4{} + kEdge;
+    int x = 0;
+    for (; x + 4 <= width; x += 4)
+    {
+        const Int4 v = load(m + x);
+        const Int4 xs = loadWidened(gx + x), ys = loadWidened(gy + x);
+        const Int4 ax = xs < 0 ? -xs : xs, ay = (ys < 0 ? -ys : ys) << kShift;
+        const Int4 tg22x = ax * tg22;
+        const Int4 horizontal = ay < tg22x, vertical = ay > tg22x + (ax << (kShift + 1));
+        // Diagonal: the neighbours at (x - s, y - 1) and (x + s, y + 1), s = -1 when dx and dy differ in sign.
+        const Int4 opposite = (xs ^ ys) < 0;
+        const Int4 diag_up = opposite ? load(up + x + 1) : load(up + x - 1);
+        const Int4 diag_down = opposite ? load(down + x - 1) : load(down + x + 1);
+        const Int4 a = horizontal ? load(m + x - 1) : (vertical ? load(up + x) : diag_up);
+        const Int4 b = horizontal ? load(m + x + 1) : (vertical ? load(down + x) : diag_down);
+        const Int4 diagonal = ~(horizontal | vertical);
+        const Int4 beyond_b = diagonal ? (v > b) : (v >= b);
+        const Int4 peak = (v > low_v) & (v > a) & beyond_b;
+        const Int4 code = peak ? ((v > high_v) ? two : zero) : one;
+        const Byte4 bytes = __builtin_convertvector(code, Byte4);
+        std::memcpy(row + x, &bytes, sizeof bytes);
+        uint32_t strong;
+        std::memcpy(&strong, &bytes, sizeof strong);
+        for (strong &= 0x02020202u; strong; strong &= strong - 1)
+            stack.push_back(row_index + x + (__builtin_ctz(strong) >> 3));
+    }
+    for (; x < width; ++x)
+    {
+        row[x] = pixelCode(m, up, down, x, gx[x], gy[x], low, high);
+        if (row[x] == kEdge) stack.push_back(row_index + x);
+    }
+}
+}  // namespace
+
+void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low_threshold, double high_threshold, cv::Mat& edges)
+{
+    core::require(!dx.empty() && dx.type() == CV_16SC1 && dy.type() == CV_16SC1 && dx.size() == dy.size(), "cannyL2",
+                  "dx and dy must be non-empty CV_16SC1 images of one size");
+    // OpenCV's thresholds on the squared norm.
+    if (low_threshold > high_threshold) std::swap(low_threshold, high_threshold);
+    low_threshold = std::min(32767.0, low_threshold);
+    high_threshold = std::min(32767.0, high_threshold);
+    if (low_threshold > 0) low_threshold *= low_threshold;
+    if (high_threshold > 0) high_threshold *= high_threshold;
+    const int low = int(std::floor(low_threshold)), high = int(std::floor(high_threshold));
+
+    // Squared norms and codes with a border of one pixel: zero norms, "no edge" codes. Reused per thread (two
+    // pyramid levels are built at once): fresh buffers page-fault on every image.
+    const int W = dx.cols, H = dx.rows, stride = W + 2;
+    thread_local std::vector<int> norm;
+    thread_local std::vector<uint8_t> map;
+    thread_local std::vector<int> stack;
+    norm.assign(size_t(stride) * size_t(H + 2), 0);
+    map.resize(size_t(stride) * size_t(H + 2));
+    std::memset(map.data(), kNone, size_t(stride));
+    std::memset(map.data() + size_t(stride) * size_t(H + 1), kNone, size_t(stride));
+    for (int y = 0; y < H; ++y)
+    {
+        const int16_t *gx = dx.ptr<int16_t>(y), *gy = dy.ptr<int16_t>(y);
+        int* m = &norm[size_t(y + 1) * size_t(stride) + 1];
+        for (int x = 0; x < W; ++x) m[x] = int(gx[x]) * gx[x] + int(gy[x]) * gy[x];
+    }
+    stack.clear();
+    for (int y = 0; y < H; ++y)
+    {
+        const int first = (y + 1) * stride + 1;
+        const int* m = &norm[size_t(first)];
+        uint8_t* row = &map[size_t(first)];
+        row[-1] = row[W] = kNone;
+        suppressRow(dx.ptr<int16_t>(y), dy.ptr<int16_t>(y), m, m - stride, m + stride, W, low, high, row, first, stack);
+    }
+    // Hysteresis: every candidate 8-connected to an edge becomes one.
+    uint8_t* codes = map.data();
+    while (!stack.empty())
+    {
+        const int i = stack.back();
+        stack.pop_back();
+        for (const int k : {i - 1, i + 1, i - stride - 1, i - stride, i - stride + 1, i + stride - 1, i + stride,
+                            i + stride + 1})
+            if (codes[k] == kCandidate)
+            {
+                codes[k] = kEdge;
+                stack.push_back(k);
+            }
+    }
+    edges.create(H, W, CV_8UC1);
+    for (int y = 0; y < H; ++y)
+    {
+        const uint8_t* row = &map[size_t(y + 1) * size_t(stride) + 1];
+        uint8_t* out = edges.ptr<uint8_t>(y);
+        for (int x = 0; x < W; ++x) out[x] = row[x] == kEdge ? 255 : 0;
+    }
+}
+}  // namespace quasiloc::estimation::detail
