@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 #include <opencv2/imgproc.hpp>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -42,10 +43,20 @@ void depthEdgePixels(const cv::Mat& depth, const cv::Mat& valid, double rel, cv:
 {
     constexpr double slope_factor = 3.0;
     const int W = depth.cols, H = depth.rows;
-    const auto w = [&](int x, int y) -> double {
-        if (x < 0 || y < 0 || x >= W || y >= H || !valid.at<uint8_t>(y, x) || !(depth.at<float>(y, x) > 0)) return NAN;
-        return 1.0 / double(depth.at<float>(y, x));
-    };
+    // The inverse depths once per pixel, NaN where there is none, with a border of two NaN pixels (the tests
+    // reach two pixels beyond a pair): each pixel takes part in up to eight tests.
+    constexpr int kBorder = 2;
+    const int stride = W + 2 * kBorder;
+    std::vector<double> inverse(size_t(stride) * size_t(H + 2 * kBorder), std::numeric_limits<double>::quiet_NaN());
+    for (int y = 0; y < H; ++y)
+    {
+        const float* d = depth.ptr<float>(y);
+        const uint8_t* v = valid.ptr<uint8_t>(y);
+        double* out = &inverse[size_t(y + kBorder) * size_t(stride) + kBorder];
+        for (int x = 0; x < W; ++x)
+            if (v[x] && d[x] > 0) out[x] = 1.0 / double(d[x]);
+    }
+    const auto w = [&](int x, int y) { return inverse[size_t(y + kBorder) * size_t(stride) + size_t(x + kBorder)]; };
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x)
             for (const auto& [dx, dy] : {std::pair{1, 0}, {0, 1}})
@@ -81,18 +92,26 @@ void reduceToBlocks(const cv::Mat& depth, const cv::Mat& refl, const cv::Mat& va
     for (int by = 0; by < H; ++by)
         for (int bx = 0; bx < W; ++bx)
         {
+            const int x0 = bx * block, x1 = x0 + block;
             float dmin = std::numeric_limits<float>::infinity();
             for (int y = by * block; y < (by + 1) * block; ++y)
-                for (int x = bx * block; x < (bx + 1) * block; ++x)
-                    if (valid.at<uint8_t>(y, x) && depth.at<float>(y, x) > 0) dmin = std::min(dmin, depth.at<float>(y, x));
+            {
+                const float* d = depth.ptr<float>(y);
+                const uint8_t* v = valid.ptr<uint8_t>(y);
+                for (int x = x0; x < x1; ++x)
+                    if (v[x] && d[x] > 0) dmin = std::min(dmin, d[x]);
+            }
             if (!std::isfinite(dmin)) continue;
             const float lim = dmin * float(1.0 + rel);
             double sum = 0;
             int n = 0;
             for (int y = by * block; y < (by + 1) * block; ++y)
-                for (int x = bx * block; x < (bx + 1) * block; ++x)
-                    if (valid.at<uint8_t>(y, x) && depth.at<float>(y, x) > 0 && depth.at<float>(y, x) <= lim)
-                        sum += refl.at<float>(y, x), ++n;
+            {
+                const float *d = depth.ptr<float>(y), *r = refl.ptr<float>(y);
+                const uint8_t* v = valid.ptr<uint8_t>(y);
+                for (int x = x0; x < x1; ++x)
+                    if (v[x] && d[x] > 0 && d[x] <= lim) sum += r[x], ++n;
+            }
             d_out.at<float>(by, bx) = dmin;
             r_out.at<float>(by, bx) = float(sum / n);
             v_out.at<uint8_t>(by, bx) = 255;
