@@ -13,6 +13,7 @@ namespace quasiloc::estimation::detail
  *  candidate when its squared norm exceeds floor(low^2) and is a maximum along its quantised gradient direction
  *  (OpenCV's fixed-point tangent tests and its strict and non-strict comparisons), and an edge when it is
  *  8-connected through candidates to one whose squared norm exceeds floor(high^2). InputError for other types or
- *  sizes. */
-void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv::Mat& edges);
+ *  sizes. `avx2`: eight pixels per instruction where the CPU has AVX2, else four (false: four; the tests check
+ *  both). */
+void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv::Mat& edges, bool avx2 = true);
 }  // namespace quasiloc::estimation::detail
