@@ -126,21 +126,31 @@ Eigen::Vector3d liftPixel(const core::CameraModel& camera, const Eigen::Isometry
 }
 
 /** The k-th smallest of `values` (0-based; values in [0, 2^22)): a histogram of their high bits finds the bucket
- *  that holds it, and only that bucket is partially sorted. The same value as std::nth_element on all of them,
- *  without its passes over the whole array. */
+ *  that holds it, a histogram of the low bits of that bucket's values finds it there. The same value as
+ *  std::nth_element on all of them, in two passes over the array and no sorting. */
 int32_t kthSmallest(const std::vector<int32_t>& values, size_t k)
 {
     constexpr int shift = 11;
-    std::vector<size_t> count((size_t(1) << (22 - shift)) + 1, 0);
-    for (const int32_t v : values) ++count[size_t(v >> shift)];
+    constexpr size_t buckets = (size_t(1) << (22 - shift)) + 1, low_mask = (size_t(1) << shift) - 1;
+    // Four histograms, one per lane of four: neighbouring pixels often fall in one bucket, and a counter
+    // incremented back to back waits for its own store each time.
+    std::vector<uint32_t> count(4 * buckets, 0);
+    const size_t n = values.size();
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+        for (size_t lane = 0; lane < 4; ++lane) ++count[lane * buckets + size_t(values[i + lane] >> shift)];
+    for (; i < n; ++i) ++count[size_t(values[i] >> shift)];
+    const auto inBucket = [&](size_t b) {
+        return size_t(count[b]) + count[buckets + b] + count[2 * buckets + b] + count[3 * buckets + b];
+    };
     size_t bucket = 0, below = 0;
-    while (below + count[bucket] <= k) below += count[bucket++];
-    std::vector<int32_t> in_bucket;
-    in_bucket.reserve(count[bucket]);
+    while (below + inBucket(bucket) <= k) below += inBucket(bucket++);
+    std::vector<uint32_t> fine(low_mask + 1, 0);
     for (const int32_t v : values)
-        if (size_t(v >> shift) == bucket) in_bucket.push_back(v);
-    std::nth_element(in_bucket.begin(), in_bucket.begin() + long(k - below), in_bucket.end());
-    return in_bucket[k - below];
+        if (size_t(v >> shift) == bucket) ++fine[size_t(v) & low_mask];
+    size_t low = 0;
+    while (below + fine[low] <= k) below += fine[low++];
+    return int32_t((bucket << shift) | low);
 }
 
 /** Canny edges with thresholds from the gradient-magnitude distribution of the image (every other pixel of
