@@ -5,9 +5,15 @@
 #include <opencv2/core.hpp>
 #include <quasiloc/core/camera_model.h>
 #include <quasiloc/estimation/direct_alignment.h>
+#include <vector>
 
 namespace quasiloc::estimation::detail
 {
+/** The k-th smallest of `values` (0-based, k < size; values in [0, 2^22), such as the squared norms of 3x3 Sobel
+ *  derivatives of 8-bit images): the value std::nth_element would put at k, from a histogram of the high bits
+ *  (the bucket that holds it) and one of the low bits within that bucket (the camera edge field's percentile). */
+int32_t kthSmallest(const std::vector<int32_t>& values, size_t k);
+
 /** Bilinear sample of a CV_32F image at (x, y); the caller guarantees 0 <= x < cols - 1, 0 <= y < rows - 1. */
 inline float bilinear(const cv::Mat& m, float x, float y)
 {

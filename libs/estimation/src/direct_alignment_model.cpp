@@ -12,9 +12,38 @@
 #include <quasiloc/estimation/direct_alignment.h>
 
 #include "canny_l2.h"
+#include "direct_alignment_detail.h"
 
 namespace quasiloc::estimation
 {
+namespace detail
+{
+int32_t kthSmallest(const std::vector<int32_t>& values, size_t k)
+{
+    constexpr int shift = 11;
+    constexpr size_t buckets = (size_t(1) << (22 - shift)) + 1, low_mask = (size_t(1) << shift) - 1;
+    // Four histograms, one per lane of four: neighbouring pixels often fall in one bucket, and a counter
+    // incremented back to back waits for its own store each time.
+    std::vector<uint32_t> count(4 * buckets, 0);
+    const size_t n = values.size();
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+        for (size_t lane = 0; lane < 4; ++lane) ++count[lane * buckets + size_t(values[i + lane] >> shift)];
+    for (; i < n; ++i) ++count[size_t(values[i] >> shift)];
+    const auto inBucket = [&](size_t b) {
+        return size_t(count[b]) + count[buckets + b] + count[2 * buckets + b] + count[3 * buckets + b];
+    };
+    size_t bucket = 0, below = 0;
+    while (below + inBucket(bucket) <= k) below += inBucket(bucket++);
+    std::vector<uint32_t> fine(low_mask + 1, 0);
+    for (const int32_t v : values)
+        if (size_t(v >> shift) == bucket) ++fine[size_t(v) & low_mask];
+    size_t low = 0;
+    while (below + fine[low] <= k) below += fine[low++];
+    return int32_t((bucket << shift) | low);
+}
+}  // namespace detail
+
 namespace
 {
 /** Picks at most `budget` of `pixels` spread over cells of `cell_px`: round-robin over the cells (the k-th
@@ -125,34 +154,6 @@ Eigen::Vector3d liftPixel(const core::CameraModel& camera, const Eigen::Isometry
     return T_world_cam * (double(depth) * camera.unproject(Eigen::Vector2d(p.x, p.y)));
 }
 
-/** The k-th smallest of `values` (0-based; values in [0, 2^22)): a histogram of their high bits finds the bucket
- *  that holds it, a histogram of the low bits of that bucket's values finds it there. The same value as
- *  std::nth_element on all of them, in two passes over the array and no sorting. */
-int32_t kthSmallest(const std::vector<int32_t>& values, size_t k)
-{
-    constexpr int shift = 11;
-    constexpr size_t buckets = (size_t(1) << (22 - shift)) + 1, low_mask = (size_t(1) << shift) - 1;
-    // Four histograms, one per lane of four: neighbouring pixels often fall in one bucket, and a counter
-    // incremented back to back waits for its own store each time.
-    std::vector<uint32_t> count(4 * buckets, 0);
-    const size_t n = values.size();
-    size_t i = 0;
-    for (; i + 4 <= n; i += 4)
-        for (size_t lane = 0; lane < 4; ++lane) ++count[lane * buckets + size_t(values[i + lane] >> shift)];
-    for (; i < n; ++i) ++count[size_t(values[i] >> shift)];
-    const auto inBucket = [&](size_t b) {
-        return size_t(count[b]) + count[buckets + b] + count[2 * buckets + b] + count[3 * buckets + b];
-    };
-    size_t bucket = 0, below = 0;
-    while (below + inBucket(bucket) <= k) below += inBucket(bucket++);
-    std::vector<uint32_t> fine(low_mask + 1, 0);
-    for (const int32_t v : values)
-        if (size_t(v >> shift) == bucket) ++fine[size_t(v) & low_mask];
-    size_t low = 0;
-    while (below + fine[low] <= k) below += fine[low++];
-    return int32_t((bucket << shift) | low);
-}
-
 /** Canny edges with thresholds from the gradient-magnitude distribution of the image (every other pixel of
  *  every other row is enough for a percentile): the same share of pixels is "strong" whatever the exposure or
  *  contrast. `dx`, `dy`: the image's 3x3 Sobel derivatives (CV_16S), also used for the edge orientations. */
@@ -173,7 +174,7 @@ void cannyByPercentile(const cv::Mat& dx, const cv::Mat& dy, double high_percent
     if (!squared.empty())
     {
         const size_t k = std::min(squared.size() - 1, size_t(squared.size() * high_percentile / 100.0));
-        high = std::max(1.0, double(std::sqrt(float(kthSmallest(squared, k)))));  // float, as it always was
+        high = std::max(1.0, double(std::sqrt(float(detail::kthSmallest(squared, k)))));  // float, as it always was
     }
     detail::cannyL2(dx, dy, low_ratio * high, high, edges);  // cv::Canny(dx, dy, edges, low, high, true)
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -303,5 +304,37 @@ TEST(DirectAlignment, OrientationClassesEqualTheAngleDefinitionAwayFromSectorBor
             ++tested;
         }
         EXPECT_GT(tested, 19000);
+    }
+}
+
+// The edge field's percentile: the value nth_element would give, on arrays of every kind (spread over the range,
+// concentrated in one bucket, squared norms of Sobel derivatives, all equal) and at every rank kind.
+TEST(DirectAlignment, KthSmallestIsTheValueNthElementGives)
+{
+    std::mt19937 rng(5);
+    for (int trial = 0; trial < 400; ++trial)
+    {
+        const size_t n = 1 + rng() % 3000;
+        std::vector<int32_t> v(n);
+        for (int32_t& x : v)
+            switch (trial % 4)
+            {
+                case 0: x = int32_t(rng() % (1u << 22)); break;
+                case 1: x = int32_t(2048 * 7 + rng() % 2048); break;
+                case 2:
+                {
+                    const int a = int(rng() % 2041) - 1020, b = int(rng() % 2041) - 1020;
+                    x = a * a + b * b;
+                    break;
+                }
+                default: x = 4242;
+            }
+        for (const size_t k : {size_t(0), n - 1, size_t(rng() % n), size_t(double(n) * 0.85)})
+        {
+            if (k >= n) continue;
+            std::vector<int32_t> sorted = v;
+            std::nth_element(sorted.begin(), sorted.begin() + long(k), sorted.end());
+            ASSERT_EQ(quasiloc::estimation::detail::kthSmallest(v, k), sorted[k]) << "trial " << trial << ", k " << k;
+        }
     }
 }
