@@ -2,6 +2,7 @@
 // distance-transform pyramid.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 #include <opencv2/imgproc.hpp>
@@ -305,6 +306,48 @@ OrientationClasses::OrientationClasses(int bins) : bins_(bins)
         cos_.push_back(float(std::cos(k * M_PI / (2 * bins))));
         sin_.push_back(float(std::sin(k * M_PI / (2 * bins))));
     }
+    if (bins > 8) return;
+    for (int sector = 0; sector < 2 * bins; ++sector)  // classOf's mapping from a sector to its two classes
+    {
+        const auto wrap = [bins](int v) { return v >= bins ? v - bins : v; };
+        const int b = wrap((sector + 1) / 2), second = wrap(sector % 2 == 0 ? b + 1 : b + bins - 1);
+        sector_bits_.push_back(uint8_t((1u << b) | (1u << second)));
+    }
+}
+
+void OrientationClasses::pairBits(const float* gx_in, const float* gy_in, size_t n, uint8_t* bits) const
+{
+    core::require(bins_ <= 8, "OrientationClasses::pairBits", "needs at most 8 bins");
+    // classOf's arithmetic on four lanes: the same float products, differences and comparisons (plain x86-64 has
+    // no fused multiply-add to change them), the same folding.
+    using F4 = float __attribute__((vector_size(16)));
+    using I4 = int32_t __attribute__((vector_size(16)));
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4)
+    {
+        F4 gx, gy;
+        std::memcpy(&gx, gx_in + i, sizeof gx);
+        std::memcpy(&gy, gy_in + i, sizeof gy);
+        const I4 flip = (gy < 0) | ((gy == 0) & (gx < 0));
+        gx = flip ? -gx : gx;
+        gy = flip ? -gy : gy;
+        const I4 mirrored = gx < 0;
+        I4 abs_bits;
+        std::memcpy(&abs_bits, &gx, sizeof gx);
+        abs_bits &= I4{} + 0x7fffffff;  // std::abs: the sign bit cleared
+        F4 u;
+        std::memcpy(&u, &abs_bits, sizeof u);
+        I4 below{};
+        for (size_t k = 0; k < cos_.size(); ++k) below -= (u * sin_[k] - gy * cos_[k] <= 0);  // true is -1
+        const I4 sector = mirrored ? (2 * bins_ - 1) - below : below;
+        for (int lane = 0; lane < 4; ++lane) bits[i + size_t(lane)] = sector_bits_[size_t(sector[lane])];
+    }
+    for (; i < n; ++i)
+    {
+        int second = 0;
+        const int b = classOf(gx_in[i], gy_in[i], &second);
+        bits[i] = uint8_t((1u << b) | (1u << second));
+    }
 }
 
 int OrientationClasses::classOf(float gx, float gy, int* second) const
@@ -471,11 +514,30 @@ CameraEdgeLevel buildCameraEdgeLevel(const DirectAlignmentOptions& o, const cv::
     const int B = o.orientation_bins;
     const OrientationClasses orientation(B);
     const bool fused = B <= kMaxFusedClasses;
-    cv::Mat class_bits(L.edges.size(), CV_16UC1, cv::Scalar(0));
+    cv::Mat class_bits(L.edges.size(), fused ? CV_8UC1 : CV_16UC1, cv::Scalar(0));
+    std::vector<int> xs;
+    std::vector<float> row_gx, row_gy;
+    std::vector<uint8_t> row_bits;
     for (int y = 0; y < L.edges.rows; ++y)
     {
         const uint8_t* edge = L.edges.ptr<uint8_t>(y);
         const int16_t *gx = dx.ptr<int16_t>(y), *gy = dy.ptr<int16_t>(y);
+        if (fused)  // B <= 8: a byte per pixel, the row's edge pixels classified four at a time
+        {
+            xs.clear();
+            row_gx.clear();
+            row_gy.clear();
+            forEachNonZero(edge, L.edges.cols, [&](int x) {
+                xs.push_back(x);
+                row_gx.push_back(float(gx[x]));
+                row_gy.push_back(float(gy[x]));
+            });
+            row_bits.resize(xs.size());
+            orientation.pairBits(row_gx.data(), row_gy.data(), xs.size(), row_bits.data());  // the map side's classes
+            uint8_t* bits = class_bits.ptr<uint8_t>(y);
+            for (size_t i = 0; i < xs.size(); ++i) bits[xs[i]] = row_bits[i];
+            continue;
+        }
         uint16_t* bits = class_bits.ptr<uint16_t>(y);
         forEachNonZero(edge, L.edges.cols, [&](int x) {
             int second = 0;
@@ -483,7 +545,6 @@ CameraEdgeLevel buildCameraEdgeLevel(const DirectAlignmentOptions& o, const cv::
             bits[x] = uint16_t((1u << b) | (1u << second));
         });
     }
-    if (fused) class_bits.convertTo(class_bits, CV_8U);  // B <= 8: every value fits
     // The distance transforms are most of the camera side's cost: up to 8 classes in one fused pass.
     if (fused)
         classDistanceTransforms(class_bits, B, o.truncation_px, L.distance);

@@ -338,3 +338,35 @@ TEST(DirectAlignment, KthSmallestIsTheValueNthElementGives)
         }
     }
 }
+
+// pairBits classifies the edge field's pixels four at a time: the classes classOf gives, on every 3x3 Sobel
+// gradient of an 8-bit image (each component in [-1020, 1020]; the sector borders and the folds included), for
+// every fused bin count, at every position of a batch (the four-lane part and the scalar tail).
+TEST(DirectAlignment, OrientationPairBitsAreClassOfsOnEverySobelGradient)
+{
+    constexpr int kMax = 1020;
+    std::vector<float> gx, gy;
+    for (int y = -kMax; y <= kMax; ++y)
+        for (int x = -kMax; x <= kMax; ++x)
+        {
+            gx.push_back(float(x));
+            gy.push_back(float(y));
+        }
+    for (int bins = 1; bins <= 8; ++bins)
+    {
+        const estimation::OrientationClasses classes(bins);
+        std::vector<uint8_t> bits(gx.size() - 1);
+        classes.pairBits(gx.data() + 1, gy.data() + 1, bits.size(), bits.data());  // odd count: a scalar tail too
+        for (size_t i = 0; i < bits.size(); ++i)
+        {
+            int second = 0;
+            const int b = classes.classOf(gx[i + 1], gy[i + 1], &second);
+            ASSERT_EQ(int(bits[i]), int((1u << b) | (1u << second)))
+                << "bins " << bins << " g (" << gx[i + 1] << ", " << gy[i + 1] << ")";
+        }
+    }
+    const estimation::OrientationClasses nine(9);
+    uint8_t out = 0;
+    const float one = 1;
+    EXPECT_THROW(nine.pairBits(&one, &one, 1, &out), core::InputError);
+}
