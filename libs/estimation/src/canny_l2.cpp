@@ -86,11 +86,11 @@ uint8_t pixelCode(const int* m, const int* up, const int* down, int x, int xs, i
 }
 
 /** Codes of one row, N pixels at a time without branches (the same tests as pixelCode); the strong pixels' map
- *  indices go on `stack`. */
+ *  indices go on the stack at `top`. */
 template <int N>
 [[gnu::always_inline]] inline void suppressRowLanes(const int16_t* gx, const int16_t* gy, const int* m, const int* up,
                                                     const int* down, int width, int low, int high, uint8_t* row,
-                                                    int row_index, std::vector<int>& stack)
+                                                    int row_index, int*& top)
 {
     using L = Lanes<N>;
     using Int = typename L::Int;
@@ -129,26 +129,26 @@ template <int N>
         typename L::Bits strong;
         std::memcpy(&strong, &bytes, sizeof strong);
         for (strong &= L::kEdgeBits; strong; strong &= strong - 1)
-            stack.push_back(row_index + x + (__builtin_ctzll(strong) >> 3));
+            *top++ = row_index + x + (__builtin_ctzll(strong) >> 3);
     }
     for (; x < width; ++x)
     {
         row[x] = pixelCode(m, up, down, x, gx[x], gy[x], low, high);
-        if (row[x] == kEdge) stack.push_back(row_index + x);
+        if (row[x] == kEdge) *top++ = row_index + x;
     }
 }
 
 void suppressRowSse2(const int16_t* gx, const int16_t* gy, const int* m, const int* up, const int* down, int width,
-                     int low, int high, uint8_t* row, int row_index, std::vector<int>& stack)
+                     int low, int high, uint8_t* row, int row_index, int*& top)
 {
-    suppressRowLanes<4>(gx, gy, m, up, down, width, low, high, row, row_index, stack);
+    suppressRowLanes<4>(gx, gy, m, up, down, width, low, high, row, row_index, top);
 }
 
 __attribute__((target("avx2"))) void suppressRowAvx2(const int16_t* gx, const int16_t* gy, const int* m,
                                                      const int* up, const int* down, int width, int low, int high,
-                                                     uint8_t* row, int row_index, std::vector<int>& stack)
+                                                     uint8_t* row, int row_index, int*& top)
 {
-    suppressRowLanes<8>(gx, gy, m, up, down, width, low, high, row, row_index, stack);
+    suppressRowLanes<8>(gx, gy, m, up, down, width, low, high, row, row_index, top);
 }
 }  // namespace
 
@@ -166,51 +166,60 @@ void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low_threshold, double 
     const int low = int(std::floor(low_threshold)), high = int(std::floor(high_threshold));
 
     // Squared norms and codes with a border of one pixel: zero norms, "no edge" codes. Reused per thread (two
-    // pyramid levels are built at once): fresh buffers page-fault on every image.
+    // pyramid levels are built at once): fresh buffers page-fault on every image. Taken by reference once: each
+    // access to a thread_local of a shared library is a call.
+    struct Scratch
+    {
+        std::vector<int> norm, stack;
+        std::vector<uint8_t> map;
+    };
+    thread_local Scratch scratch;
+    Scratch& s = scratch;
     const int W = dx.cols, H = dx.rows, stride = W + 2;
-    thread_local std::vector<int> norm;
-    thread_local std::vector<uint8_t> map;
-    thread_local std::vector<int> stack;
-    norm.assign(size_t(stride) * size_t(H + 2), 0);
-    map.resize(size_t(stride) * size_t(H + 2));
-    std::memset(map.data(), kNone, size_t(stride));
-    std::memset(map.data() + size_t(stride) * size_t(H + 1), kNone, size_t(stride));
+    s.norm.resize(size_t(stride) * size_t(H + 2));
+    s.map.resize(size_t(stride) * size_t(H + 2));
+    s.stack.resize(size_t(W) * size_t(H));  // a pixel goes on the stack once at most: when it becomes an edge
+    std::fill_n(s.norm.begin(), stride, 0);
+    std::fill_n(s.norm.begin() + ptrdiff_t(H + 1) * stride, stride, 0);
+    std::memset(s.map.data(), kNone, size_t(stride));
+    std::memset(s.map.data() + size_t(stride) * size_t(H + 1), kNone, size_t(stride));
     for (int y = 0; y < H; ++y)
     {
         const int16_t *gx = dx.ptr<int16_t>(y), *gy = dy.ptr<int16_t>(y);
-        int* m = &norm[size_t(y + 1) * size_t(stride) + 1];
+        int* m = &s.norm[size_t(y + 1) * size_t(stride) + 1];
+        m[-1] = m[W] = 0;
         for (int x = 0; x < W; ++x) m[x] = int(gx[x]) * gx[x] + int(gy[x]) * gy[x];
     }
-    stack.clear();
+    int* const bottom = s.stack.data();
+    int* top = bottom;
     // Eight pixels per instruction where the CPU has AVX2 (the build targets plain x86-64): the same codes.
     static const bool has_avx2 = __builtin_cpu_supports("avx2");
     const auto suppressRow = avx2 && has_avx2 ? suppressRowAvx2 : suppressRowSse2;
     for (int y = 0; y < H; ++y)
     {
         const int first = (y + 1) * stride + 1;
-        const int* m = &norm[size_t(first)];
-        uint8_t* row = &map[size_t(first)];
+        const int* m = &s.norm[size_t(first)];
+        uint8_t* row = &s.map[size_t(first)];
         row[-1] = row[W] = kNone;
-        suppressRow(dx.ptr<int16_t>(y), dy.ptr<int16_t>(y), m, m - stride, m + stride, W, low, high, row, first, stack);
+        suppressRow(dx.ptr<int16_t>(y), dy.ptr<int16_t>(y), m, m - stride, m + stride, W, low, high, row, first, top);
     }
     // Hysteresis: every candidate 8-connected to an edge becomes one.
-    uint8_t* codes = map.data();
-    while (!stack.empty())
+    uint8_t* codes = s.map.data();
+    while (top > bottom)
     {
-        const int i = stack.back();
-        stack.pop_back();
+        const int i = *--top;
         for (const int k : {i - 1, i + 1, i - stride - 1, i - stride, i - stride + 1, i + stride - 1, i + stride,
                             i + stride + 1})
             if (codes[k] == kCandidate)
             {
                 codes[k] = kEdge;
-                stack.push_back(k);
+                *top++ = k;
             }
     }
     edges.create(H, W, CV_8UC1);
     for (int y = 0; y < H; ++y)
     {
-        const uint8_t* row = &map[size_t(y + 1) * size_t(stride) + 1];
+        const uint8_t* row = &s.map[size_t(y + 1) * size_t(stride) + 1];
         uint8_t* out = edges.ptr<uint8_t>(y);
         for (int x = 0; x < W; ++x) out[x] = row[x] == kEdge ? 255 : 0;
     }
