@@ -166,8 +166,9 @@ void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low_threshold, double 
     const int low = int(std::floor(low_threshold)), high = int(std::floor(high_threshold));
 
     // Squared norms and codes with a border of one pixel: zero norms, "no edge" codes. Reused per thread (two
-    // pyramid levels are built at once): fresh buffers page-fault on every image. Taken by reference once: each
-    // access to a thread_local of a shared library is a call.
+    // pyramid levels are built at once): fresh buffers page-fault on every image. Taken by reference once: the
+    // code is position-independent, and each use of a thread_local recomputed its address from the thread pointer
+    // (the hysteresis did so several times per pixel).
     struct Scratch
     {
         std::vector<int> norm, stack;
