@@ -28,22 +28,13 @@ using Byte8 = uint8_t __attribute__((vector_size(8)));
 
 /** N pixels at a time: int32 lanes for the norms and tests, int16 for the derivatives, bytes for the codes. */
 template <int N>
-struct LaneTypes;
-template <>
-struct LaneTypes<4>
+struct LaneTypes
 {
-    using Int = Int4;
-    using Short = Short4;
-    using Byte = Byte4;
-    using Bits = uint32_t;
-};
-template <>
-struct LaneTypes<8>
-{
-    using Int = Int8;
-    using Short = Short8;
-    using Byte = Byte8;
-    using Bits = uint64_t;
+    static_assert(N == 4 || N == 8, "four lanes (SSE2) or eight (AVX2)");
+    using Int = std::conditional_t<N == 4, Int4, Int8>;
+    using Short = std::conditional_t<N == 4, Short4, Short8>;
+    using Byte = std::conditional_t<N == 4, Byte4, Byte8>;
+    using Bits = std::conditional_t<N == 4, uint32_t, uint64_t>;
 };
 
 template <int N>
