@@ -58,7 +58,6 @@ size_t FieldReader::readSome(void* buffer, size_t count) { return in_.Read(buffe
 
 void FieldReader::readExactly(void* buffer, size_t count, const char* field)
 {
-    if (count == 0) return;
     const size_t got = in_.Read(buffer, count);
     if (got != count && in_.corrupt()) fail(kCorruptGz);
     if (got != count)

@@ -28,21 +28,13 @@ using Byte8 = uint8_t __attribute__((vector_size(8)));
 
 /** N pixels at a time: int32 lanes for the norms and tests, int16 for the derivatives, bytes for the codes. */
 template <int N>
-struct LaneTypes
+struct Lanes
 {
     static_assert(N == 4 || N == 8, "four lanes (SSE2) or eight (AVX2)");
     using Int = std::conditional_t<N == 4, Int4, Int8>;
     using Short = std::conditional_t<N == 4, Short4, Short8>;
     using Byte = std::conditional_t<N == 4, Byte4, Byte8>;
     using Bits = std::conditional_t<N == 4, uint32_t, uint64_t>;
-};
-
-template <int N>
-struct Lanes : LaneTypes<N>
-{
-    using typename LaneTypes<N>::Int;
-    using typename LaneTypes<N>::Short;
-    using typename LaneTypes<N>::Bits;
     static constexpr Bits kEdgeBits = Bits(0x0202020202020202ull);  // kEdge in every byte
 
     // Results through references: an AVX vector returned by value from a function compiled for plain x86-64

@@ -307,10 +307,10 @@ OrientationClasses::OrientationClasses(int bins) : bins_(bins)
         sin_.push_back(float(std::sin(k * M_PI / (2 * bins))));
     }
     if (bins > 8) return;
-    for (int sector = 0; sector < 2 * bins; ++sector)  // classOf's mapping from a sector to its two classes
+    for (int sector = 0; sector < 2 * bins; ++sector)
     {
-        const auto wrap = [bins](int v) { return v >= bins ? v - bins : v; };
-        const int b = wrap((sector + 1) / 2), second = wrap(sector % 2 == 0 ? b + 1 : b + bins - 1);
+        int second = 0;
+        const int b = classOfSector(sector, &second);
         sector_bits_.push_back(uint8_t((1u << b) | (1u << second)));
     }
 }
@@ -342,31 +342,38 @@ void OrientationClasses::pairBits(const float* gx_in, const float* gy_in, size_t
         const I4 sector = mirrored ? (2 * bins_ - 1) - below : below;
         for (int lane = 0; lane < 4; ++lane) bits[i + size_t(lane)] = sector_bits_[size_t(sector[lane])];
     }
-    for (; i < n; ++i)
-    {
-        int second = 0;
-        const int b = classOf(gx_in[i], gy_in[i], &second);
-        bits[i] = uint8_t((1u << b) | (1u << second));
-    }
+    for (; i < n; ++i) bits[i] = sector_bits_[size_t(sectorOf(gx_in[i], gy_in[i]))];
 }
 
 int OrientationClasses::classOf(float gx, float gy, int* second) const
 {
+    int neighbour = 0;
+    const int b = classOfSector(sectorOf(gx, gy), &neighbour);
+    if (second) *second = neighbour;
+    return b;
+}
+
+int OrientationClasses::sectorOf(float gx, float gy) const
+{
     // Without atan2 (a tenth of the camera side's cost): the angle mod 180 deg falls in one of 2 * bins sectors of
-    // 90 / bins deg between class centres and class borders. In sector s the nearest class is (s + 1) / 2, and the
-    // angle leans to the next class when s is even. Folded into the first quadrant, the sector is told by the signs
-    // of the cross products with the `bins` borders up to 90 deg (the other quadrant mirrors it).
+    // 90 / bins deg between class centres and class borders. Folded into the first quadrant, the sector is told by
+    // the signs of the cross products with the `bins` borders up to 90 deg (the other quadrant mirrors it).
     if (gy < 0 || (gy == 0 && gx < 0)) gx = -gx, gy = -gy;  // the same line: angle mod 180 deg into [0, 180)
     const bool mirrored = gx < 0;
     const float u = std::abs(gx);
     int below = 0;  // borders k * 90 / bins deg (k = 1 .. bins) at or below the folded angle
     for (size_t k = 0; k < cos_.size(); ++k) below += u * sin_[k] - gy * cos_[k] <= 0;
-    const int sector = mirrored ? 2 * bins_ - 1 - below : below;
-    // Every value below is in [0, 2 * bins): a subtraction instead of an integer division (most of this
-    // function's cost when it was a %).
+    return mirrored ? 2 * bins_ - 1 - below : below;
+}
+
+int OrientationClasses::classOfSector(int sector, int* second) const
+{
+    // In sector s the nearest class is (s + 1) / 2, and the angle leans to the next class when s is even. Every
+    // value below is in [0, 2 * bins): a subtraction instead of an integer division (most of classOf's cost when
+    // it was a %).
     const auto wrap = [this](int v) { return v >= bins_ ? v - bins_ : v; };
     const int b = wrap((sector + 1) / 2);
-    if (second) *second = wrap(sector % 2 == 0 ? b + 1 : b + bins_ - 1);
+    *second = wrap(sector % 2 == 0 ? b + 1 : b + bins_ - 1);
     return b;
 }
 

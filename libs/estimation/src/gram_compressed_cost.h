@@ -17,8 +17,9 @@ namespace quasiloc::estimation::detail
  *  evaluation without Jacobians (the LM's trial steps) returns (|r|, 0, ..., 0).
  *
  *  The last evaluation with Jacobians is kept: another one at the same parameter values returns it without
- *  calling the inner function (an evaluation without Jacobians always calls it). Ceres evaluates the Jacobians at every accepted step, the last one included, and the
- *  window's marginal evaluates them again at that same point: the second costs a copy. */
+ *  calling the inner function (an evaluation without Jacobians always calls it). Ceres evaluates the Jacobians at
+ *  every accepted step, the last one included, and the window's marginal evaluates them again at that same point:
+ *  the second costs a copy. */
 class GramCompressedCost final : public ceres::CostFunction
 {
    public:

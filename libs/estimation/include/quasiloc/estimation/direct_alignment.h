@@ -97,6 +97,11 @@ class OrientationClasses
     void pairBits(const float* gx, const float* gy, size_t n, uint8_t* bits) const;
 
    private:
+    /** The sector of (gx, gy) in [0, 2 * bins): between a class centre and a class border (classOf). */
+    int sectorOf(float gx, float gy) const;
+    /** The class of a sector, and its neighbour on the side the sector leans to. */
+    int classOfSector(int sector, int* second) const;
+
     int bins_;
     std::vector<float> cos_, sin_;  ///< the sector borders up to 90 deg: k * 90 / bins deg, k = 1 .. bins
     std::vector<uint8_t> sector_bits_;  ///< per sector (2 * bins of them, bins <= 8): the bits pairBits gives
