@@ -51,8 +51,8 @@ std::string vectorToString(const std::vector<double>& v)
 void StereoRectification::rectify(const cv::Mat& left_raw, const cv::Mat& right_raw, cv::Mat& left_rect,
                                   cv::Mat& right_rect) const
 {
-    cv::remap(left_raw, left_rect, map_left_x, map_left_y, cv::INTER_LINEAR);
-    cv::remap(right_raw, right_rect, map_right_x, map_right_y, cv::INTER_LINEAR);
+    cv::remap(left_raw, left_rect, fixed_left_xy, fixed_left_frac, cv::INTER_LINEAR);
+    cv::remap(right_raw, right_rect, fixed_right_xy, fixed_right_frac, cv::INTER_LINEAR);
 }
 
 StereoRectification StereoRig::rectify(double alpha) const
@@ -85,6 +85,8 @@ StereoRectification StereoRig::rectify(double alpha) const
         cv::initUndistortRectifyMap(K2, right.distCoeffs(), R2, P2, size, CV_32FC1, out.map_right_x,
                                     out.map_right_y);
     }
+    cv::convertMaps(out.map_left_x, out.map_left_y, out.fixed_left_xy, out.fixed_left_frac, CV_16SC2);
+    cv::convertMaps(out.map_right_x, out.map_right_y, out.fixed_right_xy, out.fixed_right_frac, CV_16SC2);
     out.R_left = cv::Matx33d(R1);
     out.R_right = cv::Matx33d(R2);
     out.P_left = cv::Matx34d(P1);

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
+#include <opencv2/imgproc.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/stereo_rig.h>
@@ -76,6 +77,22 @@ TEST(StereoRig, RectificationMapsUndoDistortion)
             EXPECT_NEAR(rect.map_left_x.at<float>(v, u), raw.x(), 2e-3);
             EXPECT_NEAR(rect.map_left_y.at<float>(v, u), raw.y(), 2e-3);
         }
+}
+
+TEST(StereoRig, RectifyWithFixedPointMapsEqualsTheFloatMaps)
+{
+    const StereoRig rig = eurocRig();
+    const auto rect = rig.rectify(0.0);
+    cv::Mat left(480, 752, CV_8UC1), right(480, 752, CV_8UC1);
+    cv::randu(left, 0, 256);
+    cv::randu(right, 0, 256);
+    cv::Mat left_rect, right_rect, left_float, right_float;
+    rect.rectify(left, right, left_rect, right_rect);
+    cv::remap(left, left_float, rect.map_left_x, rect.map_left_y, cv::INTER_LINEAR);
+    cv::remap(right, right_float, rect.map_right_x, rect.map_right_y, cv::INTER_LINEAR);
+    EXPECT_EQ(cv::norm(left_rect, left_float, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(right_rect, right_float, cv::NORM_INF), 0.0);
+    EXPECT_GT(cv::countNonZero(left_rect), 752 * 480 / 2);
 }
 
 TEST(StereoRig, IniRoundTrip)

@@ -18,7 +18,11 @@ struct StereoRectification
     CameraModel rectified_left;    ///< ideal pinhole of the rectified left camera
     double baseline_m = 0;
     cv::Mat map_left_x, map_left_y, map_right_x, map_right_y;  ///< for cv::remap, CV_32FC1
+    /** The same maps in OpenCV's fixed-point form (cv::convertMaps: CV_16SC2 and CV_16UC1), what cv::remap turns
+     *  float maps into for every call anyway: rectify() uses these, with the same result. */
+    cv::Mat fixed_left_xy, fixed_left_frac, fixed_right_xy, fixed_right_frac;
 
+    /** Both images through their maps (bilinear). */
     void rectify(const cv::Mat& left_raw, const cv::Mat& right_raw, cv::Mat& left_rect,
                  cv::Mat& right_rect) const;
 };
