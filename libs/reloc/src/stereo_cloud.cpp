@@ -25,10 +25,75 @@ void StereoCloudOptions::check(const std::string& input, const std::string& sect
                   "must be a multiple of 16 x stereo_downscale");
 }
 
+namespace
+{
+/** The voxels StereoCloud::points has filled: a bit per voxel of the box where the points can be (their frustum),
+ *  a hash set for any other (none, unless rounding puts a point outside). Bits, because a frame inserts tens of
+ *  thousands of points and a hash set alone was most of the cloud's cost. */
+class VoxelSet
+{
+   public:
+    explicit VoxelSet(const VoxelBox& box) : box_(box), bits_(size_t((box.nx * box.ny * box.nz + 63) / 64), 0) {}
+    /** True when voxel (ix, iy, iz) was empty (it is filled now). */
+    bool insert(int64_t ix, int64_t iy, int64_t iz)
+    {
+        const int64_t x = ix - box_.x0, y = iy - box_.y0, z = iz - box_.z0;
+        if (x >= 0 && x < box_.nx && y >= 0 && y < box_.ny && z >= 0 && z < box_.nz)
+        {
+            const size_t bit = size_t((z * box_.ny + y) * box_.nx + x);
+            uint64_t& word = bits_[bit >> 6];
+            const uint64_t mask = uint64_t(1) << (bit & 63);
+            const bool fresh = !(word & mask);
+            word |= mask;
+            return fresh;
+        }
+        return others_.insert(((ix & 0x1fffff) << 42) | ((iy & 0x1fffff) << 21) | (iz & 0x1fffff)).second;
+    }
+
+   private:
+    VoxelBox box_;
+    std::vector<uint64_t> bits_;
+    std::unordered_set<int64_t> others_;  ///< keys of 21 bits per axis, as before the box
+};
+
+/** The voxel indices a point of the cloud can have: the rectified left camera's frustum between min_depth_m and
+ *  max_depth_m, one voxel of margin for rounding. Empty (the hash set alone) when there is no voxel thinning or
+ *  the box would hold more than kMaxVoxels voxels. */
+VoxelBox frustumVoxels(const core::StereoRectification& rect, const cv::Size& size, const StereoCloudOptions& o)
+{
+    constexpr int64_t kMaxVoxels = int64_t(1) << 23;  // a bit each: 1 MB
+    const double v = o.voxel_m;
+    if (!(v > 0)) return {};
+    const double f = rect.P_left(0, 0), cx = rect.P_left(0, 2), cy = rect.P_left(1, 2);
+    // Pixel centres lie in [-0.5, size - 0.5] at any downscale; x / z is linear in u, so the corners bound it.
+    const double x_lo = (-0.5 - cx) / f, x_hi = (size.width - 0.5 - cx) / f;
+    const double y_lo = (-0.5 - cy) / f, y_hi = (size.height - 0.5 - cy) / f;
+    auto cells = [&](double a_per_z, double b_per_z, int64_t& lo, int64_t& n) {
+        const double zs[2] = {o.min_depth_m, o.max_depth_m};
+        double mn = 0, mx = 0;
+        for (double z : zs)
+            for (double t : {a_per_z * z, b_per_z * z})
+            {
+                mn = std::min(mn, t);
+                mx = std::max(mx, t);
+            }
+        lo = int64_t(std::floor(mn / v)) - 1;
+        n = int64_t(std::floor(mx / v)) + 2 - lo;
+    };
+    VoxelBox box;
+    cells(x_lo, x_hi, box.x0, box.nx);
+    cells(y_lo, y_hi, box.y0, box.ny);
+    cells(1.0, 1.0, box.z0, box.nz);
+    if (box.nx * box.ny > kMaxVoxels / box.nz) return {};
+    return box;
+}
+}  // namespace
+
 StereoCloud::StereoCloud(const core::StereoRig& rig, const StereoCloudOptions& options)
     : options_(options), rect_(rig.rectify(0.0)), size_(rig.left.width, rig.left.height)
 {
     options_.check("stereo cloud", "GeometricLocalization");
+    voxels_ = frustumVoxels(rect_, size_, options_);
 }
 
 std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const cv::Mat& right_raw,
@@ -76,7 +141,7 @@ std::vector<Eigen::Vector3f> StereoCloud::points(const StereoDisparity& d) const
             .transpose()
             .cast<float>();
     std::vector<Eigen::Vector3f> points;
-    std::unordered_set<int64_t> occupied;
+    VoxelSet occupied(voxels_);
     const double v = options_.voxel_m;
     for (int y = 0; y < disparity.rows; ++y)
     {
@@ -89,13 +154,9 @@ std::vector<Eigen::Vector3f> StereoCloud::points(const StereoDisparity& d) const
             // Centre of the scaled pixel in full-resolution coordinates.
             const double px_u = s * (x + 0.5) - 0.5, px_v = s * (y + 0.5) - 0.5;
             const Eigen::Vector3f p_rect(float((px_u - cx) * z / f), float((px_v - cy) * z / f), float(z));
-            if (v > 0)
-            {
-                const int64_t ix = int64_t(std::floor(p_rect.x() / v)) & 0x1fffff,
-                              iy = int64_t(std::floor(p_rect.y() / v)) & 0x1fffff,
-                              iz = int64_t(std::floor(p_rect.z() / v)) & 0x1fffff;
-                if (!occupied.insert((ix << 42) | (iy << 21) | iz).second) continue;
-            }
+            if (v > 0 && !occupied.insert(int64_t(std::floor(p_rect.x() / v)), int64_t(std::floor(p_rect.y() / v)),
+                                          int64_t(std::floor(p_rect.z() / v))))
+                continue;
             points.push_back(R_cam_rect * p_rect);
         }
     }

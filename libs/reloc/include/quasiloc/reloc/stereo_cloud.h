@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 #include <quasiloc/core/stereo_rig.h>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,13 @@ struct StereoDisparity
     int scale = 1;                  ///< downscale: disparity pixel (x, y) covers full-resolution pixels s x .. s x + s - 1
 };
 
+/** A box of voxel indices, [x0, x0 + nx) x [y0, y0 + ny) x [z0, z0 + nz) (empty: nx = 0): where the voxels of
+ *  StereoCloud::points can be. */
+struct VoxelBox
+{
+    int64_t x0 = 0, y0 = 0, z0 = 0, nx = 0, ny = 0, nz = 0;
+};
+
 class StereoCloud
 {
    public:
@@ -65,6 +73,7 @@ class StereoCloud
     StereoCloudOptions options_;
     core::StereoRectification rect_;
     cv::Size size_;
+    VoxelBox voxels_;  ///< where the points' voxels can be
 };
 
 }  // namespace quasiloc::reloc
