@@ -474,9 +474,10 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
         Lanes left = row[0];
         for (int x = 1; x <= W; ++x)
         {
-            Lanes v = vmin(row[x], vmin(up[x - 1] + d, up[x] + a));
-            v = vmin(v, vmin(up[x + 1] + d, left + a));
-            row[x] = left = v;
+            // The row above first: only the last min waits for the pixel to the left (the pass is bound by that
+            // chain, one add and one min per pixel).
+            const Lanes v = vmin(vmin(row[x], up[x] + a), vmin(up[x - 1] + d, up[x + 1] + d));
+            row[x] = left = vmin(v, left + a);
         }
     }
     distance.resize(size_t(classes));
@@ -490,9 +491,8 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
         Lanes right = row[W + 1];
         for (int x = W; x >= 1; --x)
         {
-            Lanes v = vmin(row[x], vmin(down[x + 1] + d, down[x] + a));
-            v = vmin(v, vmin(down[x - 1] + d, right + a));
-            row[x] = right = v;
+            const Lanes v = vmin(vmin(row[x], down[x] + a), vmin(down[x + 1] + d, down[x - 1] + d));
+            row[x] = right = vmin(v, right + a);
         }
         for (int k = 0; k < classes; ++k) out[size_t(k)] = distance[size_t(k)].ptr<float>(y - 1);
         int x = 0;
