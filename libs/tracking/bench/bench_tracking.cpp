@@ -212,6 +212,29 @@ void BM_DenseStereo(benchmark::State& state)
     state.counters["points"] = double(points) / double(std::max<size_t>(1, k));
 }
 
+/** BM_DenseStereo's two steps: the disparity (rectification, halving, SGBM), then its cloud (depth range, voxels). */
+void BM_DenseDisparity(benchmark::State& state)
+{
+    const reloc::StereoCloud cloud(fixture().calibration.rig, fixture().options.localization.stereo);
+    size_t k = 0;
+    for (auto _ : state)
+    {
+        const dataset::StereoFrame& f = frameAt(k++);
+        benchmark::DoNotOptimize(cloud.disparity(f.left, f.right, "bench"));
+    }
+}
+
+void BM_DenseCloudPoints(benchmark::State& state)
+{
+    const reloc::StereoCloud cloud(fixture().calibration.rig, fixture().options.localization.stereo);
+    std::vector<reloc::StereoDisparity> disparities;
+    for (size_t i = 0; i < std::min(kFrames, fixture().frames.size()); ++i)
+        disparities.push_back(cloud.disparity(frameAt(i).left, frameAt(i).right, "bench"));
+    size_t k = 0, points = 0;
+    for (auto _ : state) points += cloud.points(disparities[k++ % disparities.size()]).size();
+    state.counters["points"] = double(points) / double(std::max<size_t>(1, k));
+}
+
 /** Tracker::track frame after frame from the ground truth at the first frame (restarted, untimed, at the end). */
 void BM_TrackFrame(benchmark::State& state)
 {
@@ -269,6 +292,8 @@ BENCHMARK(BM_DirectAlignment)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StereoPoints)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_GuidedStereoPoints)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DenseStereo)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenseDisparity)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DenseCloudPoints)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TrackFrame)->Unit(benchmark::kMillisecond)->MinTime(5.0);
 
 std::unique_ptr<Fixture> load(const core::CommandLine& cmd)

@@ -375,10 +375,16 @@ void Tracker::matchFramePoints(StereoPoints& sp, double t) const
     matchTemporal(sp, t);
 }
 
-void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
+void Tracker::extractDisparity(const dataset::StereoFrame& frame, StereoPoints& sp) const
 {
     if (!denseStereo()) return;
     sp.disparity = stereo_cloud_->disparity(frame.left, frame.right, "frame " + std::to_string(frame.index));
+}
+
+void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
+{
+    if (!denseStereo()) return;
+    extractDisparity(frame, sp);
     sp.dense = stereo_cloud_->points(sp.disparity);
 }
 
@@ -566,8 +572,9 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     const estimation::FrameState predicted = predict(frame, imu, rep);
 
     // The frame's stereo tasks, in the order they are claimed: the left image's points (temporal landmarks and the map
-    // factors on them), the dense stereo (stereo_map_points = dense), the right image's points (descriptor
-    // matching), then their matching, and the camera's segments (map_lines). With concurrent_stages the worker
+    // factors on them), the dense disparity (stereo_map_points = dense), the right image's points (descriptor
+    // matching), then the temporal matching, the stereo matching, the dense cloud from the disparity, and the
+    // camera's segments (map_lines). With concurrent_stages the worker
     // thread runs them while this one renders the map at the prediction, computes the camera's edge field and runs
     // the alignment; this one runs what is left after that. Who runs a task changes its timing only.
     // Why this split: ORB (about 4.5 ms) and the dense stereo (about 6 ms) are single-threaded for the most part and
@@ -581,17 +588,30 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     StereoPoints stereo_points;
     if (options_.temporal_landmarks)
     {
-        std::vector<size_t> inputs;
-        inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractLeftPoints(frame, stereo_points); }));
-        if (denseStereo())
-            inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractDenseStereo(frame, stereo_points); }));
+        StereoPoints& sp = stereo_points;
+        const size_t left = tasks.add([this, &frame, &sp] { extractLeftPoints(frame, sp); });
+        std::vector<size_t> stereo_inputs{left};
+        const bool dense = denseStereo();
+        const size_t disparity = dense ? tasks.add([this, &frame, &sp] { extractDisparity(frame, sp); }) : 0;
+        if (dense) stereo_inputs.push_back(disparity);
         if (!guidedStereo())
-            inputs.push_back(tasks.add([this, &frame, &stereo_points] { extractRightPoints(frame, stereo_points); }));
-        // The matching after its inputs (earlier tasks, so already claimed when it is).
-        tasks.add([this, &tasks, &frame, &stereo_points, inputs] {
-            for (size_t i : inputs) tasks.wait(i);
-            matchFramePoints(stereo_points, frame.timestamp);
+            stereo_inputs.push_back(tasks.add([this, &frame, &sp] { extractRightPoints(frame, sp); }));
+        // Each consumer after its inputs (earlier tasks, so already claimed when it is). Three small tasks rather
+        // than one: whichever thread is free first takes the next, so the tracking thread, done with the
+        // alignment, shares what the worker has left instead of waiting for it.
+        tasks.add([this, &tasks, &frame, &sp, left] {
+            tasks.wait(left);
+            matchTemporal(sp, frame.timestamp);
         });
+        tasks.add([this, &tasks, &sp, stereo_inputs] {
+            for (size_t i : stereo_inputs) tasks.wait(i);
+            matchStereoPoints(sp);
+        });
+        if (dense)
+            tasks.add([this, &tasks, &sp, disparity] {
+                tasks.wait(disparity);
+                sp.dense = stereo_cloud_->points(sp.disparity);
+            });
     }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments
     if (rep.keyframe && options_.factors.map_lines)
