@@ -20,84 +20,64 @@ using detail::projectToLevel;
 inline double huberCost(double r, double k) { return std::abs(r) <= k ? 0.5 * r * r : k * (std::abs(r) - 0.5 * k); }
 inline double huberWeight(double r, double k) { return std::abs(r) <= k ? 1.0 : k / std::abs(r); }
 
-struct CostPart
+/** One pass over the edge points at one level and pose: the mean Huber cost (points outside the image or beyond
+ *  the truncation count as truncation_px), the share within huber_px, and, when asked for, the Gauss-Newton
+ *  normal equations of the Huber-weighted residuals (points at the truncation or outside carry no gradient). Both
+ *  in one pass where both are needed at one pose (a level's start, the final Hessian): the projections are
+ *  shared. The LM's trial steps take the cost alone: more than half of them are rejected. */
+struct LevelEval
 {
+    bool has_normal_equations = false;
     double cost = 0;
     size_t inliers = 0;
-    CostPart& operator+=(const CostPart& o)
-    {
-        cost += o.cost, inliers += o.inliers;
-        return *this;
-    }
-};
-
-struct NormalPart
-{
     Matrix6d H = Matrix6d::Zero();
     Vector6d b = Vector6d::Zero();
-    NormalPart& operator+=(const NormalPart& o)
+    LevelEval& operator+=(const LevelEval& o)
     {
+        cost += o.cost, inliers += o.inliers;
         H += o.H, b += o.b;
         return *this;
     }
 };
 
-double levelCost(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
-                 const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
+LevelEval evaluateLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
+                        const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, bool normal_equations)
 {
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     const double trunc_cost = huberCost(o.truncation_px, o.huber_px);
-    const CostPart sum = detail::sumInStripes(model.edge_points_world.size(), CostPart{}, [&](size_t begin, size_t end, CostPart& part) {
-        for (size_t i = begin; i < end; ++i)
-        {
-            Eigen::Vector3d p_cam;
-            Eigen::Vector2d u;
-            if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, nullptr))
-            {
-                part.cost += trunc_cost;
-                continue;
-            }
-            const double r = std::min<double>(bilinear(L.distance[model.edge_bin[i]], float(u.x()), float(u.y())),
-                                              o.truncation_px);
-            part.cost += huberCost(r, o.huber_px);
-            part.inliers += r < o.huber_px;
-        }
-    });
-    const size_t n = std::max<size_t>(1, model.edge_points_world.size());
-    if (inlier_ratio) *inlier_ratio = double(sum.inliers) / double(n);
-    return sum.cost / double(n);
-}
-
-/** Gauss-Newton normal equations of the Huber-weighted edge residuals at one level. Points at the
- *  truncation (flat field) or outside the image carry no gradient and are left out. */
-void normalEquations(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
-                     const DirectAlignmentModel& model, const Eigen::Isometry3d& T_world_cam, Matrix6d& H, Vector6d& b)
-{
-    const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     const double flat = o.truncation_px - 1e-3;
-    const NormalPart sum = detail::sumInStripes(model.edge_points_world.size(), NormalPart{}, [&](size_t begin, size_t end, NormalPart& part) {
+    LevelEval sum = detail::sumInStripes(model.edge_points_world.size(), LevelEval{}, [&](size_t begin, size_t end, LevelEval& part) {
         for (size_t i = begin; i < end; ++i)
         {
             Eigen::Vector3d p_cam;
             Eigen::Vector2d u;
             Eigen::Matrix<double, 2, 3> J_u_p;
-            if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u, &J_u_p)) continue;
+            if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u,
+                                normal_equations ? &J_u_p : nullptr))
+            {
+                part.cost += trunc_cost;
+                continue;
+            }
             const float x = float(u.x()), y = float(u.y());
-            const size_t bin = model.edge_bin[i];
-            const double r = bilinear(L.distance[bin], x, y);
-            if (r >= flat) continue;
-            const cv::Mat& D = L.distance[bin];
+            const cv::Mat& D = L.distance[model.edge_bin[i]];
+            const double r_field = bilinear(D, x, y);
+            const double r = std::min<double>(r_field, o.truncation_px);
+            part.cost += huberCost(r, o.huber_px);
+            part.inliers += r < o.huber_px;
+            if (!normal_equations || r_field >= flat) continue;
             const Eigen::RowVector2d g(0.5 * (bilinear(D, x + 1, y) - bilinear(D, x - 1, y)),
                                        0.5 * (bilinear(D, x, y + 1) - bilinear(D, x, y - 1)));
             // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
             const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
-            const double w = huberWeight(r, o.huber_px);
+            const double w = huberWeight(r_field, o.huber_px);
             part.H.noalias() += w * J.transpose() * J;
-            part.b.noalias() += w * r * J.transpose();
+            part.b.noalias() += w * r_field * J.transpose();
         }
     });
     const double n = double(std::max<size_t>(1, model.edge_points_world.size()));
-    H = sum.H / n, b = sum.b / n;  // levelCost is a mean
+    sum.cost /= n, sum.H /= n, sum.b /= n;  // means
+    sum.has_normal_equations = normal_equations;
+    return sum;
 }
 
 /** The prior's cost weight * 0.5 |delta / sigma|^2 with delta = T (-) T_prior, and its Gauss-Newton terms
@@ -112,18 +92,20 @@ double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d*
     return 0.5 * d.dot(info.cwiseProduct(d));
 }
 
-/** Levenberg-Marquardt at one level. Returns the iterations taken. */
+/** Levenberg-Marquardt at one level. Returns the iterations taken; `last` is the evaluation at the final pose. */
 int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
-               const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step)
+               const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step,
+               LevelEval& last)
 {
-    double cost = levelCost(o, L, camera, model, T_world_cam, nullptr) + priorCost(prior, T_world_cam, nullptr, nullptr);
+    last = evaluateLevel(o, L, camera, model, T_world_cam, true);
+    double cost = last.cost + priorCost(prior, T_world_cam, nullptr, nullptr);
     double lambda = 1e-3;
     int it = 0;
     for (; it < o.iterations_per_level; ++it)
     {
-        Matrix6d H;
-        Vector6d b;
-        normalEquations(o, L, camera, model, T_world_cam, H, b);
+        if (!last.has_normal_equations) last = evaluateLevel(o, L, camera, model, T_world_cam, true);
+        Matrix6d H = last.H;
+        Vector6d b = last.b;
         priorCost(prior, T_world_cam, &H, &b);
         if (H.trace() <= 0) break;
         bool improved = false;
@@ -135,10 +117,12 @@ int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const 
             if (ldlt.info() != Eigen::Success) break;
             const Vector6d delta = -ldlt.solve(b);
             const Eigen::Isometry3d T_new = boxPlus(T_world_cam, delta);
-            const double c = levelCost(o, L, camera, model, T_new, nullptr) + priorCost(prior, T_new, nullptr, nullptr);
+            LevelEval e = evaluateLevel(o, L, camera, model, T_new, false);
+            const double c = e.cost + priorCost(prior, T_new, nullptr, nullptr);
             if (c < cost)
             {
                 T_world_cam = T_new;
+                last = e;
                 const bool converged = cost - c < 1e-6 * cost || delta.norm() < 1e-7;
                 cost = c;
                 lambda = std::max(1e-7, lambda / 3);
@@ -158,8 +142,9 @@ double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& fi
                 const core::CameraModel& camera, const DirectAlignmentModel& model,
                 const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
-    return levelCost(options, field.levels.at(size_t(level)), camera, model, T_world_cam,
-                     inlier_ratio);
+    const LevelEval e = evaluateLevel(options, field.levels.at(size_t(level)), camera, model, T_world_cam, false);
+    if (inlier_ratio) *inlier_ratio = double(e.inliers) / double(std::max<size_t>(1, model.edge_points_world.size()));
+    return e.cost;
 }
 
 double normalizedMutualInformation(const DirectAlignmentOptions& o, const CameraEdgeField& field,
@@ -215,11 +200,13 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
     st.initial_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam);
     bool any_step = false;
     const int coarsest = int(field.levels.size()) - 1;
+    LevelEval last;
     for (int l = coarsest; l >= 0; --l)
-        st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step);
-    st.final_edge_cost = edgeCost(o, field, 0, camera, model, T_world_cam, &st.final_inlier_ratio);
-    Vector6d gradient;
-    normalEquations(o, field.levels[0], camera, model, T_world_cam, st.hessian, gradient);
+        st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step, last);
+    // The finest level's last evaluation is at the final pose.
+    st.final_edge_cost = last.cost;
+    st.final_inlier_ratio = double(last.inliers) / double(model.edge_points_world.size());
+    st.hessian = last.has_normal_equations ? last.H : evaluateLevel(o, field.levels[0], camera, model, T_world_cam, true).H;
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;
     return any_step;
