@@ -40,13 +40,15 @@ bool GramCompressedCost::evaluateInner(const double* parameters, double* residua
 {
     using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     const int n = inner_->num_residuals(), p = params_;
-    // Reused per thread: the window evaluates its blocks on one thread, thousands of rows each time.
+    // Reused per thread: the window evaluates its blocks on one thread, thousands of rows each time. They only
+    // grow: the inner function writes every row, and the edge and surface blocks take turns, so a resize down
+    // then up would zero the regrown rows at each call.
     thread_local std::vector<double> r, J;
-    r.resize(size_t(n));
+    if (r.size() < size_t(n)) r.resize(size_t(n));
     double* inner_jacobians[1] = {nullptr};
     if (jacobian)
     {
-        J.resize(size_t(n) * size_t(p));
+        if (J.size() < size_t(n) * size_t(p)) J.resize(size_t(n) * size_t(p));
         inner_jacobians[0] = J.data();
     }
     const double* inner_parameters[1] = {parameters};

@@ -574,9 +574,9 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
     // The frame's stereo tasks, in the order they are claimed: the left image's points (temporal landmarks and the map
     // factors on them), the dense disparity (stereo_map_points = dense), the right image's points (descriptor
     // matching), then the temporal matching, the stereo matching, the dense cloud from the disparity, and the
-    // camera's segments (map_lines). With concurrent_stages the worker
-    // thread runs them while this one renders the map at the prediction, computes the camera's edge field and runs
-    // the alignment; this one runs what is left after that. Who runs a task changes its timing only.
+    // camera's segments (map_lines). With concurrent_stages the worker thread runs them while this one renders the
+    // map at the prediction, computes the camera's edge field and runs the alignment; this one runs what is left
+    // after that. Who runs a task changes its timing only.
     // Why this split: ORB (about 4.5 ms) and the dense stereo (about 6 ms) are single-threaded for the most part and
     // only the window needs them; the alignment needs the render, the edge model and the edge field (parallel
     // loops, about 10 ms together). Shared in claiming order, the two long serial tasks often ended up one after the
