@@ -1,5 +1,7 @@
 #include "canny_l2.h"
 
+#include "scratch.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -160,9 +162,10 @@ void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low_threshold, double 
     thread_local Scratch scratch;
     Scratch& s = scratch;
     const int W = dx.cols, H = dx.rows, stride = W + 2;
-    s.norm.resize(size_t(stride) * size_t(H + 2));
-    s.map.resize(size_t(stride) * size_t(H + 2));
-    s.stack.resize(size_t(W) * size_t(H));  // a pixel goes on the stack once at most: when it becomes an edge
+    // Every element read below is written first: the borders here, each row's norms and codes by its loop.
+    growScratch(s.norm, size_t(stride) * size_t(H + 2));
+    growScratch(s.map, size_t(stride) * size_t(H + 2));
+    growScratch(s.stack, size_t(W) * size_t(H));  // a pixel goes on the stack once at most: when it becomes an edge
     std::fill_n(s.norm.begin(), stride, 0);
     std::fill_n(s.norm.begin() + ptrdiff_t(H + 1) * stride, stride, 0);
     std::memset(s.map.data(), kNone, size_t(stride));

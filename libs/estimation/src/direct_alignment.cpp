@@ -30,6 +30,7 @@ struct LevelEval
     bool has_normal_equations = false;
     double cost = 0;
     size_t inliers = 0;
+    double inlier_ratio = 0;  ///< inliers over all the edge points (set once the stripes are summed)
     Matrix6d H = Matrix6d::Zero();
     Vector6d b = Vector6d::Zero();
     LevelEval& operator+=(const LevelEval& o)
@@ -76,6 +77,7 @@ LevelEval evaluateLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& 
     });
     const double n = double(std::max<size_t>(1, model.edge_points_world.size()));
     sum.cost /= n, sum.H /= n, sum.b /= n;  // means
+    sum.inlier_ratio = double(sum.inliers) / n;
     sum.has_normal_equations = normal_equations;
     return sum;
 }
@@ -143,7 +145,7 @@ double edgeCost(const DirectAlignmentOptions& options, const CameraEdgeField& fi
                 const Eigen::Isometry3d& T_world_cam, double* inlier_ratio)
 {
     const LevelEval e = evaluateLevel(options, field.levels.at(size_t(level)), camera, model, T_world_cam, false);
-    if (inlier_ratio) *inlier_ratio = double(e.inliers) / double(std::max<size_t>(1, model.edge_points_world.size()));
+    if (inlier_ratio) *inlier_ratio = e.inlier_ratio;
     return e.cost;
 }
 
@@ -205,7 +207,7 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
         st.iterations += alignLevel(o, field.levels[size_t(l)], camera, model, prior, T_world_cam, any_step, last);
     // The finest level's last evaluation is at the final pose.
     st.final_edge_cost = last.cost;
-    st.final_inlier_ratio = double(last.inliers) / double(model.edge_points_world.size());
+    st.final_inlier_ratio = last.inlier_ratio;
     st.hessian = last.has_normal_equations ? last.H : evaluateLevel(o, field.levels[0], camera, model, T_world_cam, true).H;
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;

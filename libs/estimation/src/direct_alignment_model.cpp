@@ -14,6 +14,7 @@
 
 #include "canny_l2.h"
 #include "direct_alignment_detail.h"
+#include "scratch.h"
 
 namespace quasiloc::estimation
 {
@@ -459,11 +460,9 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
     const Lanes a = Lanes{} + axis, d = Lanes{} + diag, far_v = Lanes{} + far;
     const int W = class_bits.cols, H = class_bits.rows, stride = W + 2;
     // The buffer outlives the call (per thread: the pyramid's levels are built on two threads): a fresh one is
-    // a page-faulting allocation of several MB per image. It only grows: every element used below is written
-    // before it is read, and a resize down then up again would zero the regrown part (MBs when a thread takes
-    // the full-resolution level after a smaller one).
+    // a page-faulting allocation of several MB per image. Every element used below is written before it is read.
     thread_local std::vector<Lanes> buf;
-    if (buf.size() < size_t(stride) * size_t(H + 2)) buf.resize(size_t(stride) * size_t(H + 2));
+    detail::growScratch(buf, size_t(stride) * size_t(H + 2));
     std::fill_n(buf.begin(), stride, far_v);                             // top border
     std::fill_n(buf.begin() + ptrdiff_t(H + 1) * stride, stride, far_v);  // bottom border
     // Each row is initialised just before the forward pass reaches it, and converted to distances as soon as the

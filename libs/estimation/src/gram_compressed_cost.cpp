@@ -1,5 +1,7 @@
 #include "gram_compressed_cost.h"
 
+#include "scratch.h"
+
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -40,15 +42,14 @@ bool GramCompressedCost::evaluateInner(const double* parameters, double* residua
 {
     using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
     const int n = inner_->num_residuals(), p = params_;
-    // Reused per thread: the window evaluates its blocks on one thread, thousands of rows each time. They only
-    // grow: the inner function writes every row, and the edge and surface blocks take turns, so a resize down
-    // then up would zero the regrown rows at each call.
+    // Reused per thread: the window evaluates its blocks on one thread, thousands of rows each time. The inner
+    // function writes every row.
     thread_local std::vector<double> r, J;
-    if (r.size() < size_t(n)) r.resize(size_t(n));
+    growScratch(r, size_t(n));
     double* inner_jacobians[1] = {nullptr};
     if (jacobian)
     {
-        if (J.size() < size_t(n) * size_t(p)) J.resize(size_t(n) * size_t(p));
+        growScratch(J, size_t(n) * size_t(p));
         inner_jacobians[0] = J.data();
     }
     const double* inner_parameters[1] = {parameters};

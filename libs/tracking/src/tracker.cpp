@@ -381,10 +381,9 @@ void Tracker::extractDisparity(const dataset::StereoFrame& frame, StereoPoints& 
     sp.disparity = stereo_cloud_->disparity(frame.left, frame.right, "frame " + std::to_string(frame.index));
 }
 
-void Tracker::extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const
+void Tracker::extractDenseCloud(StereoPoints& sp) const
 {
     if (!denseStereo()) return;
-    extractDisparity(frame, sp);
     sp.dense = stereo_cloud_->points(sp.disparity);
 }
 
@@ -393,7 +392,8 @@ Tracker::StereoPoints Tracker::extractStereo(const dataset::StereoFrame& frame)
     StereoPoints sp;
     extractLeftPoints(frame, sp);
     if (!guidedStereo()) extractRightPoints(frame, sp);
-    extractDenseStereo(frame, sp);
+    extractDisparity(frame, sp);
+    extractDenseCloud(sp);
     matchFramePoints(sp, frame.timestamp);
     return sp;
 }
@@ -610,7 +610,7 @@ FrameReport Tracker::track(const dataset::StereoFrame& frame)
         if (dense)
             tasks.add([this, &tasks, &sp, disparity] {
                 tasks.wait(disparity);
-                sp.dense = stereo_cloud_->points(sp.disparity);
+                extractDenseCloud(sp);
             });
     }
     std::vector<frontend::LineSegment> camera_lines;  // map_lines: the left image's segments

@@ -189,10 +189,10 @@ class Tracker
     void matchTemporal(StereoPoints& sp, double t) const;
     /** Both matchings of the frame's points (taken at time t), once its stereo inputs are there. */
     void matchFramePoints(StereoPoints& sp, double t) const;
-    /** sp.disparity and sp.dense (stereo_map_points = dense; nothing otherwise). */
-    void extractDenseStereo(const dataset::StereoFrame& frame, StereoPoints& sp) const;
-    /** Its first step alone: sp.disparity (the tracker's tasks compute sp.dense from it as a task of its own). */
+    /** The dense stereo (stereo_map_points = dense; nothing otherwise) in two steps, two tasks of a frame:
+     *  sp.disparity, then sp.dense from it. */
     void extractDisparity(const dataset::StereoFrame& frame, StereoPoints& sp) const;
+    void extractDenseCloud(StereoPoints& sp) const;
     void start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
                const ImuBiasPrior& biases);
