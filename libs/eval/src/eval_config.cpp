@@ -28,9 +28,19 @@ void EvalOptions::declare(core::OptionTable& t)
     using core::Range;
     t.add("output_dir", output_dir, "receives report.md, report.json, eval_effective.ini, <sequence>_errors.csv");
     t.add("max_dt_s", max_dt_s, "s", Range::atLeast(0), "an associated pair has |t_est - t_gt| <= this");
-    t.addEnum("align", align, alignmentNames(), "an aligned ATE besides the unaligned one (Umeyama)");
-    t.add("rpe_delta_s", rpe_delta_s, "s", Range::atLeast(0), "RPE step in seconds (0: rpe_delta_frames)");
-    t.add("rpe_delta_frames", rpe_delta_frames, "", Range::atLeast(0), "RPE step in associated poses");
+    t.addEnum("association", association,
+              {{"nearest", GroundTruthLookup::Nearest}, {"interpolated", GroundTruthLookup::Interpolated}},
+              "nearest: the ground-truth pose nearest in time, one-to-one (TUM, evo); interpolated: the ground truth "
+              "interpolated at the estimate's time when the nearer sample is within max_dt_s (as quasiloc-track)");
+    t.addEnum("align", align, alignmentNames(),
+              "the estimate the RPE is computed on: none and se3 (the same RPE), sim3 (scale corrected, monocular); "
+              "the ATE is reported unaligned, SE(3)- and Sim(3)-aligned whatever this is");
+    t.add("rpe_delta_m", rpe_delta_m, "m", Range::atLeast(0),
+          "RPE per this much path of the estimate, consecutive pairs as evo_rpe --delta_unit m (0: none)");
+    t.add("rpe_delta_s", rpe_delta_s, "s", Range::atLeast(0),
+          "RPE per this many seconds, every pose, as TUM evaluate_rpe.py --fixed_delta --delta_unit s (0: none)");
+    t.add("rpe_delta_frames", rpe_delta_frames, "", Range::atLeast(0),
+          "RPE per this many associated poses, every pose (0: none)");
     t.add("recall_thresholds_m", recall_thresholds_m, "m", Range::above(0), "localization recall thresholds");
     t.add("recall_thresholds_deg", recall_thresholds_deg, "deg", Range::above(0),
           "empty (translation only) or one per recall_thresholds_m entry");
@@ -42,8 +52,8 @@ void EvalOptions::check(const std::string& input) const
     checkRanges(input, "Eval");
     const std::string in = input + " [Eval] ";
     core::require(!output_dir.empty(), in + "output_dir", "is empty");
-    core::require((rpe_delta_s > 0) != (rpe_delta_frames > 0), in + "rpe_delta_s / rpe_delta_frames",
-                  "exactly one must be > 0 (to use rpe_delta_frames, set rpe_delta_s = 0)");
+    core::require(rpe_delta_m > 0 || rpe_delta_s > 0 || rpe_delta_frames > 0,
+                  in + "rpe_delta_m / rpe_delta_s / rpe_delta_frames", "at least one must be > 0");
     core::require(!recall_thresholds_m.empty(), in + "recall_thresholds_m", "needs at least one threshold");
     core::require(recall_thresholds_deg.empty() || recall_thresholds_deg.size() == recall_thresholds_m.size(),
                   in + "recall_thresholds_deg", "must be empty or have one value per recall_thresholds_m entry");
@@ -55,6 +65,15 @@ void EvalOptions::check(const std::string& input) const
                       "'" + n + "' is not a valid name (letters, digits, '_' and '-' only)");
         core::require(seen.insert(n).second, in + "sequence_names", "'" + n + "' is listed twice");
     }
+}
+
+std::vector<RpeDelta> EvalOptions::rpeDeltas() const
+{
+    std::vector<RpeDelta> out;
+    if (rpe_delta_m > 0) out.push_back({rpe_delta_m, RpeUnit::Metres});
+    if (rpe_delta_s > 0) out.push_back({rpe_delta_s, RpeUnit::Seconds});
+    if (rpe_delta_frames > 0) out.push_back({double(rpe_delta_frames), RpeUnit::Frames});
+    return out;
 }
 
 std::vector<RecallThreshold> EvalOptions::recallThresholds() const

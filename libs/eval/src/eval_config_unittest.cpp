@@ -99,15 +99,22 @@ TEST_F(EvalConfigTest, RejectsBadConfigurations)
     EXPECT_NE(loadError({{"Eval", "align", "umeyama"}}).find("'umeyama' is not one of none, se3, sim3"),
               std::string::npos);
     EXPECT_NE(loadError({{"Eval", "recall_thresholds_m", "[0.1 0]"}}).find("recall_thresholds_m"), std::string::npos);
-    EXPECT_NE(loadError({{"Eval", "rpe_delta_frames", "3"}}).find("exactly one"), std::string::npos);
+    EXPECT_NE(loadError({{"Eval", "rpe_delta_m", "0"}, {"Eval", "rpe_delta_s", "0"}}).find("at least one"),
+              std::string::npos);
+    EXPECT_NE(loadError({{"Eval", "association", "linear"}}).find("'linear' is not one of nearest, interpolated"),
+              std::string::npos);
     EXPECT_NE(loadError({{"Eval", "recall_thresholds_deg", "[1]"}}).find("one value per"),
               std::string::npos);
     EXPECT_NE(loadError({{"Eval", "sequence_names", "[a b c]"}}).find("section is missing"),
               std::string::npos);
     EXPECT_NE(loadError({{"Eval", "sequence_names", "[a a]"}}).find("listed twice"), std::string::npos);
     EXPECT_NE(loadError({}, "[Other]\nx = 1\n").find("[Eval] is missing"), std::string::npos);
-    // The frames delta is accepted once the seconds delta is switched off.
-    EXPECT_EQ(load({{"Eval", "rpe_delta_frames", "3"}, {"Eval", "rpe_delta_s", "0"}}).eval.rpeDelta().frames, 3);
+    // The deltas that are > 0, in the order metres, seconds, frames.
+    const auto deltas = load({{"Eval", "rpe_delta_frames", "3"}, {"Eval", "rpe_delta_s", "0"}}).eval.rpeDeltas();
+    ASSERT_EQ(deltas.size(), 2u);
+    EXPECT_EQ(deltas[0].unit, RpeUnit::Metres);
+    EXPECT_EQ(deltas[1].unit, RpeUnit::Frames);
+    EXPECT_EQ(deltas[1].value, 3.0);
 }
 
 TEST_F(EvalConfigTest, SequenceNamesMayBeSeparatedByCommas)

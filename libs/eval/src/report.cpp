@@ -32,31 +32,48 @@ std::string thresholdLabel(const RecallThreshold& t)
 
 std::string alignmentName(Alignment a) { return a == Alignment::Sim3 ? "Sim(3)" : "SE(3)"; }
 
-void ateTable(std::ostringstream& md, const std::vector<SequenceReport>& reports, bool aligned)
+/** The ATE of `alignment` of a tracking report, if computed. */
+const AteResult* ateOf(const TrackingReport& t, Alignment alignment)
 {
-    md << "| sequence | est | gt | matched | unmatched est | ATE RMSE [cm] | mean [cm] | median [cm] | max [cm] | "
-          "std [cm] | rot RMSE [deg] | rot mean [deg] | rot median [deg] | rot max [deg] |\n"
-       << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    if (alignment == Alignment::None) return &t.ate;
+    const auto& a = alignment == Alignment::SE3 ? t.ate_se3 : t.ate_sim3;
+    return a ? &*a : nullptr;
+}
+
+void ateTable(std::ostringstream& md, const std::vector<SequenceReport>& reports, Alignment alignment)
+{
+    md << "| sequence | est | gt | matched | unmatched est | ATE RMSE [cm] | mean [cm] | median [cm] | std [cm] | "
+          "min [cm] | max [cm] | rot RMSE [deg] | rot mean [deg] | rot median [deg] | rot max [deg] |\n"
+       << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& r : reports)
     {
         if (r.kind != SequenceKind::Tracking) continue;
         const TrackingReport& t = r.tracking;
-        const AteResult& a = aligned ? *t.ate_aligned : t.ate;
+        const AteResult* a = ateOf(t, alignment);
+        const ErrorStats none;
+        const ErrorStats& e = a ? a->trans_m : none;
+        const ErrorStats& o = a ? a->rot_deg : none;
         md << "| " << r.sequence.name << " | " << r.num_est << " | " << r.num_gt << " | "
-           << t.association.matches.size() << " | " << t.association.unmatched_est.size() << " | "
-           << cm(a.trans_m.rmse) << " | " << cm(a.trans_m.mean) << " | " << cm(a.trans_m.median) << " | "
-           << cm(a.trans_m.max) << " | " << cm(a.trans_m.std) << " | " << deg(a.rot_deg.rmse) << " | "
-           << deg(a.rot_deg.mean) << " | " << deg(a.rot_deg.median) << " | " << deg(a.rot_deg.max) << " |\n";
+           << t.association.matches.size() << " | " << t.association.unmatched_est.size() << " | " << cm(e.rmse)
+           << " | " << cm(e.mean) << " | " << cm(e.median) << " | " << cm(e.std) << " | " << cm(e.min) << " | "
+           << cm(e.max) << " | " << deg(o.rmse) << " | " << deg(o.mean) << " | " << deg(o.median) << " | "
+           << deg(o.max) << " |\n";
     }
 }
 
-void alignmentLines(std::ostringstream& md, const std::vector<SequenceReport>& reports)
+void alignmentLines(std::ostringstream& md, const std::vector<SequenceReport>& reports, Alignment alignment)
 {
-    md << "\nAlignment T_gtworld_estworld (applied to the estimate):\n";
+    md << "\n" << alignmentName(alignment) << " alignment T_gtworld_estworld (applied to the estimate):\n";
     for (const auto& r : reports)
     {
         if (r.kind != SequenceKind::Tracking) continue;
-        const Similarity3& S = r.tracking.ate_aligned->transform;
+        const AteResult* a = ateOf(r.tracking, alignment);
+        if (!a)
+        {
+            md << "- " << r.sequence.name << ": none (fewer than 3 associated poses)\n";
+            continue;
+        }
+        const Similarity3& S = a->transform;
         const Eigen::AngleAxisd aa(S.R);
         md << "- " << r.sequence.name << ": t = [" << fmt(S.t.x(), "%.4f") << ", " << fmt(S.t.y(), "%.4f") << ", "
            << fmt(S.t.z(), "%.4f") << "] m, rotation " << deg(aa.angle() * 180.0 / M_PI) << " deg about ["
@@ -66,23 +83,46 @@ void alignmentLines(std::ostringstream& md, const std::vector<SequenceReport>& r
     }
 }
 
-void rpeTable(std::ostringstream& md, const std::vector<SequenceReport>& reports, const EvalOptions& opts)
+/** "per 1 m", "per 1 s", "per 5 associated poses". */
+std::string deltaName(const RpeDelta& d)
 {
-    md << "\n## Tracking: RPE (delta = "
-       << (opts.rpe_delta_frames > 0 ? std::to_string(opts.rpe_delta_frames) + " associated poses"
-                                     : fmt(opts.rpe_delta_s, "%g") + " s")
-       << (opts.align == Alignment::Sim3 ? ", Sim(3)-scaled estimate" : "") << ")\n\n"
-       << "| sequence | pairs | trans RMSE [cm] | mean [cm] | median [cm] | max [cm] | rot RMSE [deg] | "
-          "mean [deg] | median [deg] | max [deg] |\n"
-       << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-    for (const auto& r : reports)
+    const std::string v = fmt(d.value, "%g");
+    return "per " + v + (d.unit == RpeUnit::Metres ? " m" : d.unit == RpeUnit::Seconds ? " s" : " associated poses");
+}
+
+/** deltaName and how the pairs are chosen. */
+std::string deltaLabel(const RpeDelta& d)
+{
+    const std::string v = fmt(d.value, "%g");
+    switch (d.unit)
     {
-        if (r.kind != SequenceKind::Tracking) continue;
-        const RpeResult& p = r.tracking.rpe;
-        md << "| " << r.sequence.name << " | " << p.trans_m.count << " | " << cm(p.trans_m.rmse) << " | "
-           << cm(p.trans_m.mean) << " | " << cm(p.trans_m.median) << " | " << cm(p.trans_m.max) << " | "
-           << deg(p.rot_deg.rmse) << " | " << deg(p.rot_deg.mean) << " | " << deg(p.rot_deg.median) << " | "
-           << deg(p.rot_deg.max) << " |\n";
+        case RpeUnit::Metres: return deltaName(d) + " of path (evo_rpe --delta " + v + " --delta_unit m: consecutive pairs)";
+        case RpeUnit::Seconds:
+            return deltaName(d) + " (TUM evaluate_rpe.py --fixed_delta --delta " + v + " --delta_unit s: every pose)";
+        case RpeUnit::Frames: return deltaName(d) + " (every pose)";
+    }
+    return "?";
+}
+
+void rpeTables(std::ostringstream& md, const std::vector<SequenceReport>& reports, const EvalOptions& opts)
+{
+    const std::vector<RpeDelta> deltas = opts.rpeDeltas();
+    for (size_t k = 0; k < deltas.size(); ++k)
+    {
+        md << "\n## Tracking: RPE " << deltaLabel(deltas[k])
+           << (opts.align == Alignment::Sim3 ? ", Sim(3)-scaled estimate" : "") << "\n\n"
+           << "| sequence | pairs | trans RMSE [cm] | mean [cm] | median [cm] | std [cm] | min [cm] | max [cm] | "
+              "rot RMSE [deg] | mean [deg] | median [deg] | max [deg] |\n"
+           << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        for (const auto& r : reports)
+        {
+            if (r.kind != SequenceKind::Tracking) continue;
+            const RpeResult& p = r.tracking.rpe.at(k);
+            md << "| " << r.sequence.name << " | " << p.trans_m.count << " | " << cm(p.trans_m.rmse) << " | "
+               << cm(p.trans_m.mean) << " | " << cm(p.trans_m.median) << " | " << cm(p.trans_m.std) << " | "
+               << cm(p.trans_m.min) << " | " << cm(p.trans_m.max) << " | " << deg(p.rot_deg.rmse) << " | "
+               << deg(p.rot_deg.mean) << " | " << deg(p.rot_deg.median) << " | " << deg(p.rot_deg.max) << " |\n";
+        }
     }
 }
 
@@ -125,8 +165,13 @@ void notes(std::ostringstream& md, const std::vector<SequenceReport>& reports)
         if (r.kind == SequenceKind::Localization && r.localization.num_no_ground_truth)
             n << "- " << r.sequence.name << ": " << r.localization.num_no_ground_truth
               << " queries have no ground truth within max_dt_s and are not evaluated\n";
-        if (r.kind == SequenceKind::Tracking && r.tracking.rpe.trans_m.count == 0)
-            n << "- " << r.sequence.name << ": no RPE pair (trajectory shorter than the RPE delta?)\n";
+        if (r.kind == SequenceKind::Tracking)
+            for (const RpeResult& p : r.tracking.rpe)
+                if (p.trans_m.count == 0)
+                    n << "- " << r.sequence.name << ": no RPE pair " << deltaName(p.delta)
+                      << " (trajectory shorter than the delta?)\n";
+        if (r.kind == SequenceKind::Tracking && !r.tracking.ate_se3)
+            n << "- " << r.sequence.name << ": fewer than 3 associated poses: no aligned ATE\n";
     }
     if (!n.str().empty()) md << "\n## Notes\n\n" << n.str();
 }
@@ -137,19 +182,22 @@ std::string markdownReport(const std::vector<SequenceReport>& reports, const Eva
     bool any_tracking = false, any_loc = false;
     for (const auto& r : reports) (r.kind == SequenceKind::Tracking ? any_tracking : any_loc) = true;
     std::ostringstream md;
-    md << "# quasiloc-eval report\n\nPoses associated one-to-one by timestamp, |dt| ≤ " << fmt(opts.max_dt_s, "%g")
-       << " s. Errors are in the map frame unless an alignment is named.\n";
+    md << "# quasiloc-eval report\n\n"
+       << (opts.association == GroundTruthLookup::Interpolated
+               ? "Ground truth interpolated at each estimate time (the nearer sample within "
+               : "Poses associated one-to-one by timestamp (|dt| ≤ ")
+       << fmt(opts.max_dt_s, "%g") << " s). Errors are in the map frame unless an alignment is named.\n";
     if (any_tracking)
     {
         md << "\n## Tracking: ATE, map frame (no alignment)\n\n";
-        ateTable(md, reports, false);
-        if (opts.align != Alignment::None)
-        {
-            md << "\n## Tracking: ATE after " << alignmentName(opts.align) << " alignment (Umeyama)\n\n";
-            ateTable(md, reports, true);
-            alignmentLines(md, reports);
-        }
-        rpeTable(md, reports, opts);
+        ateTable(md, reports, Alignment::None);
+        md << "\n## Tracking: ATE after SE(3) alignment (Umeyama)\n\n";
+        ateTable(md, reports, Alignment::SE3);
+        md << "\n## Tracking: ATE after Sim(3) alignment (Umeyama with scale, for monocular estimates)\n\n";
+        ateTable(md, reports, Alignment::Sim3);
+        alignmentLines(md, reports, Alignment::SE3);
+        alignmentLines(md, reports, Alignment::Sim3);
+        rpeTables(md, reports, opts);
     }
     if (any_loc) localizationTable(md, reports, opts);
     notes(md, reports);

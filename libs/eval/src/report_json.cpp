@@ -62,32 +62,39 @@ void writeAte(JsonWriter& j, const std::string& key, const AteResult& a)
     j.endObject();
 }
 
+std::string rpeKey(const RpeDelta& d)
+{
+    return d.unit == RpeUnit::Metres ? "rpe_per_m" : d.unit == RpeUnit::Seconds ? "rpe_per_s" : "rpe_per_frames";
+}
+
 void writeTracking(JsonWriter& j, const TrackingReport& t)
 {
     // Headline figures first, flat, for scripts; the full statistics follow.
     j.key("ate_rmse_m").value(t.ate.trans_m.rmse);
     j.key("ate_rot_rmse_deg").value(t.ate.rot_deg.rmse);
-    if (t.ate_aligned)
-    {
-        j.key("aligned_ate_rmse_m").value(t.ate_aligned->trans_m.rmse);
-        j.key("aligned_ate_rot_rmse_deg").value(t.ate_aligned->rot_deg.rmse);
-    }
-    j.key("rpe_trans_rmse_m").value(t.rpe.trans_m.rmse);
-    j.key("rpe_rot_rmse_deg").value(t.rpe.rot_deg.rmse);
+    if (t.ate_se3) j.key("ate_se3_rmse_m").value(t.ate_se3->trans_m.rmse);
+    if (t.ate_sim3)
+        j.key("ate_sim3_rmse_m").value(t.ate_sim3->trans_m.rmse).key("sim3_scale").value(t.ate_sim3->transform.scale);
+    for (const RpeResult& p : t.rpe) j.key(rpeKey(p.delta) + "_trans_rmse_m").value(p.trans_m.rmse);
     j.key("association").beginObject();
+    j.key("ground_truth").value(t.lookup == GroundTruthLookup::Interpolated ? "interpolated" : "nearest");
     j.key("matched").value(t.association.matches.size());
     j.key("unmatched_estimate").value(t.association.unmatched_est.size());
     j.key("unmatched_groundtruth").value(t.association.unmatched_gt);
     j.key("max_abs_dt_s").value(t.association.max_abs_dt_s);
     j.endObject();
     writeAte(j, "ate", t.ate);
-    if (t.ate_aligned) writeAte(j, "ate_aligned", *t.ate_aligned);
-    j.key("rpe").beginObject();
-    j.key("delta_s").value(t.rpe.delta.seconds);
-    j.key("delta_frames").value(t.rpe.delta.frames);
-    writeStats(j, "translation_m", t.rpe.trans_m);
-    writeStats(j, "rotation_deg", t.rpe.rot_deg);
-    j.endObject();
+    if (t.ate_se3) writeAte(j, "ate_se3", *t.ate_se3);
+    if (t.ate_sim3) writeAte(j, "ate_sim3", *t.ate_sim3);
+    for (const RpeResult& p : t.rpe)
+    {
+        j.key(rpeKey(p.delta)).beginObject();
+        j.key("delta").value(p.delta.value).key("delta_unit").value(toString(p.delta.unit));
+        j.key("estimate_alignment").value(toString(t.rpe_alignment));
+        writeStats(j, "translation_m", p.trans_m);
+        writeStats(j, "rotation_deg", p.rot_deg);
+        j.endObject();
+    }
 }
 
 void writeLocalization(JsonWriter& j, const LocalizationResult& l, bool have_query_list)
@@ -121,7 +128,9 @@ void writeSettings(JsonWriter& j, const EvalOptions& o)
 {
     j.key("settings").beginObject();
     j.key("max_dt_s").value(o.max_dt_s);
+    j.key("association").value(o.association == GroundTruthLookup::Interpolated ? "interpolated" : "nearest");
     j.key("align").value(toString(o.align));
+    j.key("rpe_delta_m").value(o.rpe_delta_m);
     j.key("rpe_delta_s").value(o.rpe_delta_s);
     j.key("rpe_delta_frames").value(o.rpe_delta_frames);
     writeDoubles(j, "recall_thresholds_m", o.recall_thresholds_m);
@@ -180,9 +189,9 @@ std::string errorsCsv(const SequenceReport& r)
         return out.str();
     }
     const TrackingReport& t = r.tracking;
-    const bool aligned = t.ate_aligned.has_value();
-    out << "t_est,t_gt,dt_s,trans_err_m,rot_err_deg" << (aligned ? ",trans_err_aligned_m,rot_err_aligned_deg" : "")
-        << "\n";
+    const bool aligned = t.ate_se3 && t.ate_sim3;
+    out << "t_est,t_gt,dt_s,trans_err_m,rot_err_deg"
+        << (aligned ? ",trans_err_se3_m,rot_err_se3_deg,trans_err_sim3_m,rot_err_sim3_deg" : "") << "\n";
     for (size_t i = 0; i < t.pairs.size(); ++i)
     {
         std::snprintf(buf, sizeof(buf), "%.9f,%.9f,%.9f,%.6f,%.6f", t.pairs[i].t_est, t.pairs[i].t_gt,
@@ -190,8 +199,8 @@ std::string errorsCsv(const SequenceReport& r)
         out << buf;
         if (aligned)
         {
-            std::snprintf(buf, sizeof(buf), ",%.6f,%.6f", t.ate_aligned->trans_errors_m[i],
-                          t.ate_aligned->rot_errors_deg[i]);
+            std::snprintf(buf, sizeof(buf), ",%.6f,%.6f,%.6f,%.6f", t.ate_se3->trans_errors_m[i],
+                          t.ate_se3->rot_errors_deg[i], t.ate_sim3->trans_errors_m[i], t.ate_sim3->rot_errors_deg[i]);
             out << buf;
         }
         out << "\n";

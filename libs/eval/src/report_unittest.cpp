@@ -95,11 +95,17 @@ TEST_F(ReportTest, JsonParsesAndHoldsTheFigures)
     EXPECT_NEAR(trk["association"]["max_abs_dt_s"].number, 0.003, 1e-6);
     EXPECT_NEAR(trk["ate_rmse_m"].number, 0.05, 1e-6);
     EXPECT_NEAR(trk["ate"]["translation_m"]["max"].number, 0.05, 1e-6);
-    EXPECT_LT(trk["aligned_ate_rmse_m"].number, 1e-6);
-    EXPECT_NEAR(trk["ate_aligned"]["transform"]["translation_m"][0].number, -0.05, 1e-6);
-    EXPECT_EQ(trk["ate_aligned"]["transform"]["matrix"].array.size(), 4u);
-    EXPECT_FALSE(trk["ate_aligned"]["transform"]["degenerate"].boolean);
-    EXPECT_GT(trk["rpe"]["translation_m"]["count"].number, 20);
+    EXPECT_LT(trk["ate_se3_rmse_m"].number, 1e-6);
+    EXPECT_LT(trk["ate_sim3_rmse_m"].number, 1e-6);
+    EXPECT_NEAR(trk["sim3_scale"].number, 1.0, 1e-6);
+    EXPECT_NEAR(trk["ate_se3"]["transform"]["translation_m"][0].number, -0.05, 1e-6);
+    EXPECT_EQ(trk["ate_se3"]["transform"]["matrix"].array.size(), 4u);
+    EXPECT_FALSE(trk["ate_se3"]["transform"]["degenerate"].boolean);
+    EXPECT_EQ(trk["ate_sim3"]["alignment"].string, "sim3");
+    EXPECT_GT(trk["rpe_per_s"]["translation_m"]["count"].number, 20);
+    EXPECT_EQ(trk["rpe_per_s"]["delta_unit"].string, "s");
+    EXPECT_EQ(trk["rpe_per_m"]["delta_unit"].string, "m");
+    EXPECT_LT(trk["rpe_per_m_trans_rmse_m"].number, 1e-6);  // a constant offset has no relative error
     const JsonValue& loc = v["sequences"][1];
     EXPECT_EQ(loc["name"].string, "loc \"x\"");
     EXPECT_EQ(loc["queries"]["total"].number, 5);
@@ -124,14 +130,17 @@ TEST_F(ReportTest, MarkdownShowsUnalignedFirstInCentimetres)
     ASSERT_NE(unaligned, std::string::npos);
     ASSERT_NE(aligned, std::string::npos);
     EXPECT_LT(unaligned, aligned);
-    EXPECT_NE(md.find("| trk | 39 | 40 | 38 | 1 | 5.00 | 5.00 | 5.00 | 5.00 | 0.00 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| trk | 39 | 40 | 38 | 1 | 5.00 | 5.00 | 5.00 | 0.00 | 5.00 | 5.00 |"), std::string::npos) << md;
+    EXPECT_LT(md.find("ATE after SE(3) alignment"), aligned);
+    EXPECT_NE(md.find("RPE per 1 m of path (evo_rpe --delta 1 --delta_unit m"), std::string::npos) << md;
+    EXPECT_NE(md.find("RPE per 1 s (TUM evaluate_rpe.py"), std::string::npos) << md;
     EXPECT_NE(md.find("| 20.0 % | 40.0 % | 60.0 % | 35.00 |"), std::string::npos) << md;
     EXPECT_NE(md.find("scale 1.000000"), std::string::npos) << md;
     // The per-pose table: header + one line per associated pose.
     const std::string csv = errorsCsv(reports[0]);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 39);
     EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "t_est,t_gt,dt_s,trans_err_m,rot_err_deg,trans_err_aligned_m,rot_err_aligned_deg");
+              "t_est,t_gt,dt_s,trans_err_m,rot_err_deg,trans_err_se3_m,rot_err_se3_deg,trans_err_sim3_m,rot_err_sim3_deg");
     const std::string loc_csv = errorsCsv(reports[1]);
     EXPECT_NE(loc_csv.find("11.000000000,not_localized,,\n"), std::string::npos) << loc_csv;
 }
@@ -165,6 +174,9 @@ TEST_F(ReportTest, RealEurocGroundTruthAgainstARotatedCopy)
     EXPECT_NEAR(r.tracking.ate.rot_deg.min, 2.0, 1e-5);
     EXPECT_NEAR(r.tracking.ate.rot_deg.max, 2.0, 1e-5);
     EXPECT_GT(r.tracking.ate.trans_m.mean, 0.05);
-    EXPECT_LT(r.tracking.ate_aligned->trans_m.rmse, 1e-6);  // TUM files hold translations to 0.1 um
-    EXPECT_LT(r.tracking.rpe.trans_m.max, 1e-6);
+    EXPECT_LT(r.tracking.ate_se3->trans_m.rmse, 1e-6);  // TUM files hold translations to 0.1 um
+    ASSERT_EQ(r.tracking.rpe.size(), 2u);                // per metre and per second
+    EXPECT_GT(r.tracking.rpe[0].trans_m.count, 20u);
+    EXPECT_LT(r.tracking.rpe[0].trans_m.max, 1e-6);
+    EXPECT_LT(r.tracking.rpe[1].trans_m.max, 1e-6);
 }

@@ -9,22 +9,34 @@ TrackingReport evaluateTracking(const core::Trajectory& est, const core::Traject
                                 const NamedSequence& seq)
 {
     TrackingReport r;
-    r.association = associate(est, gt, opts.max_dt_s);
+    r.lookup = opts.association;
+    if (opts.association == GroundTruthLookup::Interpolated)
+        r.pairs = makeInterpolatedPairs(est, gt, opts.max_dt_s, r.association);
+    else
+    {
+        r.association = associate(est, gt, opts.max_dt_s);
+        r.pairs = makePairs(est, gt, r.association);
+    }
     char dt[32];
     std::snprintf(dt, sizeof(dt), "%g", opts.max_dt_s);
     core::require(!r.association.matches.empty(), "sequence " + seq.name + " (" + seq.options.estimate + ")",
                   "no estimate pose lies within max_dt_s = " + std::string(dt) +
                       " s of a ground-truth pose (different time bases or units?)");
-    r.pairs = makePairs(est, gt, r.association);
     r.ate = computeAte(r.pairs, Alignment::None);
-    const Alignment alignment = opts.align;
-    if (alignment != Alignment::None)
+    if (r.pairs.size() >= 3)
     {
-        r.ate_aligned = computeAte(r.pairs, alignment);
-        r.rpe = computeRpe(applySimilarity(r.ate_aligned->transform, r.pairs), opts.rpeDelta());
+        r.ate_se3 = computeAte(r.pairs, Alignment::SE3);
+        r.ate_sim3 = computeAte(r.pairs, Alignment::Sim3);
     }
-    else
-        r.rpe = computeRpe(r.pairs, opts.rpeDelta());
+    // An SE(3) alignment leaves every relative pose, hence the RPE, as it is: only a Sim(3) changes the estimate.
+    r.rpe_alignment = opts.align;
+    std::vector<PosePair> rpe_pairs = r.pairs;
+    if (opts.align == Alignment::Sim3)
+    {
+        core::require(r.ate_sim3.has_value(), "sequence " + seq.name, "align = sim3 needs at least 3 associated poses");
+        rpe_pairs = applySimilarity(r.ate_sim3->transform, r.pairs);
+    }
+    for (const RpeDelta& d : opts.rpeDeltas()) r.rpe.push_back(computeRpe(rpe_pairs, d));
     return r;
 }
 }  // namespace

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/eval/trajectory_metrics.h>
@@ -38,6 +39,41 @@ std::vector<PosePair> makePairs(const core::Trajectory& est, const core::Traject
         const auto& g = gt.poses.at(m.gt_index);
         pairs.push_back({e.t, g.t, e.pose, g.pose});
     }
+    std::stable_sort(pairs.begin(), pairs.end(), [](const PosePair& a, const PosePair& b) { return a.t_est < b.t_est; });
+    return pairs;
+}
+
+std::vector<PosePair> makeInterpolatedPairs(const core::Trajectory& est, const core::Trajectory& gt, double max_dt_s,
+                                            Association& assoc)
+{
+    core::require(std::isfinite(max_dt_s) && max_dt_s >= 0, "association max_dt_s",
+                  "must be a finite value >= 0, got " + std::to_string(max_dt_s));
+    assoc = Association();
+    const auto& G = gt.poses;
+    std::vector<char> gt_used(G.size(), 0);
+    std::vector<PosePair> pairs;
+    for (size_t i = 0; i < est.poses.size(); ++i)
+    {
+        const double t = est.poses[i].t;
+        const auto it = std::lower_bound(G.begin(), G.end(), t, [](const core::TimedPose& p, double tt) { return p.t < tt; });
+        // The nearer of the samples around t (the later one on a tie).
+        size_t nearest = G.size();
+        double gap = std::numeric_limits<double>::infinity();
+        if (it != G.end()) nearest = static_cast<size_t>(it - G.begin()), gap = it->t - t;
+        if (it != G.begin() && t - (it - 1)->t < gap) nearest = static_cast<size_t>(it - G.begin()) - 1, gap = t - (it - 1)->t;
+        mrpt::poses::CPose3D truth;
+        if (!(gap <= max_dt_s) || !core::interpolatePose(gt, t, truth, max_dt_s))
+        {
+            assoc.unmatched_est.push_back(i);
+            continue;
+        }
+        gt_used[nearest] = 1;
+        const double dt = t - G[nearest].t;
+        assoc.matches.push_back({i, nearest, dt});
+        assoc.max_abs_dt_s = std::max(assoc.max_abs_dt_s, std::abs(dt));
+        pairs.push_back({t, t, est.poses[i].pose, truth});
+    }
+    assoc.unmatched_gt = static_cast<size_t>(std::count(gt_used.begin(), gt_used.end(), 0));
     std::stable_sort(pairs.begin(), pairs.end(), [](const PosePair& a, const PosePair& b) { return a.t_est < b.t_est; });
     return pairs;
 }
@@ -86,50 +122,100 @@ AteResult computeAte(const std::vector<PosePair>& pairs, Alignment alignment)
     return r;
 }
 
+std::string toString(RpeUnit u)
+{
+    switch (u)
+    {
+        case RpeUnit::Metres: return "m";
+        case RpeUnit::Seconds: return "s";
+        case RpeUnit::Frames: return "frames";
+    }
+    return "?";
+}
+
 namespace
 {
-/** Index of the partner of pair i, or -1. */
-long partnerOf(const std::vector<PosePair>& pairs, size_t i, const RpeDelta& d)
+/** evo's consecutive pairs by path length: the indices where the path travelled since the previous such index (or
+ *  since the first pose) first reaches `delta`, paired one after the other. */
+std::vector<std::pair<size_t, size_t>> pairsByPath(const std::vector<PosePair>& pairs, double delta)
 {
-    if (d.frames > 0)
+    std::vector<size_t> ids;
+    double path = 0;
+    for (size_t i = 0; i < pairs.size(); ++i)
     {
-        const size_t j = i + static_cast<size_t>(d.frames);
-        return j < pairs.size() ? static_cast<long>(j) : -1;
-    }
-    const double target = pairs[i].t_gt + d.seconds;
-    const auto it = std::lower_bound(pairs.begin() + static_cast<long>(i), pairs.end(), target,
-                                     [](const PosePair& p, double t) { return p.t_gt < t; });
-    const long k = static_cast<long>(it - pairs.begin());
-    long best = -1;
-    double best_gap = 0.5 * d.seconds;  // farther than half a step: a gap in the data, not a partner
-    for (long c : {k - 1, k})
-    {
-        if (c <= static_cast<long>(i) || c >= static_cast<long>(pairs.size())) continue;
-        const double gap = std::abs(pairs[static_cast<size_t>(c)].t_gt - target);
-        if (gap <= best_gap)
+        if (i > 0) path += core::translationDistance(pairs[i].est, pairs[i - 1].est);
+        if (path >= delta)
         {
-            best_gap = gap;
-            best = c;
+            ids.push_back(i);
+            path = 0;
         }
     }
-    return best;
+    std::vector<std::pair<size_t, size_t>> out;
+    for (size_t k = 1; k < ids.size(); ++k) out.emplace_back(ids[k - 1], ids[k]);
+    return out;
+}
+
+/** Every i with the pose nearest in time to t_i + delta, within a tenth of delta (a gap in the data is no partner). */
+std::vector<std::pair<size_t, size_t>> pairsByTime(const std::vector<PosePair>& pairs, double delta)
+{
+    std::vector<std::pair<size_t, size_t>> out;
+    for (size_t i = 0; i < pairs.size(); ++i)
+    {
+        const double target = pairs[i].t_est + delta;
+        const auto it = std::lower_bound(pairs.begin() + static_cast<long>(i), pairs.end(), target,
+                                         [](const PosePair& p, double t) { return p.t_est < t; });
+        const size_t k = static_cast<size_t>(it - pairs.begin());
+        size_t best = 0;
+        double best_gap = 0.1 * delta;
+        bool found = false;
+        for (size_t c : {k - 1, k})  // k >= i; when k == 0, k - 1 wraps and fails c < size
+        {
+            if (c <= i || c >= pairs.size()) continue;
+            const double gap = std::abs(pairs[c].t_est - target);
+            if (gap <= best_gap)
+            {
+                best_gap = gap;
+                best = c;
+                found = true;
+            }
+        }
+        if (found) out.emplace_back(i, best);
+    }
+    return out;
 }
 }  // namespace
 
+std::vector<std::pair<size_t, size_t>> rpeIndexPairs(const std::vector<PosePair>& pairs, const RpeDelta& delta)
+{
+    core::require(std::isfinite(delta.value) && delta.value > 0, "RPE delta",
+                  "must be > 0, got " + std::to_string(delta.value));
+    switch (delta.unit)
+    {
+        case RpeUnit::Metres: return pairsByPath(pairs, delta.value);
+        case RpeUnit::Seconds: return pairsByTime(pairs, delta.value);
+        case RpeUnit::Frames:
+        {
+            core::require(delta.value == std::floor(delta.value), "RPE delta in frames",
+                          "must be a whole number, got " + std::to_string(delta.value));
+            const size_t d = static_cast<size_t>(delta.value);
+            std::vector<std::pair<size_t, size_t>> out;
+            for (size_t i = 0; i + d < pairs.size(); ++i) out.emplace_back(i, i + d);
+            return out;
+        }
+    }
+    return {};
+}
+
 RpeResult computeRpe(const std::vector<PosePair>& pairs, const RpeDelta& delta)
 {
-    core::require((delta.seconds > 0) != (delta.frames > 0), "RPE delta",
-                  "exactly one of the delta in seconds and the delta in frames must be > 0");
     RpeResult r;
     r.delta = delta;
     std::vector<double> trans, rot;
-    for (size_t i = 0; i < pairs.size(); ++i)
+    for (const auto& [i, j] : rpeIndexPairs(pairs, delta))
     {
-        const long j = partnerOf(pairs, i, delta);
-        if (j < 0) continue;
         const auto& a = pairs[i];
-        const auto& b = pairs[static_cast<size_t>(j)];
-        const mrpt::poses::CPose3D rel_gt = b.gt - a.gt;     // G_i^-1 G_j
+        const auto& b = pairs[j];
+        const mrpt::poses::CPose3D rel_gt = b.gt - a.gt;     // Q_i^-1 Q_j
         const mrpt::poses::CPose3D rel_est = b.est - a.est;  // P_i^-1 P_j
         const mrpt::poses::CPose3D E = rel_est - rel_gt;     // rel_gt^-1 rel_est
         trans.push_back(E.translation().norm());

@@ -3,10 +3,12 @@
 // (SequenceOptions::declare), eval_config.cpp. Example with every key documented: share/quasiloc/eval_example.ini.
 // Put comments on their own lines: MRPT's INI reader keeps a "; ..." after a value as part of the value.
 //
-// The unaligned ATE is always reported first; align adds an aligned one. The RPE step is rpe_delta_s seconds, or
-// rpe_delta_frames associated poses when rpe_delta_s = 0 (exactly one must be > 0). recall_thresholds_deg is empty
-// (translation only) or has one value per recall_thresholds_m entry. Every name in sequence_names has a section
-// [Eval.<name>]; estimate and groundtruth are TUM files of T_map_cam; queries (localization only, optional) lists
+// The ATE is reported in the map frame (unaligned) first, then after SE(3) and Sim(3) Umeyama alignments; align picks
+// the estimate the RPE is computed on (none and se3 give the same RPE; sim3 corrects the scale, for monocular
+// estimates). The RPE is reported per rpe_delta_m metres of path, per rpe_delta_s seconds and per rpe_delta_frames
+// associated poses, each when > 0 (at least one must be). recall_thresholds_deg is empty (translation only) or has one
+// value per recall_thresholds_m entry. Every name in sequence_names has a section [Eval.<name>]; estimate and
+// groundtruth are TUM files of T_map_cam; queries (localization only, optional) lists
 // every queried timestamp (see readQueryTimestamps).
 //
 // The command line splits "--set Section.key=value" at the first dot, so "--set Eval.v101.estimate=x.tum"
@@ -23,11 +25,20 @@
 
 namespace quasiloc::eval
 {
+/** How an estimate pose finds its ground truth. */
+enum class GroundTruthLookup
+{
+    Nearest,      ///< the ground-truth pose nearest in time, one-to-one (TUM associate.py, evo)
+    Interpolated  ///< the ground truth interpolated at the estimate's time (what quasiloc-track does for its frames)
+};
+
 struct EvalOptions : public core::DeclaredOptions
 {
     std::string output_dir = "out/eval";
     double max_dt_s = 0.02;
+    GroundTruthLookup association = GroundTruthLookup::Nearest;
     Alignment align = Alignment::None;
+    double rpe_delta_m = 1.0;
     double rpe_delta_s = 1.0;
     int rpe_delta_frames = 0;
     std::vector<double> recall_thresholds_m = {0.1, 0.3, 1.0};
@@ -38,7 +49,8 @@ struct EvalOptions : public core::DeclaredOptions
     /** InputError naming `input` and the key for a bad value. */
     void check(const std::string& input) const;
 
-    RpeDelta rpeDelta() const { return {rpe_delta_s, rpe_delta_frames}; }
+    /** The RPE deltas that are > 0: metres, seconds, frames, in this order. */
+    std::vector<RpeDelta> rpeDeltas() const;
     std::vector<RecallThreshold> recallThresholds() const;
 };
 

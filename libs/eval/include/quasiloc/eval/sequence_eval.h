@@ -12,11 +12,14 @@ namespace quasiloc::eval
 {
 struct TrackingReport
 {
+    GroundTruthLookup lookup = GroundTruthLookup::Nearest;
     Association association;
-    std::vector<PosePair> pairs;         ///< associated poses, raw (map frame)
-    AteResult ate;                       ///< unaligned, always
-    std::optional<AteResult> ate_aligned;///< when [Eval] align != none
-    RpeResult rpe;                       ///< on the aligned estimate if aligned (SE(3) does not change it)
+    std::vector<PosePair> pairs;        ///< associated poses, raw (map frame)
+    AteResult ate;                      ///< unaligned (map frame), always
+    std::optional<AteResult> ate_se3;   ///< SE(3)-aligned, when >= 3 poses are associated
+    std::optional<AteResult> ate_sim3;  ///< Sim(3)-aligned, when >= 3 poses are associated
+    Alignment rpe_alignment = Alignment::None;  ///< the estimate the RPE is computed on ([Eval] align)
+    std::vector<RpeResult> rpe;                 ///< one per [Eval] RPE delta (EvalOptions::rpeDeltas)
 };
 
 struct SequenceReport

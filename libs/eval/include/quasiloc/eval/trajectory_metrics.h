@@ -33,6 +33,14 @@ struct PosePair
 
 std::vector<PosePair> makePairs(const core::Trajectory& est, const core::Trajectory& gt, const Association& assoc);
 
+/** Every estimate pose paired with the ground truth interpolated at its time (linear in position, slerp in rotation,
+ *  between the two samples around it; the end sample just outside the ground truth), when the nearer sample lies
+ *  within max_dt_s: the lookup quasiloc-track makes for its frames (dataset::poseAt). `gt` sorted by time. `assoc`
+ *  receives the bookkeeping: one match per paired estimate with gt_index = the nearer sample, unmatched estimates,
+ *  and the samples nearest to no paired estimate as unmatched_gt. Sorted by time. */
+std::vector<PosePair> makeInterpolatedPairs(const core::Trajectory& est, const core::Trajectory& gt, double max_dt_s,
+                                            Association& assoc);
+
 /** S * T: the rotation becomes R_S R, the translation s R_S t + t_S. */
 mrpt::poses::CPose3D applySimilarity(const Similarity3& S, const mrpt::poses::CPose3D& T);
 /** Every estimate pose mapped by S (ground truth untouched). */
@@ -50,11 +58,22 @@ struct AteResult
  *  SE3/Sim3 need >= 3 pairs (InputError otherwise); the alignment uses positions only. */
 AteResult computeAte(const std::vector<PosePair>& pairs, Alignment alignment);
 
-/** The RPE step: exactly one of them is > 0. */
+/** How the RPE chooses its pose pairs (i, j), on the estimate's poses in time order, as evo does (pairs from the
+ *  estimate, not the reference). */
+enum class RpeUnit
+{
+    Metres,   ///< evo_rpe --delta d --delta_unit m: consecutive pairs of the poses where the estimate's travelled
+              ///< path since the previous such pose first reaches d (evo filters.filter_pairs_by_path)
+    Seconds,  ///< TUM evaluate_rpe.py --fixed_delta --delta d --delta_unit s (evo has no time unit): every pose i
+              ///< with the pose j nearest in time to t_i + d, kept when |t_j - t_i - d| <= d / 10
+    Frames    ///< evo_rpe --delta d --delta_unit f --all_pairs: every i with j = i + d
+};
+std::string toString(RpeUnit u);  ///< "m", "s", "frames"
+
 struct RpeDelta
 {
-    double seconds = 0;  ///< partner = the pair whose time is nearest to t_i + seconds, within seconds/2
-    int frames = 0;      ///< partner = the pair `frames` later in the list of associated pairs
+    double value = 1;  ///< > 0; a whole number for Frames
+    RpeUnit unit = RpeUnit::Metres;
 };
 
 struct RpeResult
@@ -63,8 +82,12 @@ struct RpeResult
     ErrorStats trans_m, rot_deg;  ///< count = number of (i, j) pose pairs used
 };
 
-/** E_ij = (G_i^-1 G_j)^-1 (P_i^-1 P_j) for every i and its partner j; translation |t(E_ij)| in metres and
- *  rotation angle(E_ij) in degrees. Pairs must be sorted by time (makePairs does). */
+/** The (i, j) index pairs of `delta` (see RpeUnit), i < j. Pairs must be sorted by time (makePairs does). */
+std::vector<std::pair<size_t, size_t>> rpeIndexPairs(const std::vector<PosePair>& pairs, const RpeDelta& delta);
+
+/** E_ij = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) (Q ground truth, P estimate, evo's and TUM's relative pose error) for every
+ *  index pair of rpeIndexPairs; translation |t(E_ij)| in metres ("translation part") and rotation angle(E_ij) in
+ *  degrees. */
 RpeResult computeRpe(const std::vector<PosePair>& pairs, const RpeDelta& delta);
 
 }  // namespace quasiloc::eval
