@@ -27,10 +27,10 @@ ModeSummary summarize(const std::string& mode, const std::vector<QueryRow>& rows
         re.push_back(q.report.ms.retrieval);
         rr.push_back(q.report.ms.rerank);
         pnp.push_back(q.report.ms.pnp);
+        s.localized += q.report.localized ? 1 : 0;
         if (!q.has_gt) continue;
         ++s.evaluated;
         if (!q.report.localized) continue;
-        ++s.localized;
         for (int k = 0; k < 3; ++k) within[k] += q.err_m <= kThresholds[k] ? 1 : 0;
         if (q.err_m <= kThresholds[2]) ate.push_back(q.err_m);
         else ++s.wrong;
@@ -69,15 +69,28 @@ std::string markdownOf(const std::vector<ModeSummary>& modes, const std::string&
 {
     std::ostringstream md;
     md << std::fixed << std::setprecision(1) << "# quasiloc-localize summary\n\n" << what << "\n\n"
-       << "| mode | queries | localized | Recall@0.1 m | Recall@0.3 m | Recall@1.0 m | mATE (<= 1 m) [cm] | wrong (> 1 m) "
-          "| median ms | p-max ms | extract | retrieval | rerank | PnP |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       << "| mode | queries | with ground truth | localized | Recall@0.1 m | Recall@0.3 m | Recall@1.0 m | mATE (<= 1 m) "
+          "[cm] | wrong (> 1 m) | median ms | p-max ms | extract | retrieval | rerank | PnP |\n"
+          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    bool any_ground_truth = false;
     for (const auto& s : modes)
-        md << "| " << s.mode << " | " << s.evaluated << " | " << s.localized << " | " << s.recall[0] << " % | "
-           << s.recall[1] << " % | " << s.recall[2] << " % | " << 100 * s.ate_m.mean << " | " << s.wrong << " | "
-           << s.ms_total.median << " | " << s.ms_total.max << " | " << s.ms_extract.median << " | "
+    {
+        md << "| " << s.mode << " | " << s.queries << " | " << s.evaluated << " | " << s.localized << " | ";
+        // Without ground truth there is no error: "-" rather than a 0 that reads as a result.
+        if (s.evaluated > 0)
+        {
+            any_ground_truth = true;
+            md << s.recall[0] << " % | " << s.recall[1] << " % | " << s.recall[2] << " % | " << 100 * s.ate_m.mean
+               << " | " << s.wrong << " | ";
+        }
+        else
+            md << "- | - | - | - | - | ";
+        md << s.ms_total.median << " | " << s.ms_total.max << " | " << s.ms_extract.median << " | "
            << s.ms_retrieval.median << " | " << s.ms_rerank.median << " | " << s.ms_pnp.median << " |\n";
+    }
     md << "\nRecall = localized within the threshold / queries with ground truth (not-localized queries count). mATE: "
           "mean translation error of the queries localized within 1 m. Stage times are medians (ms, wall).\n";
+    if (!any_ground_truth) md << "No query has ground truth: localized counts every localized query; no error.\n";
     return md.str();
 }
 
@@ -88,9 +101,14 @@ std::string jsonOf(const std::vector<ModeSummary>& modes, const std::string& wha
     for (const auto& s : modes)
     {
         j.beginObject().key("mode").value(s.mode).key("queries").value(s.queries).key("evaluated").value(s.evaluated);
-        j.key("localized").value(s.localized).key("wrong_over_1m").value(s.wrong);
-        j.key("recall_0.1m").value(s.recall[0]).key("recall_0.3m").value(s.recall[1]).key("recall_1.0m").value(s.recall[2]);
-        j.key("mate_m").value(s.ate_m.mean).key("median_ms").value(s.ms_total.median).key("max_ms").value(s.ms_total.max);
+        j.key("localized").value(s.localized);
+        if (s.evaluated > 0)  // the errors exist only against ground truth: omitted, not null, without it
+        {
+            j.key("wrong_over_1m").value(s.wrong);
+            j.key("recall_0.1m").value(s.recall[0]).key("recall_0.3m").value(s.recall[1]);
+            j.key("recall_1.0m").value(s.recall[2]).key("mate_m").value(s.ate_m.mean);
+        }
+        j.key("median_ms").value(s.ms_total.median).key("max_ms").value(s.ms_total.max);
         j.key("median_ms_extract").value(s.ms_extract.median).key("median_ms_retrieval").value(s.ms_retrieval.median);
         j.key("median_ms_rerank").value(s.ms_rerank.median).key("median_ms_pnp").value(s.ms_pnp.median);
         j.endObject();

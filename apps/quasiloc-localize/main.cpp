@@ -11,7 +11,9 @@
 // localized queries' T_world_cam0), <mode>.csv (per query: status, reason, inliers, errors, time per stage),
 // <mode>_diagnostics.txt (per query: retrieved views with scores and groups, matches, PnP hypotheses), then
 // summary.md / summary.json (Recall@{0.1, 0.3, 1.0 m}, mATE, wrong poses, median time per stage) and
-// quasiloc-localize.ini (the effective configuration).
+// quasiloc-localize.ini (the effective configuration). Ground truth ([Localize] groundtruth) is optional for camera
+// queries: without it the outputs carry no errors (summary.json omits recall, mATE and wrong poses) and quasiloc-eval
+// scores <mode>.tum against queries.txt afterwards.
 #include <mrpt/system/CTimeLogger.h>
 
 #include <algorithm>
@@ -196,6 +198,25 @@ std::string writeOutputs(RunOptions& o, const Queries& queries, const std::strin
     return md;
 }
 
+bool anyGroundTruth(const Queries& queries)
+{
+    for (const auto& mode : queries.rows)
+        for (const QueryRow& r : mode)
+            if (r.has_gt) return true;
+    return false;
+}
+
+/** The one line saying that no error was computed, why, and how to score the queries afterwards. */
+std::string noGroundTruthLine(const RunOptions& o, const std::string& mode)
+{
+    const std::string& dir = o.run.output_dir;
+    return std::string("errors      none: ") +
+           (o.run.groundtruth.empty() ? "no ground truth given ([Localize] groundtruth)"
+                                      : "no query has a pose of " + o.run.groundtruth + " within 5 ms") +
+           "; to score the queries: quasiloc-eval --kind localization --estimate " + dir + "/" + mode +
+           ".tum --queries " + dir + "/queries.txt --groundtruth <TUM of T_world_cam0>";
+}
+
 int run(const core::CommandLine& cmd)
 {
     RunOptions o = loadOptions(cmd);
@@ -215,6 +236,7 @@ int run(const core::CommandLine& cmd)
                              std::to_string(o.run.every_n) + "th left " + image + " of " + o.run.input_rawlog;
     const std::string md = writeOutputs(o, queries, what);
     std::cout << "\n" << md << "outputs in " << o.run.output_dir << std::endl;
+    if (!anyGroundTruth(queries)) std::cout << noGroundTruthLine(o, reloc::toString(o.modes.front())) << std::endl;
     if (cmd.print_timing) std::cout << timer.getStatsAsText();
     timer.clear(true);  // CTimeLogger prints what it holds when destroyed
     return 0;

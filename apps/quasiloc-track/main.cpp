@@ -6,7 +6,10 @@
 // nothing: trajectory.tum (T_world_cam0), diagnostics.csv (one row per frame), summary.json (the figures printed at
 // the end), quasiloc-track.ini (effective configuration), initialization.txt (the attempts of global localization,
 // when used) and scene.3Dscene (map, ground truth in green, estimate in red: open with SceneViewer3D).
+// Ground truth ([Tracking] groundtruth) is optional, except for [Initialization] init = groundtruth, which starts from
+// it: without it the outputs carry no errors, and quasiloc-eval scores trajectory.tum afterwards.
 #include <iostream>
+#include <sstream>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/program_options.h>
 #include <quasiloc/core/staged_output.h>
@@ -37,7 +40,12 @@ tracking::SessionOptions loadOptions(const core::CommandLine& cmd, quasi::QuasiO
     const tracking::TrackingRunOptions& t = o.tracker;
     core::requireInputFiles(cmd.config_path, "Tracking",
                             {{"input_rawlog", t.input_rawlog}, {"calibration_ini", t.calibration_ini},
-                             {"map_file", t.map_file}, {"groundtruth", t.groundtruth}});
+                             {"map_file", t.map_file}});
+    core::require(!t.groundtruth.empty() || t.initialization.init != tracking::InitMode::GroundTruth,
+                  cmd.config_path + ": [Tracking] groundtruth",
+                  "is required with [Initialization] init = groundtruth (the start is taken from it); without ground "
+                  "truth, set init = global (global localization in the map, no initial guess)");
+    core::requireInputFiles(cmd.config_path, "Tracking", {{"groundtruth", t.groundtruth}}, /*required=*/false);
     return o;
 }
 
@@ -65,6 +73,21 @@ void writeOutputs(const tracking::SessionOptions& o, const quasi::QuasiOptions& 
               << "}" << std::endl;
 }
 
+/** The one line that replaces the ATE when no logged pose has ground truth: why, and how to score the run later
+ *  (quasiloc-eval looking the ground truth up as the frame source does, so that it prints the ATE this run would). */
+std::string noGroundTruthLine(const tracking::TrackingRunOptions& t, double max_gt_dt_s)
+{
+    std::ostringstream o;
+    o << "ATE         none: ";
+    if (t.groundtruth.empty())
+        o << "no ground truth given ([Tracking] groundtruth)";
+    else
+        o << "no logged pose has a pose of " << t.groundtruth << " within " << max_gt_dt_s << " s (another time base?)";
+    o << "; to score the run: quasiloc-eval --estimate " << t.output_dir
+      << "/trajectory.tum --groundtruth <TUM of T_world_cam0> --association interpolated --max-dt-s " << max_gt_dt_s;
+    return o.str();
+}
+
 int run(const core::CommandLine& cmd)
 {
     quasi::QuasiOptions quasi;
@@ -83,6 +106,7 @@ int run(const core::CommandLine& cmd)
     const tracking::SessionSummary summary = session.run(t.input_rawlog);
     for (const std::string& w : source->warnings()) std::cout << "warning     " << w << "\n";
     std::cout << session.log().summary(summary);
+    if (!session.log().hasGroundTruth()) std::cout << noGroundTruthLine(t, so.max_gt_dt_s) << std::endl;
     writeOutputs(o, quasi, session, summary, context.map());
     if (cmd.print_timing) std::cout << session.timing();
     return 0;

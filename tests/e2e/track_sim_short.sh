@@ -52,4 +52,10 @@ expect_failure "$WORK/bad.txt" "$BIN/quasiloc-track" config.ini --set Tracking.i
   --set Tracking.map_file="$WORK/nope.map" --set Tracking.output_dir="$WORK/bad"
 expect_contains "$WORK/bad.txt" "nope.map"
 [ ! -e "$WORK/bad" ] || fail "output written despite the error"
+# Ground truth is optional, except to start from it: init = groundtruth without it is named, nothing is written.
+expect_failure "$WORK/bad_gt.txt" "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \
+  --set Tracking.calibration_ini="$SIM/calib.ini" --set Tracking.map_file="$SIM/lidar_map.map" \
+  --set Tracking.groundtruth= --set Initialization.init=groundtruth --set Tracking.output_dir="$WORK/bad_gt"
+expect_contains "$WORK/bad_gt.txt" "groundtruth: is required with [Initialization] init = groundtruth"
+[ ! -e "$WORK/bad_gt" ] || fail "output written despite the error"
 echo "OK"

@@ -48,8 +48,6 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, doubl
     {
         const Eigen::Isometry3d G = core::toIsometry(*f.T_world_cam0);
         row.error_m = core::translationDistance(r.T_world_cam0, G);
-        row.estimate = core::fromIsometry(r.T_world_cam0);
-        row.truth = *f.T_world_cam0;
         e_deg = core::rotationDistanceRad(r.T_world_cam0, G) * 180 / M_PI;
         gt_traj_.poses.push_back({r.t, *f.T_world_cam0});
     }
@@ -115,11 +113,20 @@ struct RunLog::Figures
 RunLog::Figures RunLog::figures() const
 {
     Figures f;
+    // Every logged pose with ground truth, starts included: the poses of trajectory.tum that quasiloc-eval pairs with
+    // the ground truth interpolated at their times (both logs hold them in time order, the truth a subsequence).
     std::vector<eval::PosePair> pairs;
+    auto truth = gt_traj_.poses.begin();
+    for (const core::TimedPose& p : traj_.poses)
+    {
+        if (truth == gt_traj_.poses.end()) break;
+        if (truth->t != p.t) continue;
+        pairs.push_back({p.t, p.t, p.pose, truth->pose});
+        ++truth;
+    }
     std::vector<double> ms;
     for (const Row& r : rows_)
     {
-        if (r.estimate && r.truth) pairs.push_back({r.t, r.t, *r.estimate, *r.truth});
         ms.push_back(r.ms);
         f.keyframes += r.keyframe, f.updates += r.map_update, f.lost_frames += r.lost;
         f.unverified_frames += r.unverified;
@@ -140,10 +147,11 @@ std::string RunLog::summary(const SessionSummary& s) const
       << f.unverified_frames << ")\n"
       << "losses      " << s.losses << " (withdrawn " << s.withdrawn << ", relocalizations " << s.relocalizations
       << "), longest unverified stretch " << s.longest_unverified_s << " s (fix found after " << s.longest_wait_s
-      << " s of replay)\n"
-      << "ATE         RMSE " << 100 * (e.count ? e.rmse : 0.0) << " cm, median " << 100 * e.median << " cm, max "
-      << 100 * e.max << " cm (map frame, no alignment, vs ground truth at " << e.count << " frames)\n"
-      << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, p95 " << f.ms_p95 << " ms, max " << f.ms_max << " ms\n"
+      << " s of replay)\n";
+    if (e.count > 0)
+        o << "ATE         RMSE " << 100 * e.rmse << " cm, median " << 100 * e.median << " cm, max " << 100 * e.max
+          << " cm (map frame, no alignment, vs ground truth at " << e.count << " poses)\n";
+    o << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, p95 " << f.ms_p95 << " ms, max " << f.ms_max << " ms\n"
       << std::setprecision(1) << "map         " << s.map.points << " points: load " << s.map.load_s << " s, index "
       << s.map.index_s << " s, distance field " << s.map.field_s << " s (" << std::setprecision(0) << s.map.field_mb
       << " MB, " << (s.map.field_sparse ? "sparse" : "dense") << "), global localizer set-up " << std::setprecision(1)
@@ -164,7 +172,7 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     j.key("t").value(traj_.poses.empty() ? NAN : traj_.poses.front().t);
     j.key("first_frame_t").value(s.t_first_frame ? *s.t_first_frame : NAN);
     j.key("search_s").value(s.start_search_s);
-    if (s.T_world_cam0_start_truth)
+    if (s.T_world_cam0_start_truth && hasGroundTruth())
         j.key("error_m").value(core::translationDistance(s.T_world_cam0_start, *s.T_world_cam0_start_truth))
             .key("error_deg")
             .value(core::rotationDistanceRad(s.T_world_cam0_start, *s.T_world_cam0_start_truth) * 180 / M_PI);
@@ -173,9 +181,12 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     j.key("index_s").value(s.map.index_s).key("field_s").value(s.map.field_s).key("field_mb").value(s.map.field_mb);
     j.key("field_layout").value(s.map.field_sparse ? "sparse" : "dense");
     j.key("localizer_setup_s").value(s.localizer_setup_s).endObject();
-    j.key("ate").beginObject().key("frame").value("map, no alignment").key("count").value(f.ate.trans_m.count);
-    j.key("rmse_m").value(f.ate.trans_m.rmse).key("median_m").value(f.ate.trans_m.median);
-    j.key("max_m").value(f.ate.trans_m.max).key("rmse_deg").value(f.ate.rot_deg.rmse).endObject();
+    if (f.ate.trans_m.count > 0)
+    {
+        j.key("ate").beginObject().key("frame").value("map, no alignment").key("count").value(f.ate.trans_m.count);
+        j.key("rmse_m").value(f.ate.trans_m.rmse).key("median_m").value(f.ate.trans_m.median);
+        j.key("max_m").value(f.ate.trans_m.max).key("rmse_deg").value(f.ate.rot_deg.rmse).endObject();
+    }
     j.key("time_per_frame_ms").beginObject().key("median").value(f.ms_median).key("p90").value(f.ms_p90);
     j.key("p95").value(f.ms_p95);
     j.key("max").value(f.ms_max).endObject();

@@ -1,6 +1,8 @@
 #pragma once
 // What a tracking session keeps of a run: the estimated and ground-truth trajectories, one diagnostics row per frame,
-// and the summary figures (printed, and as summary.json; the ATE through libs/eval, map frame, no alignment).
+// and the summary figures (printed, and as summary.json). Ground truth is optional: the ATE (through libs/eval, map
+// frame, no alignment) is that of the logged poses that have it, i.e. of trajectory.tum as quasiloc-eval scores it
+// with association = interpolated; without any, the figures leave the errors out.
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/frame.h>
 #include <quasiloc/tracking/map_context.h>
@@ -51,13 +53,17 @@ class RunLog
     std::optional<Eigen::Isometry3d> poseAt(double t) const;
 
     const core::Trajectory& estimate() const { return traj_; }
-    const core::Trajectory& groundTruth() const { return gt_traj_; }  ///< at the logged frames that have it
+    const core::Trajectory& groundTruth() const { return gt_traj_; }  ///< at the logged poses that have it
+    /** Whether any logged pose (a start or a frame) has ground truth: else there is no error to report. */
+    bool hasGroundTruth() const { return !gt_traj_.poses.empty(); }
     std::string csv() const;
     double lastErrorM() const { return rows_.empty() ? NAN : rows_.back().error_m; }
     /** The printed summary: frames, losses (withdrawn: the relocalization's fixes confirmed the track;
-     *  relocalizations: restarts), ATE against ground truth, time per frame. */
+     *  relocalizations: restarts), ATE against ground truth (no line when hasGroundTruth() is false: the program
+     *  says why), time per frame. */
     std::string summary(const SessionSummary& session) const;
-    /** The same figures as JSON (summary.json), for scripts and tests. */
+    /** The same figures as JSON (summary.json), for scripts and tests; without ground truth, no "ate" object and no
+     *  start error (omitted, not null). */
     std::string summaryJson(const SessionSummary& session) const;
 
    private:
@@ -70,7 +76,6 @@ class RunLog
     {
         double t = 0;
         double error_m = NAN;  ///< NaN without ground truth
-        std::optional<mrpt::poses::CPose3D> estimate, truth;  ///< the pair the ATE is computed from
         double ms = 0;
         bool map_update = false, keyframe = false, lost = false, unverified = false;
         std::string csv;  ///< without the unverified column, decided later
