@@ -13,7 +13,9 @@ PACKAGES=(
   libyaml-cpp-dev
   # The system-call filter of the rawlog reader's child process (libs/dataset/src/isolated_object_child.cpp).
   libseccomp-dev
-  # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros is skipped without them).
+  # ROS 2 bags (bag2rawlog, rawlog2bag; libs/ros): rosbag2 SQLite3 storage, MCAP chunk compression and CRCs.
+  libsqlite3-dev libzstd-dev liblz4-dev zlib1g-dev
+  # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros reads ROS 2 bags only without them).
   librosbag-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev
   python3-numpy python3-matplotlib python3-opencv python3-scipy
   # The sharded database build's Slurm scripts (scripts/cluster/) and their e2e test, which starts its own

@@ -1,4 +1,5 @@
-// bag2rawlog: ROS 1 bag (+ Kalibr calibration) -> MRPT rawlog (+ <name>_Images/), calibration INI, ground truth TUM.
+// bag2rawlog: ROS 1 or ROS 2 bag (+ Kalibr calibration, or the bag's CameraInfo and /tf_static) -> MRPT rawlog
+// (+ <name>_Images/), calibration INI, ground truth TUM.
 #include <mrpt/system/CTimeLogger.h>
 
 #include <chrono>
@@ -15,16 +16,18 @@ namespace
 {
 const char* kUsage =
     "Usage: bag2rawlog <config.ini> [--set Bag2Rawlog.key=value]... [--print-timing]\n"
-    "Reads a ROS 1 bag (left and right images, IMU, optional ground truth; topics from [Bag2Rawlog]) and writes the\n"
-    "stereo + IMU rawlog quasiloc-track reads, its images in <output>_Images/, the calibration INI from a Kalibr\n"
-    "camchain + IMU YAML (<output>_calib.ini), the ground truth as TUM of T_world_cam0 (<output>_gt_cam0.tum) and the\n"
-    "effective configuration (<output>_bag2rawlog.ini). See docs/bag2rawlog.md.";
+    "Reads a ROS 1 bag or a ROS 2 bag (a rosbag2 folder, or one .db3 / .mcap file: left and right images, IMU,\n"
+    "optional ground truth; topics from [Bag2Rawlog]) and writes the stereo + IMU rawlog quasiloc-track reads, its\n"
+    "images in <output>_Images/, the calibration INI (<output>_calib.ini) from a Kalibr camchain, or from the bag's\n"
+    "CameraInfo and /tf_static, with the IMU noise model of a Kalibr IMU YAML or an INI's [imu] section, the ground\n"
+    "truth as TUM of T_world_cam0 (<output>_gt_cam0.tum) and the effective configuration (<output>_bag2rawlog.ini).\n"
+    "See docs/bag2rawlog.md.";
 const char* kSection = "Bag2Rawlog";
 
 void printResult(const ros::Bag2RawlogResult& r, double seconds)
 {
-    std::printf("bag:                   %.1f MB; %s %zu (%s), right %zu (%s), IMU %zu, ground truth %zu messages\n",
-                r.bag_bytes / 1e6, "left", r.left_msgs, r.left_type.c_str(), r.right_msgs, r.right_type.c_str(),
+    std::printf("bag:                   %s, %.1f MB; %s %zu (%s), right %zu (%s), IMU %zu, ground truth %zu messages\n",
+                r.bag_format.c_str(), r.bag_bytes / 1e6, "left", r.left_msgs, r.left_type.c_str(), r.right_msgs, r.right_type.c_str(),
                 r.imu_msgs, r.gt_msgs);
     std::printf("stereo frames written: %zu (largest left-right offset %.3f ms)\n", r.stereo_written,
                 r.max_pair_offset_ms);

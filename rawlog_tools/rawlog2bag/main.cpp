@@ -1,4 +1,5 @@
-// rawlog2bag: stereo + IMU rawlog (+ calibration INI, ground truth) -> ROS 1 bag with Kalibr YAML files beside it.
+// rawlog2bag: stereo + IMU rawlog (+ calibration INI, ground truth) -> ROS 1 bag or ROS 2 bag (rosbag2 folder, MCAP)
+// with Kalibr YAML files beside it.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -12,7 +13,8 @@ namespace
 {
 const char* kUsage =
     "Usage: rawlog2bag <config.ini> [--set Rawlog2Bag.key=value]... [--print-timing]\n"
-    "Writes a stereo + IMU rawlog (e.g. sim-rawlog's) as a ROS 1 bag: images (mono8, mono16, png or jpeg), IMU\n"
+    "Writes a stereo + IMU rawlog (e.g. sim-rawlog's) as a ROS 1 bag, or with format=mcap as a ROS 2 bag (a rosbag2\n"
+    "folder: metadata.yaml + one MCAP file, with CameraInfo and /tf_static): images (mono8, mono16, png or jpeg), IMU\n"
     "and, with [Rawlog2Bag] groundtruth, the ground truth as PoseStamped of the body frame. Beside the bag: the\n"
     "calibration as Kalibr camchain and IMU YAML (<bag>_camchain.yaml, <bag>_imu.yaml) and the effective\n"
     "configuration (<bag>_rawlog2bag.ini). bag2rawlog reads them back. See docs/bag2rawlog.md.";

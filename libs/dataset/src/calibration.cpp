@@ -116,6 +116,21 @@ SensorCalibration loadCalibration(const std::string& path)
     return c;
 }
 
+ImuCalibration imuCalibrationFromIni(const std::string& path)
+{
+    core::require(std::filesystem::is_regular_file(path), path, "INI file not found");
+    mrpt::config::CConfigFile cfg(path);
+    core::require(cfg.sectionExists(kImu), path, "no [imu] section (the IMU noise model)");
+    try
+    {
+        return readImu(cfg);
+    }
+    catch (const core::InputError& e)
+    {
+        throw core::InputError(path, e.what());
+    }
+}
+
 std::string calibrationText(const SensorCalibration& calibration)
 {
     mrpt::config::CConfigFileMemory cfg;

@@ -1,13 +1,7 @@
-// convertBagToRawlog (bag2rawlog.h): the bag is streamed in time order through rosbag::View; left and right images
-// are paired by their header stamps (dataset::StereoPairer); pairs and IMU samples wait in a short reorder buffer
-// so that the rawlog is written in time order even when one topic is recorded late.
-#include <geometry_msgs/PoseStamped.h>
-#include <geometry_msgs/TransformStamped.h>
-#include <nav_msgs/Odometry.h>
+// convertBagToRawlog (bag2rawlog.h): the bag (any MessageSource: ROS 1, rosbag2 SQLite3 or MCAP) is streamed in time
+// order; left and right images are paired by their header stamps (dataset::StereoPairer); pairs and IMU samples wait
+// in a short reorder buffer so that the rawlog is written in time order even when one topic is recorded late.
 #include <mrpt/core/format.h>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
-#include <sensor_msgs/Imu.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -20,13 +14,15 @@
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/calibration.h>
-#include <quasiloc/dataset/kalibr.h>
 #include <quasiloc/dataset/rawlog_writer.h>
 #include <quasiloc/dataset/stereo_pairing.h>
 #include <quasiloc/dataset/timestamps.h>
 #include <quasiloc/ros/bag2rawlog.h>
 #include <quasiloc/ros/bag_images.h>
+#include <quasiloc/ros/message_source.h>
 #include <unordered_map>
+
+#include "bag2rawlog_calibration.h"
 
 namespace fs = std::filesystem;
 using quasiloc::core::InputError;
@@ -37,8 +33,6 @@ namespace quasiloc::ros
 namespace
 {
 const char* kSection = "Bag2Rawlog";
-const char* kImage = "sensor_msgs/Image";
-const char* kCompressed = "sensor_msgs/CompressedImage";
 
 std::string key(const std::string& k) { return std::string("[") + kSection + "] " + k; }
 
@@ -57,30 +51,24 @@ class Converter
     Bag2RawlogResult run();
 
    private:
-    void openBag();
     std::string requireTopic(const std::string& key_name, const std::string& topic,
                              const std::vector<std::string>& types) const;
     void readAll(dataset::RawlogWriter& writer);
-    void handle(const rosbag::MessageInstance& m);
-    void handleImage(const rosbag::MessageInstance& m, bool left);
-    void handleGroundTruth(const rosbag::MessageInstance& m);
+    void handle(const BagMessage& m);
+    void handleImage(const BagMessage& m, bool left);
+    void handleGroundTruth(const BagMessage& m);
     void takePairs();
     void flush(std::int64_t horizon_ns);
-    void progress(const rosbag::MessageInstance& m, bool done);
-    static std::int64_t stampNs(const ::ros::Time& header_stamp, const rosbag::MessageInstance& m)
+    void progress(std::int64_t t_ns, bool done);
+    static std::int64_t stampNs(const MsgHeader& header, const BagMessage& m)
     {
-        return std::int64_t((header_stamp.isZero() ? m.getTime() : header_stamp).toNSec());
-    }
-    std::string where(const std::string& topic, std::int64_t t_ns) const
-    {
-        return o_.input_bag + " topic " + topic + " (message at t=" + std::to_string(t_ns) + " ns)";
+        return header.stamp_ns == 0 ? m.timeNs() : header.stamp_ns;
     }
 
     const Bag2RawlogOptions& o_;
     mrpt::system::CTimeLogger* timer_;
     dataset::SensorCalibration calib_;
-    rosbag::Bag bag_;
-    std::map<std::string, std::string> topic_types_;
+    std::unique_ptr<MessageSource> bag_;
     Bag2RawlogResult r_;
     dataset::RawlogWriter* writer_ = nullptr;
     std::unique_ptr<dataset::StereoPairer> pairer_;
@@ -92,7 +80,7 @@ class Converter
     std::int64_t newest_ns_ = std::numeric_limits<std::int64_t>::min();
     std::int64_t last_written_ns_ = std::numeric_limits<std::int64_t>::min();
     core::Trajectory gt_;
-    double bag_begin_s_ = 0, bag_span_s_ = 0;
+    std::pair<std::int64_t, std::int64_t> span_{0, 0};
     int shown_percent_ = -1;
     bool enough_frames_ = false;
 };
@@ -100,11 +88,12 @@ class Converter
 std::string Converter::requireTopic(const std::string& key_name, const std::string& topic,
                                     const std::vector<std::string>& types) const
 {
-    const auto it = topic_types_.find(topic);
-    if (it == topic_types_.end())
+    const auto& topic_types = bag_->topicTypes();
+    const auto it = topic_types.find(topic);
+    if (it == topic_types.end())
     {
         std::string present;
-        for (const auto& [name, type] : topic_types_) present += "\n  " + name + " (" + type + ")";
+        for (const auto& [name, type] : topic_types) present += "\n  " + name + " (" + type + ")";
         throw InputError(o_.input_bag + " topic " + topic + " (" + key(key_name) + ")",
                          "not in the bag; its topics are:" + (present.empty() ? std::string(" none") : present));
     }
@@ -118,43 +107,24 @@ std::string Converter::requireTopic(const std::string& key_name, const std::stri
                      "holds " + it->second + ", expected " + allowed);
 }
 
-void Converter::openBag()
+void Converter::handleImage(const BagMessage& m, bool left)
 {
-    require(fs::is_regular_file(o_.input_bag), o_.input_bag + " (" + key("input_bag") + ")", "bag file not found");
-    r_.bag_bytes = fs::file_size(o_.input_bag);
-    try
-    {
-        bag_.open(o_.input_bag, rosbag::bagmode::Read);
-        rosbag::View all(bag_);
-        for (const rosbag::ConnectionInfo* c : all.getConnections()) topic_types_[c->topic] = c->datatype;
-    }
-    catch (const rosbag::BagException& e)
-    {
-        throw InputError(o_.input_bag, std::string("cannot read as a ROS 1 bag: ") + e.what() +
-                                           " (a truncated or unindexed recording: try 'rosbag reindex')");
-    }
-}
-
-void Converter::handleImage(const rosbag::MessageInstance& m, bool left)
-{
-    const std::string& topic = left ? o_.left_topic : o_.right_topic;
-    const std::string& type = left ? r_.left_type : r_.right_type;
     cv::Mat gray;
     std::int64_t t_ns = 0;
-    if (type == kImage)
+    if (m.type() == types::kImage)
     {
-        const auto msg = m.instantiate<sensor_msgs::Image>();
-        t_ns = stampNs(msg->header.stamp, m);
-        gray = grayFromImageMsg(*msg, o_.mono16_shift_bits, where(topic, t_ns));
+        const ImageMsg msg = m.image();
+        t_ns = stampNs(msg.header, m);
+        gray = grayFromImageMsg(msg, o_.mono16_shift_bits, m.where());
     }
     else
     {
-        const auto msg = m.instantiate<sensor_msgs::CompressedImage>();
-        t_ns = stampNs(msg->header.stamp, m);
-        gray = grayFromCompressedMsg(*msg, where(topic, t_ns));
+        const CompressedImageMsg msg = m.compressedImage();
+        t_ns = stampNs(msg.header, m);
+        gray = grayFromCompressedMsg(msg, m.where());
     }
     const core::CameraModel& cam = left ? calib_.rig.left : calib_.rig.right;
-    require(gray.cols == cam.width && gray.rows == cam.height, where(topic, t_ns),
+    require(gray.cols == cam.width && gray.rows == cam.height, m.where(),
             "image is " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) + ", the calibration's " +
                 (left ? "left" : "right") + " camera is " + std::to_string(cam.width) + "x" +
                 std::to_string(cam.height));
@@ -195,38 +165,14 @@ void Converter::takePairs()
     }
 }
 
-void Converter::handleGroundTruth(const rosbag::MessageInstance& m)
+void Converter::handleGroundTruth(const BagMessage& m)
 {
-    const std::string& type = topic_types_.at(o_.groundtruth_topic);
-    std::int64_t t_ns = 0;
-    Eigen::Vector3d t;
-    Eigen::Quaterniond q;
-    if (type == "geometry_msgs/PoseStamped")
-    {
-        const auto msg = m.instantiate<geometry_msgs::PoseStamped>();
-        t_ns = stampNs(msg->header.stamp, m);
-        const auto& p = msg->pose;
-        t = {p.position.x, p.position.y, p.position.z};
-        q = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-    }
-    else if (type == "geometry_msgs/TransformStamped")
-    {
-        const auto msg = m.instantiate<geometry_msgs::TransformStamped>();
-        t_ns = stampNs(msg->header.stamp, m);
-        const auto& p = msg->transform;
-        t = {p.translation.x, p.translation.y, p.translation.z};
-        q = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
-    }
-    else
-    {
-        const auto msg = m.instantiate<nav_msgs::Odometry>();
-        t_ns = stampNs(msg->header.stamp, m);
-        const auto& p = msg->pose.pose;
-        t = {p.position.x, p.position.y, p.position.z};
-        q = Eigen::Quaterniond(p.orientation.w, p.orientation.x, p.orientation.y, p.orientation.z);
-    }
+    const PoseMsg msg = m.pose();
+    const std::int64_t t_ns = stampNs(msg.header, m);
+    const Eigen::Vector3d& t = msg.position;
+    const Eigen::Quaterniond& q = msg.orientation;
     ++r_.gt_msgs;
-    require(t.allFinite() && std::abs(q.norm() - 1.0) < 1e-3, where(o_.groundtruth_topic, t_ns),
+    require(t.allFinite() && std::abs(q.norm() - 1.0) < 1e-3, m.where(),
             "pose with a non-finite value or a non-unit quaternion");
     mrpt::poses::CPose3D T_world_x = core::fromTranslationQuaternion(t, q.normalized());
     const auto T_world_cam0 = o_.groundtruth_frame == GroundTruthFrame::Body ? T_world_x + calib_.rig.T_body_left
@@ -235,20 +181,20 @@ void Converter::handleGroundTruth(const rosbag::MessageInstance& m)
     gt_.poses.push_back({dataset::nsToSeconds(t_ns), T_world_cam0});
 }
 
-void Converter::handle(const rosbag::MessageInstance& m)
+void Converter::handle(const BagMessage& m)
 {
-    const std::string& topic = m.getTopic();
+    const std::string& topic = m.topic();
     if (topic == o_.left_topic) handleImage(m, true);
     if (topic == o_.right_topic) handleImage(m, false);
     if (topic == o_.imu_topic)
     {
-        const auto msg = m.instantiate<sensor_msgs::Imu>();
-        const std::int64_t t_ns = stampNs(msg->header.stamp, m);
+        const ImuMsg msg = m.imu();
+        const std::int64_t t_ns = stampNs(msg.header, m);
         Pending item;
         item.imu.t = dataset::nsToSeconds(t_ns);
-        item.imu.acc = {msg->linear_acceleration.x, msg->linear_acceleration.y, msg->linear_acceleration.z};
-        item.imu.gyro = {msg->angular_velocity.x, msg->angular_velocity.y, msg->angular_velocity.z};
-        require(item.imu.acc.allFinite() && item.imu.gyro.allFinite(), where(topic, t_ns), "non-finite IMU value");
+        item.imu.acc = msg.linear_acceleration;
+        item.imu.gyro = msg.angular_velocity;
+        require(item.imu.acc.allFinite() && item.imu.gyro.allFinite(), m.where(), "non-finite IMU value");
         ++r_.imu_msgs;
         newest_ns_ = std::max(newest_ns_, t_ns);
         buffer_.emplace(std::make_pair(t_ns, 0), std::move(item));
@@ -285,11 +231,12 @@ void Converter::flush(std::int64_t horizon_ns)
     if (o_.max_frames > 0 && r_.stereo_written >= std::size_t(o_.max_frames)) enough_frames_ = true;
 }
 
-void Converter::progress(const rosbag::MessageInstance& m, bool done)
+void Converter::progress(std::int64_t t_ns, bool done)
 {
     if (!o_.progress) return;
     const bool tty = isatty(STDERR_FILENO);
-    const double f = done ? 1.0 : bag_span_s_ > 0 ? (m.getTime().toSec() - bag_begin_s_) / bag_span_s_ : 0.0;
+    const double span = double(span_.second - span_.first);
+    const double f = done ? 1.0 : span > 0 ? double(t_ns - span_.first) / span : 0.0;
     const int percent = std::clamp(int(f * 100), 0, 100);
     if (percent == shown_percent_ || (!tty && percent % 10 != 0 && !done)) return;
     shown_percent_ = percent;
@@ -306,26 +253,12 @@ void Converter::readAll(dataset::RawlogWriter& writer)
     std::vector<std::string> topics = {o_.left_topic, o_.right_topic, o_.imu_topic};
     if (!o_.groundtruth_topic.empty()) topics.push_back(o_.groundtruth_topic);
     pairer_ = std::make_unique<dataset::StereoPairer>(std::int64_t(std::llround(o_.pair_tolerance_ms * 1e6)));
-    try
-    {
-        rosbag::View view(bag_, rosbag::TopicQuery(topics));
-        bag_begin_s_ = view.getBeginTime().toSec();
-        bag_span_s_ = view.getEndTime().toSec() - bag_begin_s_;
-        for (const rosbag::MessageInstance& m : view)
-        {
-            handle(m);
-            progress(m, false);
-            if (enough_frames_) break;
-        }
-    }
-    catch (const rosbag::BagException& e)
-    {
-        throw InputError(o_.input_bag, std::string("corrupt or truncated bag: ") + e.what());
-    }
-    catch (const ::ros::Exception& e)
-    {
-        throw InputError(o_.input_bag, std::string("cannot read a message: ") + e.what());
-    }
+    span_ = bag_->timeSpanNs();
+    bag_->read(topics, [&](const BagMessage& m) {
+        handle(m);
+        progress(m.timeNs(), false);
+        return !enough_frames_;
+    });
     pairer_->finish();
     takePairs();
     flush(std::numeric_limits<std::int64_t>::max());
@@ -335,22 +268,17 @@ void Converter::readAll(dataset::RawlogWriter& writer)
 
 Bag2RawlogResult Converter::run()
 {
-    if (!o_.calibration_ini.empty())
-        calib_ = dataset::loadCalibration(o_.calibration_ini);
-    else
-    {
-        calib_.rig = dataset::stereoRigFromKalibr(o_.kalibr_camchain);
-        calib_.imu = dataset::imuCalibrationFromKalibr(o_.kalibr_imu);
-    }
-    calib_.requireImu(o_.calibration_ini.empty() ? o_.kalibr_imu : o_.calibration_ini);
-
-    openBag();
-    r_.left_type = requireTopic("left_topic", o_.left_topic, {kImage, kCompressed});
-    r_.right_type = requireTopic("right_topic", o_.right_topic, {kImage, kCompressed});
-    requireTopic("imu_topic", o_.imu_topic, {"sensor_msgs/Imu"});
+    bag_ = openMessageSource(o_.input_bag);
+    r_.bag_bytes = bag_->bytes();
+    r_.bag_format = bag_->describe();
+    r_.left_type = requireTopic("left_topic", o_.left_topic, {types::kImage, types::kCompressedImage});
+    r_.right_type = requireTopic("right_topic", o_.right_topic, {types::kImage, types::kCompressedImage});
+    requireTopic("imu_topic", o_.imu_topic, {types::kImu});
     if (!o_.groundtruth_topic.empty())
         requireTopic("groundtruth_topic", o_.groundtruth_topic,
-                     {"geometry_msgs/PoseStamped", "geometry_msgs/TransformStamped", "nav_msgs/Odometry"});
+                     {types::kPoseStamped, types::kTransformStamped, types::kOdometry});
+    const Bag2RawlogCalibration calibration = bag2rawlogCalibration(o_, *bag_);
+    calib_ = calibration.calib;
 
     dataset::RawlogWriter::Options wo;
     wo.stereo_sensor_label = o_.stereo_sensor_label;
@@ -368,9 +296,7 @@ Bag2RawlogResult Converter::run()
                 key("pair_tolerance_ms") + ")");
     require(r_.imu_written > 0, o_.input_bag + " topic " + o_.imu_topic, "no IMU message");
     dataset::saveCalibration(calib_, calib_tmp,
-                             "calibration written by bag2rawlog from " +
-                                 (o_.calibration_ini.empty() ? o_.kalibr_camchain + " and " + o_.kalibr_imu
-                                                             : o_.calibration_ini) +
+                             "calibration written by bag2rawlog from " + calibration.sources +
                                  "; the biases were not measured (zero, with the sigmas of real MEMS biases)");
     if (!o_.groundtruth_topic.empty())
     {

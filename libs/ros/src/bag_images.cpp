@@ -11,10 +11,12 @@ namespace quasiloc::ros
 {
 namespace
 {
-cv::Mat view(const sensor_msgs::Image& msg, int type, int bytes_per_pixel, const std::string& where)
+cv::Mat view(const ImageMsg& msg, int type, int bytes_per_pixel, const std::string& where)
 {
     require(msg.width > 0 && msg.height > 0, where, "image of size 0");
-    require(msg.step >= msg.width * bytes_per_pixel, where,
+    require(msg.width <= 65535 && msg.height <= 65535, where,
+            "image of " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " pixels (at most 65535 a side)");
+    require(std::uint64_t(msg.step) >= std::uint64_t(msg.width) * std::uint64_t(bytes_per_pixel), where,
             "step " + std::to_string(msg.step) + " is less than width x " + std::to_string(bytes_per_pixel));
     require(msg.data.size() >= size_t(msg.step) * msg.height, where,
             "data holds " + std::to_string(msg.data.size()) + " bytes, step x height is " +
@@ -23,7 +25,7 @@ cv::Mat view(const sensor_msgs::Image& msg, int type, int bytes_per_pixel, const
 }
 }  // namespace
 
-cv::Mat grayFromImageMsg(const sensor_msgs::Image& msg, int mono16_shift_bits, const std::string& where)
+cv::Mat grayFromImageMsg(const ImageMsg& msg, int mono16_shift_bits, const std::string& where)
 {
     const std::string& e = msg.encoding;
     cv::Mat gray;
@@ -56,7 +58,7 @@ cv::Mat grayFromImageMsg(const sensor_msgs::Image& msg, int mono16_shift_bits, c
     return gray;
 }
 
-cv::Mat grayFromCompressedMsg(const sensor_msgs::CompressedImage& msg, const std::string& where)
+cv::Mat grayFromCompressedMsg(const CompressedImageMsg& msg, const std::string& where)
 {
     const std::string format = msg.format;
     const bool png = format.find("png") != std::string::npos;
@@ -88,13 +90,13 @@ cv::Mat grayFromCompressedMsg(const sensor_msgs::CompressedImage& msg, const std
     return gray;
 }
 
-sensor_msgs::Image imageMsgFromGray(const cv::Mat& gray, bool mono16)
+ImageMsg imageMsgFromGray(const cv::Mat& gray, bool mono16)
 {
     require(gray.type() == CV_8UC1 && !gray.empty(), "imageMsgFromGray", "expects a CV_8UC1 image");
-    sensor_msgs::Image msg;
+    ImageMsg msg;
     msg.height = uint32_t(gray.rows);
     msg.width = uint32_t(gray.cols);
-    msg.is_bigendian = 0;
+    msg.is_bigendian = false;
     msg.encoding = mono16 ? "mono16" : "mono8";
     msg.step = uint32_t(gray.cols * (mono16 ? 2 : 1));
     msg.data.resize(size_t(msg.step) * gray.rows);
@@ -114,10 +116,10 @@ sensor_msgs::Image imageMsgFromGray(const cv::Mat& gray, bool mono16)
     return msg;
 }
 
-sensor_msgs::CompressedImage compressedMsgFromGray(const cv::Mat& gray, bool png, int jpeg_quality)
+CompressedImageMsg compressedMsgFromGray(const cv::Mat& gray, bool png, int jpeg_quality)
 {
     require(gray.type() == CV_8UC1 && !gray.empty(), "compressedMsgFromGray", "expects a CV_8UC1 image");
-    sensor_msgs::CompressedImage msg;
+    CompressedImageMsg msg;
     msg.format = png ? "mono8; png compressed" : "mono8; jpeg compressed";
     const std::vector<int> params =
         png ? std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 1} : std::vector<int>{cv::IMWRITE_JPEG_QUALITY, jpeg_quality};

@@ -1,14 +1,12 @@
-// convertRawlogToBag (rawlog2bag.h): the rawlog is read one observation at a time; each becomes one message, stamped
-// (header and bag time) with the observation's time in nanoseconds.
-#include <geometry_msgs/PoseStamped.h>
+// convertRawlogToBag (rawlog2bag.h): the rawlog is read one observation at a time; each becomes one message (plus,
+// in a ROS 2 bag, a CameraInfo per image), stamped (header and bag time) with the observation's time in nanoseconds.
+// The messages are built here once; a BagSink (bag_sink.h) writes them as ROS 1 or as ROS 2 MCAP.
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CObservationIMU.h>
 #include <mrpt/obs/CObservationStereoImages.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
-#include <rosbag/bag.h>
-#include <sensor_msgs/Imu.h>
 
 #include <algorithm>
 #include <cmath>
@@ -24,7 +22,10 @@
 #include <quasiloc/dataset/rawlog_writer.h>
 #include <quasiloc/dataset/timestamps.h>
 #include <quasiloc/ros/bag_images.h>
+#include <quasiloc/ros/message_source.h>
 #include <quasiloc/ros/rawlog2bag.h>
+
+#include "bag_sink.h"
 
 namespace fs = std::filesystem;
 using quasiloc::core::InputError;
@@ -34,112 +35,122 @@ namespace quasiloc::ros
 {
 namespace
 {
-::ros::Time rosTime(std::int64_t t_ns)
+const char* kTfStaticTopic = "/tf_static";
+const char* kBodyFrame = "imu0";
+
+/** The CameraInfo of a raw (unrectified) camera: K, D, R = I, P = [K | 0]. */
+CameraInfoMsg cameraInfoOf(const core::CameraModel& cam, const MsgHeader& header)
 {
-    ::ros::Time t;
-    t.fromNSec(std::uint64_t(t_ns));
+    CameraInfoMsg m;
+    m.header = header;
+    m.width = std::uint32_t(cam.width);
+    m.height = std::uint32_t(cam.height);
+    m.distortion_model = cam.model == core::DistortionModel::Equidistant ? "equidistant" : "plumb_bob";
+    if (cam.model == core::DistortionModel::RadTan) m.d.assign(cam.dist.begin(), cam.dist.end());
+    if (cam.model == core::DistortionModel::Equidistant) m.d.assign(cam.dist.begin(), cam.dist.begin() + 4);
+    m.k = {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1};
+    m.r = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    m.p = {cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0};
+    return m;
+}
+
+TransformMsg transformOf(const mrpt::poses::CPose3D& T_parent_child, const std::string& parent,
+                         const std::string& child, std::int64_t t_ns)
+{
+    TransformMsg t;
+    t.header = {t_ns, parent};
+    t.child_frame_id = child;
+    t.translation = {T_parent_child.x(), T_parent_child.y(), T_parent_child.z()};
+    t.rotation = core::quaternionOf(T_parent_child);
     return t;
 }
 
 class BagWriter
 {
    public:
-    BagWriter(const Rawlog2BagOptions& o, const dataset::SensorCalibration& calib, const std::string& tmp_bag)
-        : o_(o), calib_(calib)
+    BagWriter(const Rawlog2BagOptions& o, const dataset::SensorCalibration& calib, std::unique_ptr<BagSink> sink)
+        : o_(o), calib_(calib), sink_(std::move(sink))
     {
-        try
-        {
-            bag_.open(tmp_bag, rosbag::bagmode::Write);
-            bag_.setCompression(o.compression == BagCompression::Bz2   ? rosbag::compression::BZ2
-                                : o.compression == BagCompression::Lz4 ? rosbag::compression::LZ4
-                                                                       : rosbag::compression::Uncompressed);
-        }
-        catch (const rosbag::BagException& e)
-        {
-            throw InputError(o.output_bag, std::string("cannot write the bag: ") + e.what());
-        }
     }
 
     void stereo(std::int64_t t_ns, const cv::Mat& left, const cv::Mat& right)
     {
+        calibrationOnce(t_ns);
+        const std::int64_t right_ns = t_ns + std::llround(o_.right_delay_ms * 1e6);
         image(o_.left_topic, "cam0", t_ns, left);
-        image(o_.right_topic, "cam1", t_ns + std::llround(o_.right_delay_ms * 1e6), right);
+        image(o_.right_topic, "cam1", right_ns, right);
+        if (sink_->carriesCalibration())
+        {
+            sink_->cameraInfo(o_.leftCameraInfoTopic(), cameraInfoOf(calib_.rig.left, {t_ns, "cam0"}));
+            sink_->cameraInfo(o_.rightCameraInfoTopic(), cameraInfoOf(calib_.rig.right, {right_ns, "cam1"}));
+        }
         ++r.stereo_written;
     }
 
     void imu(std::int64_t t_ns, const mrpt::obs::CObservationIMU& obs)
     {
         using namespace mrpt::obs;
-        sensor_msgs::Imu msg;
-        msg.header.stamp = rosTime(t_ns);
-        msg.header.frame_id = "imu0";
-        msg.header.seq = seq_imu_++;
-        msg.orientation_covariance[0] = -1;  // no orientation
-        msg.linear_acceleration.x = obs.get(IMU_X_ACC);
-        msg.linear_acceleration.y = obs.get(IMU_Y_ACC);
-        msg.linear_acceleration.z = obs.get(IMU_Z_ACC);
-        msg.angular_velocity.x = obs.get(IMU_WX);
-        msg.angular_velocity.y = obs.get(IMU_WY);
-        msg.angular_velocity.z = obs.get(IMU_WZ);
-        bag_.write(o_.imu_topic, msg.header.stamp, msg);
+        calibrationOnce(t_ns);
+        ImuMsg msg;
+        msg.header = {t_ns, kBodyFrame};
+        msg.orientation.coeffs().setZero();  // no orientation (covariance[0] = -1 says so)
+        msg.orientation_covariance[0] = -1;
+        msg.linear_acceleration = {obs.get(IMU_X_ACC), obs.get(IMU_Y_ACC), obs.get(IMU_Z_ACC)};
+        msg.angular_velocity = {obs.get(IMU_WX), obs.get(IMU_WY), obs.get(IMU_WZ)};
+        sink_->imu(o_.imu_topic, msg);
         ++r.imu_written;
     }
 
     /** T_world_cam0 poses become PoseStamped of the body (IMU) frame in "world". */
     void groundTruth(const core::Trajectory& gt)
     {
-        std::uint32_t seq = 0;
         for (const auto& p : gt.poses)
         {
             const mrpt::poses::CPose3D T_world_body = p.pose + (-calib_.rig.T_body_left);
-            const Eigen::Quaterniond q = core::quaternionOf(T_world_body);
-            geometry_msgs::PoseStamped msg;
-            msg.header.stamp = rosTime(dataset::secondsToNs(p.t));
-            msg.header.frame_id = "world";
-            msg.header.seq = seq++;
-            msg.pose.position.x = T_world_body.x();
-            msg.pose.position.y = T_world_body.y();
-            msg.pose.position.z = T_world_body.z();
-            msg.pose.orientation.w = q.w();
-            msg.pose.orientation.x = q.x();
-            msg.pose.orientation.y = q.y();
-            msg.pose.orientation.z = q.z();
-            bag_.write(o_.groundtruth_topic, msg.header.stamp, msg);
+            PoseMsg msg;
+            msg.header = {dataset::secondsToNs(p.t), "world"};
+            msg.position = {T_world_body.x(), T_world_body.y(), T_world_body.z()};
+            msg.orientation = core::quaternionOf(T_world_body);
+            sink_->pose(o_.groundtruth_topic, msg);
             ++r.gt_written;
         }
     }
 
-    void close() { bag_.close(); }
+    void close() { sink_->close(); }
 
     Rawlog2BagResult r;
 
    private:
+    /** The extrinsics on /tf_static, once, at the first observation's time. */
+    void calibrationOnce(std::int64_t t_ns)
+    {
+        if (calibration_written_ || !sink_->carriesCalibration()) return;
+        calibration_written_ = true;
+        sink_->tfStatic(kTfStaticTopic, {transformOf(calib_.rig.T_body_left, kBodyFrame, "cam0", t_ns),
+                                         transformOf(calib_.rig.T_left_right, "cam0", "cam1", t_ns)});
+    }
+
     void image(const std::string& topic, const char* frame, std::int64_t t_ns, const cv::Mat& gray)
     {
-        const std::uint32_t seq = topic == o_.left_topic ? seq_left_++ : seq_right_++;
         if (o_.image_encoding == BagImageEncoding::Mono8 || o_.image_encoding == BagImageEncoding::Mono16)
         {
-            sensor_msgs::Image msg = imageMsgFromGray(gray, o_.image_encoding == BagImageEncoding::Mono16);
-            msg.header.stamp = rosTime(t_ns);
-            msg.header.frame_id = frame;
-            msg.header.seq = seq;
-            bag_.write(topic, msg.header.stamp, msg);
+            ImageMsg msg = imageMsgFromGray(gray, o_.image_encoding == BagImageEncoding::Mono16);
+            msg.header = {t_ns, frame};
+            sink_->image(topic, msg);
         }
         else
         {
-            sensor_msgs::CompressedImage msg =
+            CompressedImageMsg msg =
                 compressedMsgFromGray(gray, o_.image_encoding == BagImageEncoding::Png, o_.jpeg_quality);
-            msg.header.stamp = rosTime(t_ns);
-            msg.header.frame_id = frame;
-            msg.header.seq = seq;
-            bag_.write(topic, msg.header.stamp, msg);
+            msg.header = {t_ns, frame};
+            sink_->compressedImage(topic, msg);
         }
     }
 
     const Rawlog2BagOptions& o_;
     const dataset::SensorCalibration& calib_;
-    rosbag::Bag bag_;
-    std::uint32_t seq_left_ = 0, seq_right_ = 0, seq_imu_ = 0;
+    std::unique_ptr<BagSink> sink_;
+    bool calibration_written_ = false;
 };
 
 cv::Mat loadImage(const mrpt::img::CImage& img, const std::string& images_folder, const core::CameraModel& cam,
@@ -185,7 +196,10 @@ Rawlog2BagResult convertRawlogToBag(const Rawlog2BagOptions& o)
     if (!o.groundtruth.empty()) gt = core::readTum(o.groundtruth);
 
     core::StagedOutputs staged;
-    const std::string tmp_bag = staged.addFile(o.output_bag);
+    const bool mcap = o.format == dataset::BagFormat::Mcap;
+    require(mcap || haveRos1(), o.output_bag + " ([Rawlog2Bag] format)",
+            "ros1: this build writes no ROS 1 bags (install librosbag-dev and rebuild), use format=mcap");
+    const std::string tmp_bag = mcap ? staged.addFolder(o.output_bag) : staged.addFile(o.output_bag);
     core::writeTextFileAtomically(
         staged.addFile(o.camchainPath()),
         "# Kalibr camchain written by rawlog2bag from " + o.calibration_ini + "\n" +
@@ -194,7 +208,9 @@ Rawlog2BagResult convertRawlogToBag(const Rawlog2BagOptions& o)
                                   "# Kalibr IMU noise model written by rawlog2bag from " + o.calibration_ini + "\n" +
                                       dataset::kalibrImuText(imu, o.imu_topic));
 
-    BagWriter bag(o, calib, tmp_bag);
+    BagWriter bag(o, calib,
+                  mcap ? makeMcapBagSink(tmp_bag, fs::path(o.output_bag).filename().string(), o.compression)
+                       : makeRos1BagSink(tmp_bag, o.compression));
     mrpt::io::CFileGZInputStream in;
     require(in.open(o.input_rawlog), o.input_rawlog, "cannot open rawlog");
     const std::uint64_t total = fs::file_size(o.input_rawlog);
@@ -215,7 +231,6 @@ Rawlog2BagResult convertRawlogToBag(const Rawlog2BagOptions& o)
         else
             ++bag.r.ignored;
     };
-    try
     {
         for (;;)
         {
@@ -239,17 +254,17 @@ Rawlog2BagResult convertRawlogToBag(const Rawlog2BagOptions& o)
         bag.groundTruth(gt);
         bag.close();
     }
-    catch (const rosbag::BagException& e)
-    {
-        throw InputError(o.output_bag, std::string("cannot write the bag: ") + e.what());
-    }
     progressLine(o.progress, total, total, bag.r, true, shown);
     staged.commit();
     Rawlog2BagResult r = bag.r;
     r.bag_path = o.output_bag;
     r.camchain_path = o.camchainPath();
     r.imu_yaml_path = o.imuYamlPath();
-    r.bag_bytes = fs::file_size(o.output_bag);
+    r.bag_bytes = 0;
+    if (fs::is_directory(o.output_bag))
+        for (const auto& e : fs::directory_iterator(o.output_bag)) r.bag_bytes += e.file_size();
+    else
+        r.bag_bytes = fs::file_size(o.output_bag);
     return r;
 }
 

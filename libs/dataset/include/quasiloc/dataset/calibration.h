@@ -53,6 +53,9 @@ struct SensorCalibration
 /** Reads a calibration INI. InputError naming the file and the key for a missing file, a missing or malformed
  *  value, an unknown [imu] key. */
 SensorCalibration loadCalibration(const std::string& path);
+/** The [imu] section of any INI file (the same keys and checks as loadCalibration's), for programs that take
+ *  the cameras from elsewhere. InputError naming the file and the key. */
+ImuCalibration imuCalibrationFromIni(const std::string& path);
 /** Writes it atomically (the header comment first, '#' added to each line). */
 void saveCalibration(const SensorCalibration& calibration, const std::string& path, const std::string& header);
 /** The INI text saveCalibration writes (without the header). */

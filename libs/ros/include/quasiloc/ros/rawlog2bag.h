@@ -1,5 +1,6 @@
 #pragma once
-// A stereo + IMU rawlog (the simulator's, or one bag2rawlog wrote) -> a ROS 1 bag, with the calibration as Kalibr
+// A stereo + IMU rawlog (the simulator's, or one bag2rawlog wrote) -> a ROS 1 bag or a ROS 2 bag (rosbag2 folder with
+// one MCAP file; it also carries CameraInfo and the extrinsics on /tf_static), with the calibration as Kalibr
 // camchain and IMU YAML files beside it: so that our simulated data can be looked at in ROS tools and so that the
 // bag2rawlog round trip can be tested. The work of the program rawlog2bag.
 #include <cstdint>
