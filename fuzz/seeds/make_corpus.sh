@@ -26,6 +26,25 @@ if [ -d "$SHARED/euroc" ]; then
   cam0=$(ls "$SHARED"/euroc/groundtruth/cam0/*.txt 2>/dev/null | head -n 1 || true)
   [ -n "$cam0" ] && head -n 8 "$cam0" > "$extra/fuzz_tum/cam0_gt.txt"
 fi
+# ROS 2 bags (../shared/data/ros2, read in place): the small MCAP and SQLite3 files as they are, and for the CDR
+# target each message of the types bag2rawlog reads, after a byte naming the type (fuzz/targets/fuzz_cdr.cpp).
+ros2="$SHARED/ros2"
+if [ -d "$ros2" ]; then
+  mkdir -p "$extra"/{fuzz_mcap,fuzz_sqlite_bag,fuzz_cdr}
+  find "$ros2" -name '*.mcap' -size -64k | while read -r f; do cp "$f" "$extra/fuzz_mcap/$(echo "$f" | md5sum | cut -c1-12).mcap"; done
+  find "$ros2" -name '*.db3' -size -64k | while read -r f; do cp "$f" "$extra/fuzz_sqlite_bag/$(echo "$f" | md5sum | cut -c1-12).db3"; done
+  /usr/bin/python3 - "$ros2/rosbags_rs_all_types_sqlite3/test_bag_sqlite3.db3" "$extra/fuzz_cdr" <<'PY' || true
+import sqlite3, sys
+kinds = {"sensor_msgs/msg/Image": 0, "sensor_msgs/msg/CompressedImage": 1, "sensor_msgs/msg/Imu": 2,
+         "sensor_msgs/msg/CameraInfo": 3, "geometry_msgs/msg/PoseStamped": 4, "geometry_msgs/msg/TransformStamped": 5,
+         "nav_msgs/msg/Odometry": 6, "tf2_msgs/msg/TFMessage": 7}
+db = sqlite3.connect("file:" + sys.argv[1] + "?immutable=1", uri=True)
+rows = db.execute("SELECT t.type, m.id, m.data FROM messages m JOIN topics t ON t.id = m.topic_id")
+for type_name, mid, data in rows:
+    if type_name in kinds and len(data) <= 16000:
+        open(f"{sys.argv[2]}/{kinds[type_name]}_{mid}", "wb").write(bytes([kinds[type_name]]) + data)
+PY
+fi
 for ini in "$ROOT"/config.ini "$ROOT"/share/quasiloc/eval_example.ini "$ROOT"/share/quasiloc/reloc/*.ini; do
   [ -f "$ini" ] && [ "$(stat -c %s "$ini")" -le 8192 ] && cp "$ini" "$extra/fuzz_program_ini/" || true
 done

@@ -45,17 +45,27 @@ SqliteBagFile::SqliteBagFile(std::string path) : path_(std::move(path))
     catch (const InputError&)
     {
         // A read-only folder with a leftover -wal / -shm file cannot be opened with locking: read it as immutable.
-        if (db_) sqlite3_close(db_);
-        db_ = nullptr;
-        topics_.clear();
-        open(true);
+        close();
+        try
+        {
+            open(true);
+        }
+        catch (const InputError&)
+        {
+            close();  // the destructor does not run when the constructor throws
+            throw;
+        }
     }
 }
 
-SqliteBagFile::~SqliteBagFile()
+void SqliteBagFile::close()
 {
     if (db_) sqlite3_close(db_);
+    db_ = nullptr;
+    topics_.clear();
 }
+
+SqliteBagFile::~SqliteBagFile() { close(); }
 
 void SqliteBagFile::fail(const std::string& what) const
 {

@@ -43,6 +43,7 @@ class SqliteBagFile
 
    private:
     void open(bool immutable);
+    void close();
     void fail(const std::string& what) const;
 
     std::string path_;
