@@ -18,6 +18,9 @@ PACKAGES=(
   # ROS 1 bags without a ROS installation (bag2rawlog, rawlog2bag; libs/ros reads ROS 2 bags only without them).
   librosbag-dev libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev
   python3-numpy python3-matplotlib python3-opencv python3-scipy
+  # map-build's carving benchmark (rawlog_tools/map-build/bench_carving.cpp: OctoMap against the product's own ray
+  # casting; docs/map-build.md). Optional for the build: bench_carving is skipped without it.
+  liboctomap-dev
   # The sharded database build's Slurm scripts (scripts/cluster/) and their e2e test, which starts its own
   # single-node Slurm with its own munge key and slurm.conf (scripts/cluster/local_slurm.sh); the packages' system
   # services are left unconfigured.

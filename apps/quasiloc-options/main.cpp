@@ -17,6 +17,7 @@
 #include <quasiloc/dataset/bag_options.h>
 #include <quasiloc/dataset/euroc_conversion.h>
 #include <quasiloc/eval/eval_config.h>
+#include <quasiloc/map/map_build.h>
 #include <quasiloc/quasi/quasi_options.h>
 #include <quasiloc/quasi/rawlog_quasi.h>
 #include <quasiloc/reloc/database_builder.h>
@@ -73,6 +74,7 @@ std::vector<Section> sections()
     add("sim-large-world", "World", make<sim::WorldOptions>());
     add("sim-large-world", "Lidar", make<sim::LidarOptions>());
     add("map-import", "MapImport", make<map_import::MapImportOptions>());
+    add("map-build", "MapBuild", make<map::MapBuildOptions>());
     add("euroc2rawlog", "Euroc2Rawlog", make<dataset::Euroc2RawlogOptions>());
     add("bag2rawlog", "Bag2Rawlog", make<dataset::Bag2RawlogOptions>());
     add("rawlog2bag", "Rawlog2Bag", make<dataset::Rawlog2BagOptions>());

@@ -54,12 +54,15 @@ std::vector<Eigen::Isometry3d> readPoses(const std::string& path)
 }
 }  // namespace
 
-CrossModalSequence loadKittiSequence(const std::string& dir, int max_frames)
+CrossModalSequence loadKittiSequence(const std::string& dir, int max_frames, const std::string& map_path)
 {
     CrossModalSequence s;
     s.name = "kitti_raw_seq78";
-    map::ImportResult imported = map::importCloud(dir + "/map_even_frames_5cm.ply", map::ImportOptions{});
-    s.map = std::move(imported.map);
+    const std::string path = map_path.empty() ? dir + "/map_even_frames_5cm.ply" : map_path;
+    if (path.size() > 4 && path.compare(path.size() - 4, 4, ".map") == 0)
+        s.map = map::LidarMap::load(path);
+    else
+        s.map = map::importCloud(path, map::ImportOptions{}).map;
     const std::vector<Eigen::Isometry3d> poses = readPoses(dir + "/poses_cam2.txt");
     std::vector<int> frames;
     for (int k = 1; k < int(poses.size()); k += 2) frames.push_back(k);  // odd frames: the queries

@@ -25,9 +25,10 @@ struct CrossModalSequence
     std::vector<QueryFrame> frames;
 };
 
-/** Loads the folder: map_even_frames_5cm.ply (imported like map-import), calib.txt (K_cam2, no distortion),
+/** Loads the folder: the map (map_path: a LidarMap .map file as map-build or map-import write it, or a cloud
+ *  imported like map-import; empty: the folder's map_even_frames_5cm.ply), calib.txt (K_cam2, no distortion),
  *  poses_cam2.txt and image_02/<10-digit frame>.png. At most max_frames queries (0: all), evenly spread.
  *  InputError naming the file for anything missing or malformed. */
-CrossModalSequence loadKittiSequence(const std::string& dir, int max_frames);
+CrossModalSequence loadKittiSequence(const std::string& dir, int max_frames, const std::string& map_path = "");
 
 }  // namespace quasiloc::bench

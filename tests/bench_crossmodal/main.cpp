@@ -30,6 +30,7 @@ using namespace quasiloc;
 struct BenchOptions : public core::DeclaredOptions
 {
     std::string kitti_dir = std::string(QUASILOC_SHARED_DIR) + "/data/kitti_raw_seq78";
+    std::string kitti_map;  ///< empty: kitti_dir/map_even_frames_5cm.ply
     int kitti_frames = 0;  ///< 0: every query frame (39)
     double kitti_max_depth_m = 60;
     std::string sim_dir = "/tmp/quasiloc_bench_crossmodal/V1_01_easy_10s_2s";
@@ -50,6 +51,9 @@ struct BenchOptions : public core::DeclaredOptions
     {
         const core::Range any = core::Range::any();
         t.add("kitti_dir", kitti_dir, "kitti_raw_seq78 folder");
+        t.add("kitti_map", kitti_map,
+              "the KITTI map: a LidarMap .map (map-build, map-import) or a cloud; empty: kitti_dir's "
+              "map_even_frames_5cm.ply");
         t.add("kitti_frames", kitti_frames, "", any, "KITTI query frames (0: all 39; < 0: none)");
         t.add("kitti_max_depth_m", kitti_max_depth_m, "m", any, "quasi-image depth limit on KITTI");
         t.add("sim_dir", sim_dir, "simulated sequence (made from sim_world when missing)");
@@ -357,7 +361,7 @@ int run(const core::CommandLine& cmd_in)
     {
         quasi::QuasiOptions kq = qo;
         kq.max_depth_m = b.kitti_max_depth_m;
-        runSequence(bench::loadKittiSequence(b.kitti_dir, b.kitti_frames), b, kq, fo, ro);
+        runSequence(bench::loadKittiSequence(b.kitti_dir, b.kitti_frames, b.kitti_map), b, kq, fo, ro);
     }
     if (b.sim_frames > 0) runSequence(bench::loadSimSequence(b.sim_dir, b.sim_world, 10.0, 2.0, b.sim_frames), b, qo, fo, ro);
     return 0;

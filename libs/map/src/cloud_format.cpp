@@ -132,6 +132,22 @@ int intensityFieldRank(const std::string& name)
     return 0;
 }
 
+int timeFieldRank(const std::string& name)
+{
+    const std::string n = detail::lowerCase(name);
+    if (n == "time") return 1;
+    if (n == "t") return 2;
+    if (n == "offset_time") return 3;
+    if (n == "timestamp") return 4;
+    return 0;
+}
+
+bool isRingField(const std::string& name)
+{
+    const std::string n = detail::lowerCase(name);
+    return n == "ring" || n == "line" || n == "laser_id";
+}
+
 void RawCloud::reserve(size_t n)
 {
     x.reserve(n);
@@ -164,6 +180,8 @@ RawCloud readCloudBytes(const std::vector<uint8_t>& bytes, CloudFormat format, c
             throw core::InputError(path, "point " + std::to_string(i) + " has a non-finite (NaN or inf) coordinate");
         if (!std::isfinite(cloud.intensity[i]))
             throw core::InputError(path, "point " + std::to_string(i) + " has a non-finite intensity");
+        if (!cloud.time.empty() && !std::isfinite(cloud.time[i]))
+            throw core::InputError(path, "point " + std::to_string(i) + " has a non-finite time");
     }
     return cloud;
 }

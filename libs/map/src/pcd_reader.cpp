@@ -134,17 +134,22 @@ PcdHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path
 struct FieldChoice
 {
     int x = -1, y = -1, z = -1, intensity = -1;
+    int time = -1, ring = -1;  ///< optional (-1: absent)
 };
 
 FieldChoice chooseFields(const PcdHeader& h, const std::string& path, std::string& intensity_name)
 {
     FieldChoice c;
-    int best_rank = 0;
+    int best_rank = 0, best_time_rank = 0;
     std::string names;
     for (size_t k = 0; k < h.fields.size(); ++k)
     {
         const std::string& n = h.fields[k].name;
         names += (names.empty() ? "" : " ") + n;
+        const int time_rank = timeFieldRank(n);
+        if (time_rank > 0 && (best_time_rank == 0 || time_rank < best_time_rank))
+            best_time_rank = time_rank, c.time = static_cast<int>(k);
+        if (isRingField(n) && c.ring < 0) c.ring = static_cast<int>(k);
         if (n == "x") c.x = static_cast<int>(k);
         if (n == "y") c.y = static_cast<int>(k);
         if (n == "z") c.z = static_cast<int>(k);
@@ -180,24 +185,40 @@ void readAscii(const std::vector<uint8_t>& bytes, const PcdHeader& h, const Fiel
             }
         cloud.push(static_cast<float>(first[c.x]), static_cast<float>(first[c.y]), static_cast<float>(first[c.z]),
                    static_cast<float>(first[c.intensity]));
+        if (c.time >= 0) cloud.time.push_back(first[c.time]);
+        if (c.ring >= 0) cloud.ring.push_back(static_cast<uint16_t>(std::clamp(first[c.ring], 0.0, 65535.0)));
     }
 }
 
-/** Decodes the 4 wanted fields. Value of field f for point i is at base[f] + i * stride[f]. */
-void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c, const size_t base[4],
-                  const size_t stride[4], RawCloud& cloud)
+/** The fields decoded: x y z intensity, then the optional time and ring (-1: absent). */
+void wantedFields(const FieldChoice& c, int idx[6])
+{
+    const int all[6] = {c.x, c.y, c.z, c.intensity, c.time, c.ring};
+    for (int k = 0; k < 6; ++k) idx[k] = all[k];
+}
+
+/** Decodes the wanted fields. Value of field f for point i is at base[f] + i * stride[f]. */
+void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c, const size_t base[6],
+                  const size_t stride[6], RawCloud& cloud)
 {
     const bool swap = detail::hostIsBigEndian();  // PCD binary data is little-endian
-    const int idx[4] = {c.x, c.y, c.z, c.intensity};
-    ScalarType t[4];
-    for (int k = 0; k < 4; ++k) t[k] = h.fields[idx[k]].scalar;
+    int idx[6];
+    wantedFields(c, idx);
+    ScalarType t[6];
+    for (int k = 0; k < 6; ++k) t[k] = idx[k] >= 0 ? h.fields[idx[k]].scalar : ScalarType::Float32;
     cloud.reserve(h.points);  // the callers checked that the data holds h.points records
+    if (c.time >= 0) cloud.time.reserve(h.points);
+    if (c.ring >= 0) cloud.ring.reserve(h.points);
     for (size_t i = 0; i < h.points; ++i)
     {
         float v[4];
         for (int k = 0; k < 4; ++k)
             v[k] = static_cast<float>(detail::decodeScalar(data + base[k] + i * stride[k], t[k], swap));
         cloud.push(v[0], v[1], v[2], v[3]);
+        if (c.time >= 0) cloud.time.push_back(detail::decodeScalar(data + base[4] + i * stride[4], t[4], swap));
+        if (c.ring >= 0)
+            cloud.ring.push_back(static_cast<uint16_t>(
+                std::clamp(detail::decodeScalar(data + base[5] + i * stride[5], t[5], swap), 0.0, 65535.0)));
     }
 }
 
@@ -209,10 +230,12 @@ void readBinary(const std::vector<uint8_t>& bytes, const PcdHeader& h, const Fie
     core::require(detail::multiply(h.points, h.record_size, need) && have >= need, path,
                   "truncated binary data: " + std::to_string(h.points) + " points need " + std::to_string(need) +
                       " bytes, the file holds " + std::to_string(have));
-    const int idx[4] = {c.x, c.y, c.z, c.intensity};
-    size_t base[4], stride[4];
-    for (int k = 0; k < 4; ++k)
+    int idx[6];
+    wantedFields(c, idx);
+    size_t base[6] = {0, 0, 0, 0, 0, 0}, stride[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < 6; ++k)
     {
+        if (idx[k] < 0) continue;
         base[k] = h.fields[idx[k]].offset;
         stride[k] = h.record_size;
     }
@@ -244,10 +267,12 @@ void readCompressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, const
     const auto n = lzfDecompress(bytes.data() + h.data_offset + 8, sizes[0], raw.data(), raw.size());
     core::require(n.has_value() && *n == need, path, "binary_compressed: corrupt LZF data");
     // Decompressed layout: each field's values for all points, one field after the other.
-    const int idx[4] = {c.x, c.y, c.z, c.intensity};
-    size_t base[4], stride[4];
-    for (int k = 0; k < 4; ++k)
+    int idx[6];
+    wantedFields(c, idx);
+    size_t base[6] = {0, 0, 0, 0, 0, 0}, stride[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < 6; ++k)
     {
+        if (idx[k] < 0) continue;
         const PcdField& f = h.fields[idx[k]];
         base[k] = f.offset * h.points;
         stride[k] = static_cast<size_t>(f.size) * f.count;
@@ -265,6 +290,8 @@ RawCloud detail::parsePcd(const std::vector<uint8_t>& bytes, const std::string& 
     RawCloud cloud;
     cloud.encoding = h.data;
     const FieldChoice c = chooseFields(h, path, cloud.intensity_field);
+    if (c.time >= 0) cloud.time_field = h.fields[c.time].name;
+    if (c.ring >= 0) cloud.ring_field = h.fields[c.ring].name;
     if (h.data == "ascii")
         readAscii(bytes, h, c, path, cloud);
     else if (h.data == "binary")

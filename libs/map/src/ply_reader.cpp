@@ -129,18 +129,23 @@ PlyHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path
 struct VertexLayout
 {
     int x = -1, y = -1, z = -1, intensity = -1;
+    int time = -1, ring = -1;  ///< optional (-1: absent)
 };
 
 VertexLayout findVertexLayout(const PlyElement& vertex, const std::string& path, std::string& intensity_name)
 {
     VertexLayout L;
-    int best_rank = 0;
+    int best_rank = 0, best_time_rank = 0;
     std::string names;
     for (size_t k = 0; k < vertex.properties.size(); ++k)
     {
         const auto& p = vertex.properties[k];
         names += (names.empty() ? "" : " ") + p.name;
         if (p.is_list) continue;
+        const int time_rank = timeFieldRank(p.name);
+        if (time_rank > 0 && (best_time_rank == 0 || time_rank < best_time_rank))
+            best_time_rank = time_rank, L.time = static_cast<int>(k);
+        if (isRingField(p.name) && L.ring < 0) L.ring = static_cast<int>(k);
         if (p.name == "x") L.x = static_cast<int>(k);
         if (p.name == "y") L.y = static_cast<int>(k);
         if (p.name == "z") L.z = static_cast<int>(k);
@@ -231,6 +236,10 @@ void readBinary(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ve
         for (int c = 0; c < 4; ++c)
             val[c] = static_cast<float>(detail::decodeScalar(record_base + off[want[c]], P[want[c]].type, swap));
         cloud.push(val[0], val[1], val[2], val[3]);
+        if (L.time >= 0) cloud.time.push_back(detail::decodeScalar(record_base + off[L.time], P[L.time].type, swap));
+        if (L.ring >= 0)
+            cloud.ring.push_back(static_cast<uint16_t>(std::clamp(
+                detail::decodeScalar(record_base + off[L.ring], P[L.ring].type, swap), 0.0, 65535.0)));
     };
     if (v.count == 0) return;
     if (!hasList(v))
@@ -281,9 +290,11 @@ void readAscii(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ver
                 else
                     values[k] = cur.number(path, what.c_str(), i);
             }
-            if (is_vertex)
-                cloud.push(static_cast<float>(values[L.x]), static_cast<float>(values[L.y]),
-                           static_cast<float>(values[L.z]), static_cast<float>(values[L.intensity]));
+            if (!is_vertex) continue;
+            cloud.push(static_cast<float>(values[L.x]), static_cast<float>(values[L.y]),
+                       static_cast<float>(values[L.z]), static_cast<float>(values[L.intensity]));
+            if (L.time >= 0) cloud.time.push_back(values[L.time]);
+            if (L.ring >= 0) cloud.ring.push_back(static_cast<uint16_t>(std::clamp(values[L.ring], 0.0, 65535.0)));
         }
     }
 }
@@ -306,6 +317,8 @@ RawCloud detail::parsePly(const std::vector<uint8_t>& bytes, const std::string& 
     RawCloud cloud;
     cloud.encoding = h.encoding_name;
     const VertexLayout L = findVertexLayout(h.elements[vertex_el], path, cloud.intensity_field);
+    if (L.time >= 0) cloud.time_field = h.elements[vertex_el].properties[L.time].name;
+    if (L.ring >= 0) cloud.ring_field = h.elements[vertex_el].properties[L.ring].name;
     if (h.encoding == PlyEncoding::Ascii)
         readAscii(bytes, h, vertex_el, L, path, cloud);
     else

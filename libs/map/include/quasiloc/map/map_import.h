@@ -59,12 +59,22 @@ CloudFormat detectCloudFormat(const std::string& path);
  *  8 i; 0 = not intensity-like. The lowest positive rank present wins. */
 int intensityFieldRank(const std::string& name);
 
+/** Priority of a field/property name as a per-point time (case-insensitive), for deskewing scans: 1 time
+ *  (Velodyne ROS driver: seconds from the scan's stamp), 2 t (Ouster: nanoseconds from the stamp), 3 offset_time
+ *  (Livox: nanoseconds from the stamp), 4 timestamp (Hesai, RoboSense: absolute seconds); 0 = not a time. */
+int timeFieldRank(const std::string& name);
+/** A per-point ring / laser number: ring (Velodyne, Ouster, Hesai), line (Livox), laser_id (case-insensitive). */
+bool isRingField(const std::string& name);
+
 /** A cloud as read from a file: coordinates and the raw (not yet normalised) intensity values. */
 struct RawCloud
 {
     std::vector<float> x, y, z;
     std::vector<float> intensity;
     std::string intensity_field;  ///< the field or property the intensity was read from
+    std::vector<double> time;     ///< per point, as stored (units: timeFieldRank); empty: the cloud has no time field
+    std::vector<uint16_t> ring;   ///< per point; empty: the cloud has no ring field
+    std::string time_field, ring_field;
     std::string encoding;         ///< e.g. "binary_little_endian", "binary_compressed", "ascii"
     size_t size() const { return x.size(); }
     void reserve(size_t n);

@@ -1,0 +1,123 @@
+#include "map_build_app.h"
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <quasiloc/core/error.h>
+#include <quasiloc/core/staged_output.h>
+#include <quasiloc/map/map_build.h>
+#include <sstream>
+
+namespace quasiloc::map_build
+{
+namespace
+{
+const char* const kUsageText = R"(map-build: builds a quasiloc LidarMap from LiDAR scans and their poses: voxel fusion
+(mean position, mean reflectivity), reflectivity normalised per range and per ring, moving things removed by
+free-space carving. See docs/map-build.md.
+
+Usage:
+  map-build <config.ini> [--set MapBuild.key=value]... [--print-timing]
+
+Options, section [MapBuild]:
+)";
+
+const char* const kPassNames[] = {"", "fuse", "carve", "reflectivity"};
+
+std::string megabytes(double bytes)
+{
+    std::ostringstream s;
+    s << std::fixed << std::setprecision(1) << bytes / 1.0e6 << " MB";
+    return s.str();
+}
+
+/** One line per pass at 0, 10, 20 ... 100 % of its scans. */
+void printProgress(int pass, size_t done, size_t total)
+{
+    static int last_decile[4] = {-1, -1, -1, -1};
+    const int decile = int(10 * done / total);
+    if (decile == last_decile[pass] && done != total) return;
+    last_decile[pass] = decile;
+    std::cout << "pass " << pass << " (" << kPassNames[pass] << ") " << done << "/" << total << " scans\n"
+              << std::flush;
+}
+}  // namespace
+
+std::string usage()
+{
+    std::string text = kUsageText;
+    for (const core::OptionDescription& d : map::MapBuildOptions().describe())
+    {
+        std::string line = "  " + d.key + std::string(d.key.size() < 28 ? 28 - d.key.size() : 1, ' ') + d.doc;
+        if (!d.unit.empty()) line += " [" + d.unit + "]";
+        text += line + "\n" + std::string(30, ' ') + (d.range.empty() ? "" : d.range + "; ") + "default " +
+                (d.default_value.empty() ? "(empty)" : d.default_value) + "\n";
+    }
+    return text;
+}
+
+int run(const core::CommandLine& cmd)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const auto& f : cmd.flags) throw core::InputError("command line", "unexpected argument '" + f + "'");
+    const auto cfg = core::loadConfig(cmd);
+    map::MapBuildOptions opt;
+    core::loadOptionsChecked(opt, cfg, "MapBuild", cmd.config_path);
+    opt.check(cmd.config_path);
+    core::requireInputFiles(cmd.config_path, "MapBuild", {{"trajectory", opt.trajectory}});
+    core::requireInputFiles(cmd.config_path, "MapBuild",
+                            {{"scan_times_file", opt.scan_times_file}, {"extrinsic_file", opt.extrinsic_file}}, false);
+
+    const map::FolderScanSource source(opt.scan_folder, opt.scan_format);
+    std::vector<std::string> names;
+    for (size_t i = 0; i < source.size(); ++i) names.push_back(source.name(i));
+    const map::ScanPoses poses(opt.poseOptions(), names);
+    std::cout << "scans       " << source.size() << " " << map::toString(source.format()) << " files in "
+              << opt.scan_folder << ", poses from " << opt.trajectory << "\n";
+
+    const map::MapBuildResult r = map::buildMap(opt, source, poses, printProgress);
+
+    // Every output is staged: they all appear together, or none does.
+    core::StagedOutputs staged;
+    const std::string ini_path = opt.output + ".ini";
+    const std::string map_tmp = staged.addFile(opt.output);
+    const std::string ini_tmp = staged.addFile(ini_path);
+    r.map.save(map_tmp);
+    if (!opt.export_cloud.empty())
+        map::exportCloud(r.map, staged.addFile(opt.export_cloud), map::detectCloudFormat(opt.export_cloud),
+                         opt.export_encoding);
+    if (!opt.export_removed.empty())
+    {
+        core::require(!r.removed.empty(), opt.export_removed, "no point was removed: nothing to export");
+        map::exportCloud(r.removed, staged.addFile(opt.export_removed), map::detectCloudFormat(opt.export_removed),
+                         opt.export_encoding);
+    }
+    core::writeEffectiveConfig(ini_tmp, {{"MapBuild", &opt}}, "map-build effective configuration");
+    staged.commit();
+
+    const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::cout << std::fixed << std::setprecision(3);
+    std::cout << "points      " << r.points_read << " read, " << r.points_used << " within " << opt.min_range_m << ".."
+              << opt.max_range_m << " m; " << r.deskewed_scans << " of " << r.scans
+              << " scans deskewed (per-point times)\n"
+              << "fusion      " << r.fused_voxels << " voxels of " << opt.voxel_size_m << " m ("
+              << megabytes(double(r.fusion_bytes)) << ")\n";
+    if (opt.carve)
+        std::cout << "carving     " << r.carving.free_voxels << " of " << r.carving.voxels << " voxels of "
+                  << opt.carve_voxel_m << " m free (" << megabytes(double(r.carving.memory_bytes)) << "), "
+                  << r.carving.rays << " rays, " << r.carving.steps << " voxel steps; " << r.removed.size()
+                  << " points removed\n";
+    std::cout << "reflectivity " << r.intensity.rule << "; " << r.reflectivity_clamped << " values clamped\n"
+              << r.reflectivity_model << "\n";
+    if (r.consistency.voxels > 0)
+        std::cout << "consistency  within-voxel coefficient of variation " << r.consistency.raw_cv << " raw -> "
+                  << r.consistency.normalised_cv << " normalised (" << r.consistency.voxels << " voxels)\n";
+    std::cout << "wrote       " << r.map.size() << " points to " << opt.output << ", effective config " << ini_path
+              << "\n";
+    std::cout << "time        pass 1 " << r.seconds[0] << " s, pass 2 " << r.seconds[1] << " s, pass 3 "
+              << r.seconds[2] << " s, total " << total_s << " s\n";
+    return 0;
+}
+
+}  // namespace quasiloc::map_build
