@@ -8,7 +8,7 @@
 #   bash scripts/kidnap_latency.sh [root=out/sequences] [out=out/kidnap] [sequences...]
 # KIDNAP_TIMES (environment, default "10 20", seconds after the start); TRACK_SETS: --set arguments added to every
 # run, e.g. the relocalization's previous defaults: TRACK_SETS="--set Relocalization.relocalize_single_fix=false
-# --set Relocalization.check_every=10 --set Relocalization.relocalize_near_m=1".
+# --set TrackMonitor.check_every=10 --set Relocalization.relocalize_near_m=1".
 set -euo pipefail
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
 ablation_setup out/kidnap "$@"

@@ -3,7 +3,7 @@
 # images for 1 s and then a 20 ms left/right desync in another. Each run must end normally and report every rejected
 # frame; no pose may be more than 10 cm off without the diagnostics flagging it unverified, and the track must be back
 # within 3 cm of the truth within 2 s after each fault ends. The desync must be caught by the tracker's stereo check
-# (MapFactors.stereo_check_max_sigmas). scripts/fault_table.py runs every fault on the six 30 s sequences.
+# (TrackMonitor.stereo_check_max_sigmas). scripts/fault_table.py runs every fault on the six 30 s sequences.
 source "$(dirname "$0")/common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=6 \

@@ -6,7 +6,7 @@
 //
 // Stages (the tracker's order, tracker.h): IMU prediction, the camera edge field, the quasi-image render at the
 // pose, the map edge model, the direct alignment from a pose 2 cm / 0.5 deg off, the stereo points of both images
-// (descriptor matching) or of the left image guided by the dense disparity (guided matching), the dense stereo cloud (stereo_map_points = dense), and the whole Tracker::track (the window included: its share is the counter window_ms). Every benchmark cycles
+// (descriptor matching) or of the left image guided by the dense disparity (guided matching), the dense stereo cloud (stereo_map_points = dense), and the whole Tracker::step (the window included: its share is the counter window_ms). Every benchmark cycles
 // over the first [Bench] frames frames of the rawlog. The real EuRoC micro set: the same with the --set lines of
 // scripts/real_micro.sh (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
@@ -18,12 +18,14 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/program_options.h>
+#include <sstream>
 #include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/estimation/direct_alignment.h>
 #include <quasiloc/frontend/stereo_matcher.h>
 #include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/tracking/map_context.h>
+#include <quasiloc/tracking/track_monitor.h>
 #include <quasiloc/tracking/tracker.h>
 #include <quasiloc/tracking/tracking_session.h>
 #include <string>
@@ -235,14 +237,13 @@ void BM_DenseCloudPoints(benchmark::State& state)
     state.counters["points"] = double(points) / double(std::max<size_t>(1, k));
 }
 
-/** Tracker::track frame after frame from the ground truth at the first frame (restarted, untimed, at the end). */
+/** Tracker::step frame after frame from the ground truth at the first frame (restarted, untimed, at the end). */
 void BM_TrackFrame(benchmark::State& state)
 {
     Fixture& fx = fixture();
-    frontend::Frontend frontend(fx.options.frontend);
     const estimation::ImuNoise noise = tracking::imuNoise(fx.calibration.requireImu("bench_tracking"));
     tracking::Tracker tracker(fx.options.tracker, fx.options.refinement, fx.options.estimator, fx.options.reweighting,
-                              fx.calibration.rig, noise, fx.context->renderer(), frontend);
+                              fx.calibration.rig, noise, fx.context->renderer(), fx.options.frontend);
     if (fx.options.tracker.factors.stereo_map_factor)
         tracker.setMapDistanceField(fx.context->distanceField(fx.options.localization).get());
     // As TrackingSession does: the dense stereo of stereo_map_points = dense.
@@ -260,11 +261,15 @@ void BM_TrackFrame(benchmark::State& state)
         tracker.initialize(f0.timestamp, truth(f0), v, biases, &f0);
     };
     restart();
+    // The session's stereo gate: its bound and usual edge fit from the monitor's policy.
+    std::ostringstream quiet;
+    tracking::TrackMonitor monitor(fx.options.monitor, quiet, [](double, double) {});
     size_t k = 1, n = 0;
     double window = 0, solve = 0, marginal = 0, align = 0, edge_field = 0, visual = 0;
     for (auto _ : state)
     {
-        const tracking::FrameReport r = tracker.track(fx.frames[k]);
+        const tracking::FrameReport r = tracker.step(fx.frames[k], monitor.stereoGate()).report;
+        monitor.frameTracked(r);
         window += r.ms_window, align += r.ms_align, edge_field += r.ms_image, visual += r.ms_visual, ++n;
         solve += r.ms_window_solve, marginal += r.ms_window_marginal;
         if (++k == fx.frames.size())

@@ -44,18 +44,6 @@ void MapFactorOptions::declare(core::OptionTable& t)
     t.add("stereo_map_truncation_m", stereo_map_truncation_m, "m", Range::above(0),
           "points farther than this from the map do not pull (occluders, clutter)");
     t.add("stereo_map_max_depth_m", stereo_map_max_depth_m, "m", Range::above(0), "farther stereo points are left out");
-    t.add("stereo_check_max_sigmas", stereo_check_max_sigmas, "", Range::atLeast(0),
-          "keyframes: when the stereo points' median distance to the map at the edge-aligned pose is above this many "
-          "point sigmas, the stereo disagrees with the map (left/right desync, broken calibration): its factors are "
-          "left out and the frame is unverified; 0: no check");
-    t.add("stereo_check_release_sigmas", stereo_check_release_sigmas, "", Range::above(0),
-          "after a rejection the bound is this until the stereo has agreed with the map for stereo_check_hold_s "
-          "(a desync's effect comes and goes with the rotation rate)");
-    t.add("stereo_check_hold_s", stereo_check_hold_s, "s", Range::atLeast(0),
-          "... meanwhile the frames are unverified and the loss check, which weighs the same stereo, does not run");
-    t.add("stereo_check_min_edge_ratio", stereo_check_min_edge_ratio, "", Range::atLeast(0),
-          "the check trusts the edge-aligned pose only when its inlier ratio is at least this share of the usual one "
-          "(aligned from a wrong pose the edges fit worse: then the stereo is believed)");
     t.addEnum("stereo_map_points", stereo_map_points, {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
               "dense: the frame's SGBM cloud ([GeometricLocalization] stereo keys); sparse: the ORB stereo matches");
     t.add("map_lines", map_lines, "point-to-line map factors on keyframes (map_lines.h), reweighted by [Reweighting]");
@@ -102,8 +90,6 @@ void TrackerOptions::declare(core::OptionTable& t)
     t.add("max_correction_m", max_correction_m, "m", Range::above(0),
           "larger map corrections are rejected (the gate is 3 predicted sigmas when wider)");
     t.add("max_correction_deg", max_correction_deg, "deg", Range::above(0), "the same for the rotation");
-    t.add("lost_after_misses", lost_after_misses, "frames", Range::atLeast(1),
-          "this many rejected alignments in a row mark the track lost");
     t.add("temporal_landmarks", temporal_landmarks, "stereo landmarks between consecutive frames (odometry)");
     t.add("temporal_window_px", temporal_window_px, "px", Range::above(0),
           "a current keypoint's match lies within this of the previous one");
@@ -152,22 +138,44 @@ void RelocalizationOptions::declare(core::OptionTable& t)
           "the search sphere grows by this per second since the last confirmed pose");
     t.add("relocalize_single_fix", relocalize_single_fix,
           "restart at the first fix with the track's velocity; false: wait for a pair checked by the gyroscope");
+}
+
+void TrackMonitorOptions::declare(core::OptionTable& t)
+{
+    t.add("stereo_check_max_sigmas", stereo_check_max_sigmas, "", Range::atLeast(0),
+          "keyframes: when the stereo points' median distance to the map at the edge-aligned pose is above this many "
+          "point sigmas, the stereo disagrees with the map (left/right desync, broken calibration): its factors are "
+          "left out and the frame is unverified; 0: no check");
+    t.add("stereo_check_release_sigmas", stereo_check_release_sigmas, "", Range::above(0),
+          "after a rejection the bound is this until the stereo has agreed with the map for stereo_check_hold_s "
+          "(a desync's effect comes and goes with the rotation rate)");
+    t.add("stereo_check_hold_s", stereo_check_hold_s, "s", Range::atLeast(0),
+          "... meanwhile the frames are unverified and the loss check, which weighs the same stereo, does not run");
+    t.add("stereo_check_min_edge_ratio", stereo_check_min_edge_ratio, "", Range::atLeast(0),
+          "the check trusts the edge-aligned pose only when its inlier ratio is at least this share of the usual one "
+          "(aligned from a wrong pose the edges fit worse: then the stereo is believed)");
+    t.add("usual_edge_ratio_weight", usual_edge_ratio_weight, "", Range::strictlyBetween(0, 1),
+          "the usual edge inlier ratio is a running mean over the frames whose stereo agreed, the newest weighing this");
     t.add("check_every", check_every, "frames", Range::atLeast(1), "the geometry check of the tracked pose");
     t.add("lost_explained_ratio", lost_explained_ratio, "", Range::fromUpTo(0, 1),
           "a check that explains this share of the stereo points confirms the pose");
     t.add("lost_min_gain", lost_min_gain, "", Range::above(0),
           "below it, the check fails when aligning the points to the map explains this much more ...");
     t.add("lost_explained_floor", lost_explained_floor, "", Range::between(0, 1),
-          "... or when the share is below this; two failed checks in a row: lost");
+          "... or when the share is below this");
     t.add("input_gap_s", input_gap_s, "s", Range::above(0),
           "a gap between frames or in the IMU longer than this (or a rejected frame) leaves the track unverified, "
           "checked on every frame, until a check confirms it");
+    t.add("lost_after_failed_checks", lost_after_failed_checks, "checks", Range::atLeast(1),
+          "this many failed checks in a row mark the track lost");
+    t.add("lost_after_misses", lost_after_misses, "frames", Range::atLeast(1),
+          "this many rejected map alignments in a row mark the track lost");
 }
 
-void RelocalizationOptions::check(const std::string& input) const
+void TrackMonitorOptions::check(const std::string& input) const
 {
-    checkRanges(input, "Relocalization");
-    core::require(lost_explained_floor <= lost_explained_ratio, input + ": [Relocalization] lost_explained_floor",
+    checkRanges(input, "TrackMonitor");
+    core::require(lost_explained_floor <= lost_explained_ratio, input + ": [TrackMonitor] lost_explained_floor",
                   "must be <= lost_explained_ratio");
 }
 

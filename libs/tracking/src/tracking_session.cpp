@@ -58,8 +58,9 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     core::loadOptionsChecked(tracker.initialization, cfg, "Initialization", name);
     core::loadOptionsChecked(tracker.factors, cfg, "MapFactors", name);
     tracker.factors.check(name);
+    core::loadOptionsChecked(monitor, cfg, "TrackMonitor", name);
+    monitor.check(name);
     core::loadOptionsChecked(relocalization, cfg, "Relocalization", name);
-    relocalization.check(name);
     core::loadOptionsChecked(kidnap, cfg, "Kidnap", name);
     core::loadOptionsChecked(localization, cfg, "GeometricLocalization", name);
     localization.check(name);
@@ -84,6 +85,7 @@ std::vector<core::OptionsSection> SessionOptions::sections() const
     return {{"Tracking", &tracker},
             {"Initialization", &tracker.initialization},
             {"MapFactors", &tracker.factors},
+            {"TrackMonitor", &monitor},
             {"Relocalization", &relocalization},
             {"Kidnap", &kidnap},
             {"GeometricLocalization", &localization},
@@ -106,6 +108,7 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
       imu_(imu),
       out_(console),
       guard_(console),
+      monitor_(options.monitor, console, [this](double after_t, double up_to_t) { log_.markUnverified(after_t, up_to_t); }),
       T_body_cam_(core::toIsometry(source.rig().T_body_left)),
       frontend_(std::make_unique<frontend::Frontend>(options.frontend))
 {
@@ -116,7 +119,7 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
     noise.gap_acc_sigma = options_.estimator.imu_gap_acc_sigma;
     noise.gap_gyro_sigma = options_.estimator.imu_gap_gyro_sigma;
     tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting,
-                                         source.rig(), noise, context.renderer(), *frontend_);
+                                         source.rig(), noise, context.renderer(), options_.frontend);
     // auto resolves to factor when the map's reflectivity varies (Tracker's constructor), else to none.
     out_ << "map term: " << mapTermName(tracker_->mapTerm())
          << (o.map_term != MapTerm::Auto                  ? ""
@@ -168,20 +171,8 @@ bool TrackingSession::readSource(dataset::StereoFrame& out)
         if (!source_.next(out)) return false;
         if (!summary_.t_first_frame) summary_.t_first_frame = out.timestamp;
     } while (!guard_.accept(out));
-    if (guard_.lastWasFaulty(options_.relocalization.input_gap_s)) faulty_frame_t_ = out.timestamp;
+    if (guard_.lastWasFaulty(options_.monitor.input_gap_s)) monitor_.inputFault(out.timestamp);
     return true;
-}
-
-void TrackingSession::flagUnverified(double after_t)
-{
-    if (!unverified_after_ || after_t < *unverified_after_) unverified_after_ = after_t;
-}
-
-void TrackingSession::closeUnverified(double up_to_t)
-{
-    if (!unverified_after_) return;
-    log_.markUnverified(*unverified_after_, up_to_t);
-    unverified_after_.reset();
 }
 
 bool TrackingSession::nextFrame(dataset::StereoFrame& out)
@@ -211,11 +202,12 @@ void TrackingSession::startFromGroundTruth(const std::string& input)
     const ImuBiasPrior biases = options_.tracker.initialization.static_initialization
                                     ? withStaticEstimate(calibrationBiasPrior(imu_), still.estimate())
                                     : calibrationBiasPrior(imu_);
-    tracker_->initialize(f0.timestamp, T_world_cam, (p1 - p0) / (f1.timestamp - f0.timestamp), biases, &f0);
+    latest_ = tracker_->initialize(f0.timestamp, T_world_cam, (p1 - p0) / (f1.timestamp - f0.timestamp), biases, &f0);
     start_biases_ = biases;
     queued_.push_back(std::move(f1));
     summary_.T_world_cam0_start = T_world_cam;
     log_.addStart(f0, T_world_cam);
+    history_.add(f0.timestamp, T_world_cam);
     t_start_ = f0.timestamp;
 }
 
@@ -232,12 +224,13 @@ void TrackingSession::startGlobally(const std::string& input)
                   "global initialisation found no start: no two frames localized by geometry and agreed with the "
                   "IMU (see the printed attempts)");
     GlobalInitialState& start = *found;
-    tracker_->initializeFromGlobal(start.anchor.timestamp, start.T_world_cam0, *start.v_world, start.biases,
+    latest_ = tracker_->initializeFromGlobal(start.anchor.timestamp, start.T_world_cam0, *start.v_world, start.biases,
                                    &start.anchor);  // a pair: always has a velocity
     start_biases_ = start.biases;
     for (auto& p : start.pending) queued_.push_back(std::move(p));
     summary_.T_world_cam0_start = start.T_world_cam0;
     log_.addStart(start.anchor, start.T_world_cam0);
+    history_.add(start.anchor.timestamp, start.T_world_cam0);
     t_start_ = start.anchor.timestamp;
     if (start.anchor.T_world_cam0) summary_.T_world_cam0_start_truth = core::toIsometry(*start.anchor.T_world_cam0);
 }
@@ -251,7 +244,7 @@ SessionSummary TrackingSession::run(const std::string& input)
     }
     else
         startGlobally(input);
-    last_verified_t_ = t_start_;
+    monitor_.started(t_start_);
     // After the start: the search thread takes over the starter's console lines (the start's are printed as made).
     if (starter_ && relocalizes())
         search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
@@ -269,13 +262,13 @@ SessionSummary TrackingSession::run(const std::string& input)
     }
     if (search_ && search_->searching())
     {
-        summary_.longest_unverified_s = std::max(summary_.longest_unverified_s, f.timestamp - last_verified_t_);
-        summary_.longest_wait_s = std::max(summary_.longest_wait_s, f.timestamp - last_verified_t_);
+        const double last_verified_t = monitor_.lastVerifiedT();
+        summary_.longest_unverified_s = std::max(summary_.longest_unverified_s, f.timestamp - last_verified_t);
+        summary_.longest_wait_s = std::max(summary_.longest_wait_s, f.timestamp - last_verified_t);
         out_ << "the frames ended during a relocalization search (unverified since t " << std::fixed
-             << std::setprecision(3) << last_verified_t_ << ")" << std::endl;
-        flagUnverified(last_verified_t_);
+             << std::setprecision(3) << last_verified_t << ")" << std::endl;
     }
-    closeUnverified(INFINITY);  // a stretch no check confirmed runs to the end
+    monitor_.ended();
     summary_.frames = n_;
     summary_.map = context_.figures();
     summary_.localizer_setup_s = starter_ ? starter_->setupSeconds() : 0;
@@ -292,93 +285,36 @@ void TrackingSession::finishSearch(dataset::StereoFrame& f, bool& have_frame)
 
 void TrackingSession::trackFrame(dataset::StereoFrame& f)
 {
-    setStereoCheckBound();
-    const FrameReport r = tracker_->track(f);
+    TrackStep step = tracker_->step(f, monitor_.stereoGate());
+    FrameReport& r = step.report;
+    r.lost = monitor_.lostByMisses(r);
     ++n_;
-    // After an input fault, or without a map update, the pose is not confirmed until a check passes.
-    if (faulty_frame_t_ && f.timestamp >= *faulty_frame_t_)
-    {
-        flagUnverified(f.timestamp - 1e-6);
-        faulty_frame_t_.reset();
-        edge_pose_trusted_ = false;
-    }
-    if (r.keyframe && !r.map_update)
-    {
-        flagUnverified(f.timestamp - 1e-6);
-        edge_pose_trusted_ = false;
-    }
-    updateStereoHold(r);
+    monitor_.frameTracked(r);
     double ms_check = 0, ms_search = 0;
-    const double explained = checkTrack(f, r, ms_check);
+    const double explained = checkTrack(f, step, ms_check);
+    latest_ = step.estimate;
     kidnapIfDue(r);
     if (relocalize(f, r, ms_search)) return;  // this frame is among those tracked again
     log_.addFrame(f, r, explained, ms_check, ms_search);
+    history_.add(r.t, r.T_world_cam0);
     recordTiming(r, ms_check, ms_search);
     if (n_ % 50 == 0)
         out_ << "frame " << n_ << ": error " << std::fixed << std::setprecision(3) << log_.lastErrorM() << " m"
              << std::endl;
 }
 
-void TrackingSession::setStereoCheckBound()
+double TrackingSession::checkTrack(const dataset::StereoFrame& f, const TrackStep& step, double& ms)
 {
-    const MapFactorOptions& m = options_.tracker.factors;
-    double bound = 0;
-    if (m.stereo_check_max_sigmas > 0 && stereo_hold_until_) bound = m.stereo_check_release_sigmas;
-    else if (m.stereo_check_max_sigmas > 0 && edge_pose_trusted_ && !faulty_frame_t_) bound = m.stereo_check_max_sigmas;
-    tracker_->setStereoCheckBound(bound);
-}
-
-void TrackingSession::updateStereoHold(const FrameReport& r)
-{
-    const MapFactorOptions& m = options_.tracker.factors;
-    if (r.stereo_rejected)
-    {
-        if (!stereo_hold_until_)
-            out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo points lie "
-                 << std::setprecision(1) << r.stereo_map_sigmas
-                 << " sigmas from the map (median): stereo left out, frames unverified (a left/right desync or a "
-                    "broken calibration?)"
-                 << std::endl;
-        stereo_hold_until_ = r.t + m.stereo_check_hold_s;
-    }
-    else if (stereo_hold_until_ && r.t >= *stereo_hold_until_)
-    {
-        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo has agreed with "
-             << "the map for " << std::setprecision(1) << m.stereo_check_hold_s << " s" << std::endl;
-        stereo_hold_until_.reset();
-    }
-    if (stereo_hold_until_) flagUnverified(r.t - 1e-6);
-}
-
-double TrackingSession::checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms)
-{
-    const RelocalizationOptions& o = options_.relocalization;
-    const bool due = n_ % size_t(o.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
-    // The check weighs the frame's dense stereo against the map: while the stereo is suspect it says nothing.
-    if (!search_ || !due || search_->searching() || stereo_hold_until_) return NAN;
+    if (!search_ || !monitor_.checkDue(n_)) return NAN;
+    const FrameReport& r = step.report;
     const auto t0 = std::chrono::steady_clock::now();
-    const auto c = starter_->checkTrack(f, r.T_world_cam0, o.lost_explained_ratio, tracker_->lastDenseCloud());
+    const auto c = starter_->checkTrack(f, r.T_world_cam0, options_.monitor.lost_explained_ratio, step.denseCloud());
     ms = msSince(t0);
-    const bool failed =
-        c.refined && (c.refined_explained - c.explained >= o.lost_min_gain || c.explained < o.lost_explained_floor);
-    failed_checks_ = failed ? failed_checks_ + 1 : 0;
-    // After a restart at a fix, the stereo that passes the check is the stereo the fix came from: the pose is
-    // confirmed only when the edges (the left image alone) fit as usual too.
-    const bool confirms = !failed && (!restart_unconfirmed_ || tracker_->edgesAsUsual(r));
-    if (failed) flagUnverified(last_verified_t_);  // since the last confirmed pose
-    else if (confirms)
-    {
-        restart_unconfirmed_ = false;
-        edge_pose_trusted_ = true;
-        closeUnverified(r.t);
-        last_verified_t_ = r.t;
-    }
+    const CheckOutcome outcome = monitor_.checked(r, {c.explained, c.refined, c.refined_explained});
     if (c.refined)
         out_ << "check at t " << std::fixed << std::setprecision(3) << r.t << ": explained " << c.explained << ", "
              << c.refined_explained << " after aligning (moved " << c.moved_m << " m, " << c.moved_deg
-             << " deg): " << (failed ? "failed" : confirms ? "passed" : "passed, not confirming the restart (edges "
-                                                                               "poorer than usual)")
-             << std::endl;
+             << " deg): " << toString(outcome) << std::endl;
     return c.explained;
 }
 
@@ -393,34 +329,34 @@ void TrackingSession::kidnapIfDue(const FrameReport& r)
                        Eigen::AngleAxisd(k.kidnap_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
     out_ << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted " << k.kidnap_m
          << " m to the side, " << k.kidnap_deg << " deg turned" << std::endl;
-    tracker_->initialize(r.t, T_wrong, tracker_->state().v_map, tracker_->biasPrior(), nullptr);
+    latest_ = tracker_->initialize(r.t, T_wrong, latest_.state.v_map, latest_.biasPrior(), nullptr);
 }
 
 bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms)
 {
     if (!search_) return false;
     const RelocalizationOptions& o = options_.relocalization;
-    if ((r.lost || failed_checks_ >= 2) && !search_->searching())
+    if (monitor_.lossDue(r))
     {
         // Lost (lost_after_misses rejected alignments, or the stereo geometry fits the map better elsewhere):
         // global localization looks for a start in the next frames on its own thread while the tracker tracks
         // on, so a loss that was a false alarm (the view merely poorly explained) costs nothing.
-        failed_checks_ = 0;
         ++summary_.losses;
-        flagUnverified(last_verified_t_);
+        monitor_.searchBegun();
+        const double last_verified_t = monitor_.lastVerifiedT();
         out_ << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
         std::optional<SearchPrior> prior;
         if (o.relocalize_near_m > 0)
-            if (const auto known = log_.poseAt(last_verified_t_))
-                prior = SearchPrior{known->translation(), last_verified_t_, o.relocalize_near_m,
+            if (const auto known = history_.at(last_verified_t))
+                prior = SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m,
                                     o.relocalize_speed_m_s};
-        starter_->setBiasPrior(tracker_->biasPrior());
+        starter_->setBiasPrior(latest_.biasPrior());
         search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix);
     }
     if (!search_->searching()) return false;
     // Only the hand-over counts in the frame's time: the search itself runs beside the tracker.
     const auto t0 = std::chrono::steady_clock::now();
-    since_loss_.emplace_back(f, tracker_->state());
+    since_loss_.emplace_back(f, latest_.state);
     search_->push(f);
     const auto found = search_->poll();
     ms = msSince(t0);
@@ -430,19 +366,18 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
 bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
 {
     const double t_fix = found.anchor.timestamp;
-    summary_.longest_unverified_s = std::max(summary_.longest_unverified_s, t_fix - last_verified_t_);
-    summary_.longest_wait_s = std::max(summary_.longest_wait_s, t_now - last_verified_t_);
-    const auto tracked = log_.poseAt(t_fix);
+    const double last_verified_t = monitor_.lastVerifiedT();
+    summary_.longest_unverified_s = std::max(summary_.longest_unverified_s, t_fix - last_verified_t);
+    summary_.longest_wait_s = std::max(summary_.longest_wait_s, t_now - last_verified_t);
+    const auto tracked = history_.at(t_fix);
     const TrackerOptions& o = options_.tracker;
     const bool agrees = tracked &&
                         core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
                         core::rotationDistanceRad(*tracked, found.T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
     out_ << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
-         << last_verified_t_ << ", found at t " << t_now << "; "
+         << last_verified_t << ", found at t " << t_now << "; "
          << (agrees ? "the fixes confirm the track: loss withdrawn" : "restarted") << std::endl;
-    flagUnverified(last_verified_t_);
-    closeUnverified(t_fix);
-    last_verified_t_ = t_fix;
+    monitor_.fixFound(t_fix, agrees);
     if (agrees)
     {
         ++summary_.withdrawn;
@@ -450,12 +385,7 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
         return false;
     }
     ++summary_.relocalizations;
-    // A restart rests on one fix of the stereo geometry (wrong when the stereo is, e.g. desynchronized): the track
-    // from it is unverified until a check confirms it.
-    flagUnverified(t_fix);
-    edge_pose_trusted_ = false;
-    restart_unconfirmed_ = true;
-    estimation::FrameState track_at_fix = tracker_->state();
+    estimation::FrameState track_at_fix = latest_.state;
     for (const auto& [frame, state] : since_loss_)
         if (frame.timestamp <= t_fix) track_at_fix = state;
     // A single fix brings no velocity: the track's, turned into the fix's frame.
@@ -463,12 +393,14 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
         found.v_world ? *found.v_world
                       : velocityAtFix(found.T_world_cam0, T_body_cam_, track_at_fix.T_map_body, track_at_fix.v_map);
     // The biases the track had at the fix, with its present uncertainty about them.
-    ImuBiasPrior biases = tracker_->biasPrior();
+    ImuBiasPrior biases = latest_.biasPrior();
     biases.gyro_bias = track_at_fix.gyro_bias;
     biases.acc_bias = track_at_fix.acc_bias;
-    tracker_->initializeFromGlobal(t_fix, found.T_world_cam0, v_world, biases, &found.anchor);
+    latest_ = tracker_->initializeFromGlobal(t_fix, found.T_world_cam0, v_world, biases, &found.anchor);
     log_.rewindTo(t_fix);
+    history_.forgetFrom(t_fix);
     log_.addStart(found.anchor, found.T_world_cam0);
+    history_.add(t_fix, found.T_world_cam0);
     for (auto it = since_loss_.rbegin(); it != since_loss_.rend(); ++it)
         if (it->first.timestamp > t_fix)
         {

@@ -193,9 +193,9 @@ TEST_F(TrackingSessionTest, FalseAlarmIsWithdrawnWhenTheFixConfirmsTheTrack)
     double t = 0;
     ASSERT_TRUE(first >> t >> imu.gyroscope_bias.x() >> imu.gyroscope_bias.y() >> imu.gyroscope_bias.z()) << line;
     imu.gyroscope_bias_sigma = 0.002;
-    const Run r = run(options({{"Relocalization.lost_explained_ratio", "0.99"},
-                               {"Relocalization.lost_min_gain", "0.0001"},
-                               {"Relocalization.lost_explained_floor", "0"}}),
+    const Run r = run(options({{"TrackMonitor.lost_explained_ratio", "0.99"},
+                               {"TrackMonitor.lost_min_gain", "0.0001"},
+                               {"TrackMonitor.lost_explained_floor", "0"}}),
                       &imu);
     EXPECT_GE(r.summary.losses, 1) << r.console;
     EXPECT_GE(r.summary.withdrawn, 1) << r.console;

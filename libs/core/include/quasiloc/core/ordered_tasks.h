@@ -1,8 +1,9 @@
 #pragma once
 // A frame's independent tasks, shared by two threads in the order they were added: each thread claims the next
 // unclaimed task and runs it, so a thread that reaches a point where it must wait for one result does useful work
-// meanwhile instead (the tracker's edge field, stereo points and dense stereo, tracker.cpp). Who runs a task
-// changes only when it finishes, never what it computes.
+// meanwhile instead (the tracker's measurement stage, frame_measurement.h). A thread that needs one result at a
+// known point can claim that task ahead of its turn (runOrWait). Who runs a task changes only when it finishes,
+// never what it computes.
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
@@ -31,27 +32,27 @@ class OrderedTasks
         size_t i = 0;
         {
             std::lock_guard<std::mutex> lock(mutex_);
+            while (next_ < tasks_.size() && tasks_[next_].state != State::Queued) ++next_;  // claimed out of order
             if (next_ == tasks_.size()) return false;
             i = next_++;
-            tasks_[i].state = State::Running;
-            task = std::move(tasks_[i].run);
+            task = claim(i);
         }
-        std::exception_ptr error;
-        try
-        {
-            task();
-        }
-        catch (...)
-        {
-            error = std::current_exception();
-        }
+        execute(i, task);
+        return true;
+    }
+
+    /** Task i now on this thread, ahead of its turn, if no thread has claimed it yet; else waits for it. For a
+     *  result one thread needs at a known point (the camera's edge field, after the map's render). Rethrows what
+     *  task i threw. */
+    void runOrWait(size_t i)
+    {
+        std::function<void()> task;
         {
             std::lock_guard<std::mutex> lock(mutex_);
-            tasks_[i].state = State::Done;
-            tasks_[i].error = error;
+            if (tasks_.at(i).state == State::Queued) task = claim(i);
         }
-        finished_.notify_all();
-        return true;
+        if (task) execute(i, task);
+        wait(i);
     }
 
     bool done(size_t i)
@@ -105,6 +106,31 @@ class OrderedTasks
     {
         std::lock_guard<std::mutex> lock(mutex_);
         return tasks_.at(i).state == State::Queued;
+    }
+    /** Marks task i running and takes its function (the caller holds the lock). */
+    std::function<void()> claim(size_t i)
+    {
+        tasks_[i].state = State::Running;
+        return std::move(tasks_[i].run);
+    }
+    /** Runs the claimed task i; an exception is kept for wait(). */
+    void execute(size_t i, std::function<void()>& task)
+    {
+        std::exception_ptr error;
+        try
+        {
+            task();
+        }
+        catch (...)
+        {
+            error = std::current_exception();
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            tasks_[i].state = State::Done;
+            tasks_[i].error = error;
+        }
+        finished_.notify_all();
     }
 
     std::mutex mutex_;

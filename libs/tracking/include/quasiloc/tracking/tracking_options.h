@@ -3,7 +3,8 @@
 //   [Tracking]        the tracker: map updates, their gate, the temporal landmarks (TrackerOptions)
 //   [Initialization]  the start: given or by global localization, its uncertainty, static initialization
 //   [MapFactors]      the map's factors in the window: edges, stereo points against surfaces, lines, points, planes
-//   [Relocalization]  the loss check and the relocalization search (TrackingSession)
+//   [TrackMonitor]    the policy of the track's health: the stereo gate, the loss check, losses (TrackMonitor)
+//   [Relocalization]  the relocalization search (TrackingSession)
 //   [Kidnap]          a test hook of the loss recovery, not a product setting
 // docs/options.md lists every key with its unit, range, default and documentation; docs/experiments.md the
 // measurements behind the defaults.
@@ -61,8 +62,6 @@ struct MapFactorOptions : public core::DeclaredOptions
     bool stereo_map_factor = true;
     double stereo_map_sigma_m = 0.02, stereo_disparity_sigma_px = 0.5, stereo_map_effective_points = 50;
     double stereo_map_truncation_m = 0.15, stereo_map_max_depth_m = 6;
-    double stereo_check_max_sigmas = 3, stereo_check_release_sigmas = 2, stereo_check_hold_s = 2;
-    double stereo_check_min_edge_ratio = 0.8;
     StereoMapPoints stereo_map_points = StereoMapPoints::Dense;
     bool map_lines = false;
     double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;
@@ -84,7 +83,6 @@ struct TrackerOptions : public core::DeclaredOptions
     MapTerm map_term = MapTerm::Auto;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
-    int lost_after_misses = 20;
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
     double temporal_max_gap_s = 0.3;
@@ -112,8 +110,19 @@ struct RelocalizationOptions : public core::DeclaredOptions
     bool relocalize_latest_only = true;
     double relocalize_near_m = 0.5, relocalize_speed_m_s = 1.5;
     bool relocalize_single_fix = true;
+    void declare(core::OptionTable& t) override;
+};
+
+/** Every threshold of the track monitor's policy (track_monitor.h): the stereo gate, the loss check, losses. */
+struct TrackMonitorOptions : public core::DeclaredOptions
+{
+    double stereo_check_max_sigmas = 3, stereo_check_release_sigmas = 2, stereo_check_hold_s = 2;
+    double stereo_check_min_edge_ratio = 0.8;
+    double usual_edge_ratio_weight = 0.05;
     int check_every = 5;
     double lost_explained_ratio = 0.7, lost_min_gain = 0.05, lost_explained_floor = 0.45;
+    int lost_after_failed_checks = 2;
+    int lost_after_misses = 20;
     double input_gap_s = 0.15;  ///< three frame periods at 20 Hz
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;

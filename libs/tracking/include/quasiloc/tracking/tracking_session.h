@@ -1,20 +1,18 @@
 #pragma once
-// A tracking session: the product's policy around the tracker, driven frame by frame from a FrameSource.
+// A tracking session: the product's run around the tracker, frame by frame from a FrameSource. Each frame flows
+// one way:
+//     read (InputGuard) -> tracker step (Tracker::step, gated by the monitor's StereoGate) -> loss check
+//     (GlobalStarter::checkTrack, when the monitor says it is due) -> TrackMonitor (the track's health) ->
+//     relocalization (BackgroundSearch, when the monitor declares a loss) -> RunLog (written, never read back)
 //   start         from the ground truth of the first frames, or by global localization by geometry
 //                 ([Initialization] init; GlobalStarter), after a static initialization when the platform stands;
-//   loss check    every check_every frames the frame's stereo points against the map at the tracked pose
-//                 ([Relocalization]); two failed checks in a row, or lost_after_misses rejected alignments: lost;
-//   relocalize    global localization on its own thread (BackgroundSearch) while the tracker goes on; a fix that
-//                 agrees with the track withdraws the loss, otherwise the tracker restarts at the fix and the
-//                 frames since are tracked again.
+//   policy        the track's health, the stereo gate, when to check, when the track is lost and which frames are
+//                 unverified: TrackMonitor (track_monitor.h, [TrackMonitor]);
+//   relocalize    global localization on its own thread while the tracker goes on; a fix that agrees with the
+//                 track (PoseHistory) withdraws the loss, otherwise the tracker restarts at the fix and the frames
+//                 since are tracked again;
 //   bad input     frames whose timestamp does not increase, or with no IMU sample since the previous frame, are
 //                 rejected with a warning and not tracked (InputGuard, input_guard.h); the run goes on.
-//   unverified    the diagnostics flag a frame `unverified` when it lies in a stretch the session could not
-//                 confirm: from the last passed check to the fix that ended a loss (or to the end of the frames),
-//                 or from a missed map update, a restart at a fix, or an input fault (rejected frames, a gap
-//                 between frames or in the IMU longer than input_gap_s) to the next passed check (after a
-//                 restart: a passed check on a frame whose edges fit as usual); while unverified, every frame is
-//                 checked.
 // quasiloc-track is options -> session -> outputs; the unit tests drive the session without the program.
 #include <mrpt/system/CTimeLogger.h>
 
@@ -34,19 +32,23 @@
 #include <quasiloc/tracking/global_start.h>
 #include <quasiloc/tracking/input_guard.h>
 #include <quasiloc/tracking/map_context.h>
+#include <quasiloc/tracking/pose_history.h>
 #include <quasiloc/tracking/run_log.h>
+#include <quasiloc/tracking/track_monitor.h>
 #include <quasiloc/tracking/tracker.h>
 #include <quasiloc/tracking/tracking_options.h>
 
 namespace quasiloc::tracking
 {
-/** Every option of a session, one INI section each (quasi-image options belong to the MapContext). */
 /** The tracker's IMU model from the calibration's [imu] (dataset/calibration.h). */
 estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c);
+
+/** Every option of a session, one INI section each (quasi-image options belong to the MapContext). */
 
 struct SessionOptions
 {
     TrackingRunOptions tracker;                       ///< [Tracking] + [Initialization] + [MapFactors]
+    TrackMonitorOptions monitor;                      ///< [TrackMonitor]
     RelocalizationOptions relocalization;             ///< [Relocalization]
     KidnapOptions kidnap;                             ///< [Kidnap] (test hook)
     reloc::GeometricLocalizationOptions localization;  ///< [GeometricLocalization]
@@ -93,14 +95,9 @@ class TrackingSession
     void startFromGroundTruth(const std::string& input);
     void startGlobally(const std::string& input);
     void trackFrame(dataset::StereoFrame& f);
-    /** The stereo check's bound for the next frame: stereo_check_max_sigmas while the edge pose is trusted,
-     *  stereo_check_release_sigmas while the stereo is suspect, none otherwise (after a gap or a restart the stereo
-     *  is what brings the track back). */
-    void setStereoCheckBound();
-    /** Opens, extends or closes the stretch in which the stereo is suspect, and says so once per stretch. */
-    void updateStereoHold(const FrameReport& r);
-    /** The geometry check of the tracked pose; returns its explained share (NaN when not checked). */
-    double checkTrack(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
+    /** The geometry check of the tracked pose, when the monitor says it is due; returns its explained share (NaN
+     *  when not checked). */
+    double checkTrack(const dataset::StereoFrame& f, const TrackStep& step, double& ms);
     void kidnapIfDue(const FrameReport& r);
     /** A loss begins a relocalization search; a search under way gets the frame. True when it restarted the track. */
     bool relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
@@ -108,10 +105,6 @@ class TrackingSession
     bool settle(const GlobalInitialState& found, double t_now);
     void finishSearch(dataset::StereoFrame& f, bool& have_frame);
     void recordTiming(const FrameReport& r, double ms_check, double ms_search);
-    /** The track is unverified after time `after_t` (exclusive) until a check passes or a fix settles a loss. */
-    void flagUnverified(double after_t);
-    /** Flags the frames of the unverified stretch up to `up_to_t` in the log and ends it. */
-    void closeUnverified(double up_to_t);
 
     SessionOptions options_;
     MapContext& context_;
@@ -119,25 +112,16 @@ class TrackingSession
     dataset::ImuCalibration imu_;
     std::ostream& out_;
     InputGuard guard_;
-    std::optional<double> faulty_frame_t_;  ///< the latest frame read after an input fault, until it is tracked
-    /** After the tracker rejected the stereo: until when the stereo stays suspect (stereo_check_hold_s after the
-     *  latest rejection). */
-    std::optional<double> stereo_hold_until_;
-    /** False from an input fault, a missed map update or a restart at a fix until a loss check passes: the
-     *  edge-aligned pose may then be the wrong one, and the stereo check (which trusts it) is off. A failed loss check
-     *  leaves it: the stereo it weighs may be the broken part. */
-    bool edge_pose_trusted_ = true;
-    /** From a restart at a fix until a passed loss check on a frame whose edges fit as usual: the fix and the check
-     *  weigh the same stereo, so a check alone would confirm a fix from desynchronised stereo (docs/reliability.md). */
-    bool restart_unconfirmed_ = false;
-    std::optional<double> unverified_after_;  ///< the track is unverified after this time
     Eigen::Isometry3d T_body_cam_;
-    std::unique_ptr<frontend::Frontend> frontend_;
+    std::unique_ptr<frontend::Frontend> frontend_;  ///< the global starter's
     std::unique_ptr<reloc::StereoCloud> stereo_cloud_;  ///< stereo_map_points = dense
     std::unique_ptr<Tracker> tracker_;
     std::unique_ptr<GlobalStarter> starter_;
     std::optional<BackgroundSearch> search_;
     RunLog log_;
+    TrackMonitor monitor_;
+    PoseHistory history_;
+    TrackEstimate latest_;  ///< the tracker's latest estimate (what a restart takes its biases from)
     mutable mrpt::system::CTimeLogger timer_{true, "quasiloc-track"};
     SessionSummary summary_;
     std::deque<dataset::StereoFrame> queued_;  ///< read but not yet tracked (the start's, or to track again)
@@ -145,8 +129,7 @@ class TrackingSession
      *  again, from the biases the track had at the fix). */
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
     ImuBiasPrior start_biases_;
-    double t_start_ = 0, last_verified_t_ = 0;
-    int failed_checks_ = 0;  ///< consecutive failed geometry checks
+    double t_start_ = 0;
     bool kidnapped_ = false;
     size_t n_ = 0;  ///< frames tracked (and started from)
 };

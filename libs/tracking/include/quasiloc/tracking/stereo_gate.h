@@ -1,0 +1,31 @@
+#pragma once
+// The stereo gate of one frame: whether the frame's stereo factors enter the window, given how well the stereo
+// agrees with the map at the edge-aligned pose. The track monitor (track_monitor.h) sets its bound from the track's
+// health before each frame; the tracker applies it to what it measured. The edge-aligned pose rests on the left
+// image alone, so it can judge the stereo, but only while its edges fit as well as they usually do: aligned from a
+// wrong pose (a restart, a kidnap, the end of a gap) the edges settle in a poorer optimum, and then the stereo, not
+// the pose, is the one to believe.
+#include <cmath>
+
+namespace quasiloc::tracking
+{
+struct StereoGate
+{
+    /** The stereo is left out above this median distance to the map, in point sigmas; 0: never left out. */
+    double max_sigmas = 0;
+    /** The edge pose judges the stereo only with an edge inlier ratio of at least this share of the usual one. */
+    double min_edge_ratio = 0;
+    /** The usual edge inlier ratio (NaN: none yet, the edges count as usual). */
+    double usual_edge_ratio = NAN;
+
+    bool edgesAsUsual(double edge_inlier_ratio) const
+    {
+        return std::isnan(usual_edge_ratio) || edge_inlier_ratio >= min_edge_ratio * usual_edge_ratio;
+    }
+    /** The stereo, measured at `stereo_map_sigmas` against an alignment with `edge_inlier_ratio`, is left out. */
+    bool rejects(double stereo_map_sigmas, double edge_inlier_ratio) const
+    {
+        return edgesAsUsual(edge_inlier_ratio) && max_sigmas > 0 && stereo_map_sigmas > max_sigmas;
+    }
+};
+}  // namespace quasiloc::tracking

@@ -1,0 +1,196 @@
+#include <quasiloc/tracking/track_monitor.h>
+
+#include <iomanip>
+
+namespace quasiloc::tracking
+{
+const char* toString(TrackHealth h)
+{
+    switch (h)
+    {
+        case TrackHealth::Verified: return "verified";
+        case TrackHealth::Doubted: return "doubted";
+        case TrackHealth::EdgesSuspect: return "edges suspect";
+        case TrackHealth::Restarted: return "restarted";
+        case TrackHealth::Lost: return "lost";
+    }
+    return "?";
+}
+
+const char* toString(CheckOutcome o)
+{
+    switch (o)
+    {
+        case CheckOutcome::Passed: return "passed";
+        case CheckOutcome::PassedUnconfirmed: return "passed, not confirming the restart (edges poorer than usual)";
+        case CheckOutcome::Failed: return "failed";
+    }
+    return "?";
+}
+
+TrackMonitor::TrackMonitor(const TrackMonitorOptions& options, std::ostream& console, UnverifiedSink unverified)
+    : options_(options), out_(console), unverified_(std::move(unverified))
+{
+    options_.check("TrackMonitor");
+}
+
+void TrackMonitor::started(double t)
+{
+    health_ = TrackHealth::Verified;
+    last_verified_t_ = t;
+}
+
+void TrackMonitor::inputFault(double t) { input_fault_t_ = t; }
+
+bool TrackMonitor::edgesTrusted() const
+{
+    const TrackHealth h = health_ == TrackHealth::Lost ? before_loss_ : health_;
+    return h == TrackHealth::Verified || h == TrackHealth::Doubted;
+}
+
+void TrackMonitor::edgesBecomeSuspect()
+{
+    TrackHealth& h = health_ == TrackHealth::Lost ? before_loss_ : health_;
+    if (h != TrackHealth::Restarted) h = TrackHealth::EdgesSuspect;
+}
+
+void TrackMonitor::flagUnverified(double after_t)
+{
+    if (!unverified_after_ || after_t < *unverified_after_) unverified_after_ = after_t;
+    if (health_ == TrackHealth::Verified) health_ = TrackHealth::Doubted;
+}
+
+void TrackMonitor::closeUnverified(double up_to_t)
+{
+    if (!unverified_after_) return;
+    unverified_(*unverified_after_, up_to_t);
+    unverified_after_.reset();
+    if (health_ == TrackHealth::Doubted) health_ = TrackHealth::Verified;
+}
+
+bool TrackMonitor::edgesAsUsual(const FrameReport& r) const
+{
+    return std::isnan(usual_edge_ratio_) ||
+           r.edge_inlier_ratio >= options_.stereo_check_min_edge_ratio * usual_edge_ratio_;
+}
+
+StereoGate TrackMonitor::stereoGate() const
+{
+    StereoGate g;
+    g.min_edge_ratio = options_.stereo_check_min_edge_ratio;
+    g.usual_edge_ratio = usual_edge_ratio_;
+    if (options_.stereo_check_max_sigmas <= 0) return g;
+    if (stereo_held_until_) g.max_sigmas = options_.stereo_check_release_sigmas;
+    else if (edgesTrusted() && !input_fault_t_) g.max_sigmas = options_.stereo_check_max_sigmas;
+    return g;
+}
+
+void TrackMonitor::holdStereo(const FrameReport& r)
+{
+    if (r.stereo_rejected)
+    {
+        if (!stereo_held_until_)
+            out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo points lie "
+                 << std::setprecision(1) << r.stereo_map_sigmas
+                 << " sigmas from the map (median): stereo left out, frames unverified (a left/right desync or a "
+                    "broken calibration?)"
+                 << std::endl;
+        stereo_held_until_ = r.t + options_.stereo_check_hold_s;
+    }
+    else if (stereo_held_until_ && r.t >= *stereo_held_until_)
+    {
+        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo has agreed with "
+             << "the map for " << std::setprecision(1) << options_.stereo_check_hold_s << " s" << std::endl;
+        stereo_held_until_.reset();
+    }
+    if (stereo_held_until_) flagUnverified(r.t - 1e-6);
+}
+
+void TrackMonitor::frameTracked(const FrameReport& r)
+{
+    if (input_fault_t_ && r.t >= *input_fault_t_)
+    {
+        flagUnverified(r.t - 1e-6);
+        input_fault_t_.reset();
+        edgesBecomeSuspect();
+    }
+    if (r.keyframe && !r.map_update)
+    {
+        flagUnverified(r.t - 1e-6);
+        edgesBecomeSuspect();
+    }
+    holdStereo(r);
+    // The usual edge fit: over the frames whose stereo was measured and agreed with the map at an edge pose that
+    // fit as usual.
+    if (!std::isnan(r.stereo_map_sigmas) && edgesAsUsual(r) && !r.stereo_rejected)
+    {
+        const double w = options_.usual_edge_ratio_weight;
+        usual_edge_ratio_ =
+            std::isnan(usual_edge_ratio_) ? r.edge_inlier_ratio : (1 - w) * usual_edge_ratio_ + w * r.edge_inlier_ratio;
+    }
+}
+
+bool TrackMonitor::checkDue(size_t n) const
+{
+    if (health_ == TrackHealth::Lost || stereo_held_until_) return false;
+    return n % size_t(options_.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
+}
+
+CheckOutcome TrackMonitor::checked(const FrameReport& r, const CheckResult& c)
+{
+    const bool failed = c.refined && (c.refined_explained - c.explained >= options_.lost_min_gain ||
+                                      c.explained < options_.lost_explained_floor);
+    failed_checks_ = failed ? failed_checks_ + 1 : 0;
+    if (failed)
+    {
+        flagUnverified(last_verified_t_);  // since the last confirmed pose
+        return CheckOutcome::Failed;
+    }
+    // After a restart at a fix, the stereo that passes the check is the stereo the fix came from: the pose is
+    // confirmed only when the edges (the left image alone) fit as usual too.
+    if (health_ == TrackHealth::Restarted && !edgesAsUsual(r)) return CheckOutcome::PassedUnconfirmed;
+    health_ = TrackHealth::Verified;
+    closeUnverified(r.t);
+    last_verified_t_ = r.t;
+    return CheckOutcome::Passed;
+}
+
+bool TrackMonitor::lostByMisses(const FrameReport& r) const { return r.alignment_misses >= options_.lost_after_misses; }
+
+bool TrackMonitor::lossDue(const FrameReport& r) const
+{
+    return health_ != TrackHealth::Lost &&
+           (lostByMisses(r) || failed_checks_ >= options_.lost_after_failed_checks);
+}
+
+void TrackMonitor::searchBegun()
+{
+    failed_checks_ = 0;
+    flagUnverified(last_verified_t_);
+    before_loss_ = health_;
+    health_ = TrackHealth::Lost;
+}
+
+void TrackMonitor::fixFound(double t_fix, bool agrees_with_track)
+{
+    flagUnverified(last_verified_t_);
+    closeUnverified(t_fix);
+    last_verified_t_ = t_fix;
+    if (agrees_with_track)
+    {
+        health_ = before_loss_ == TrackHealth::Doubted ? TrackHealth::Verified : before_loss_;
+        return;
+    }
+    // A restart rests on one fix of the stereo geometry (wrong when the stereo is, e.g. desynchronized): the track
+    // from it is unverified until a check confirms it.
+    health_ = TrackHealth::Restarted;
+    flagUnverified(t_fix);
+}
+
+void TrackMonitor::ended()
+{
+    if (health_ == TrackHealth::Lost) flagUnverified(last_verified_t_);
+    closeUnverified(INFINITY);  // a stretch no check confirmed runs to the end
+}
+
+}  // namespace quasiloc::tracking
