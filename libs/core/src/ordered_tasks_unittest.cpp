@@ -55,3 +55,39 @@ TEST(OrderedTasks, ATasksErrorReachesTheWaiter)
     EXPECT_THROW(tasks.wait(bad), std::runtime_error);
     EXPECT_THROW(tasks.waitAll(), std::runtime_error);
 }
+
+TEST(OrderedTasks, RunOrWaitClaimsATaskAheadOfItsTurnAndTheOthersSkipIt)
+{
+    OrderedTasks tasks;
+    std::vector<int> order;
+    tasks.add([&order] { order.push_back(0); });
+    tasks.add([&order] { order.push_back(1); });
+    const size_t last = tasks.add([&order] { order.push_back(2); });
+    tasks.runOrWait(last);  // queued: runs now, on this thread
+    EXPECT_EQ(order, (std::vector<int>{2}));
+    tasks.waitAll();  // the rest in their order, the claimed one not again
+    EXPECT_EQ(order, (std::vector<int>{2, 0, 1}));
+}
+
+TEST(OrderedTasks, RunOrWaitWaitsForATaskAnotherThreadClaimed)
+{
+    OrderedTasks tasks;
+    std::atomic<bool> started{false}, release{false};
+    std::atomic<int> runs{0};
+    const size_t slow = tasks.add([&] {
+        started = true;
+        ++runs;
+        while (!release) std::this_thread::yield();
+    });
+    std::thread other([&tasks] { tasks.runNext(); });
+    while (!started) std::this_thread::yield();
+    std::thread releaser([&release] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        release = true;
+    });
+    tasks.runOrWait(slow);
+    EXPECT_TRUE(tasks.done(slow));
+    EXPECT_EQ(runs.load(), 1);
+    other.join();
+    releaser.join();
+}

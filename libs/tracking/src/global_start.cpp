@@ -4,6 +4,7 @@
 #include <quasiloc/core/pose.h>
 
 #include <chrono>
+#include <cmath>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -101,8 +102,9 @@ std::optional<GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame
           << e_deg << ", " << a.search_radius_m << ", " << a.note << "\n";
         std::ostringstream line;
         line << label_ << " t " << std::fixed << std::setprecision(3) << a.t << ": " << a.note << " (inliers "
-             << 100 * g.inlier_ratio << " %, error " << 100 * e_m << " cm " << e_deg << " deg, "
-             << g.ms_cloud + g.ms_search + g.ms_refine << " ms";
+             << 100 * g.inlier_ratio << " %, ";
+        if (!std::isnan(e_m)) line << "error " << 100 * e_m << " cm " << e_deg << " deg, ";  // with ground truth
+        line << g.ms_cloud + g.ms_search + g.ms_refine << " ms";
         if (a.search_radius_m > 0) line << ", searched within " << a.search_radius_m << " m of the last confirmed pose";
         line << ")\n";
         say(line.str());

@@ -299,8 +299,12 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
     history_.add(r.t, r.T_world_cam0);
     recordTiming(r, ms_check, ms_search);
     if (n_ % 50 == 0)
-        out_ << "frame " << n_ << ": error " << std::fixed << std::setprecision(3) << log_.lastErrorM() << " m"
-             << std::endl;
+    {
+        out_ << "frame " << n_ << ": " << toString(monitor_.health());
+        if (log_.hasGroundTruth())
+            out_ << ", error " << std::fixed << std::setprecision(3) << log_.lastErrorM() << " m";
+        out_ << std::endl;
+    }
 }
 
 double TrackingSession::checkTrack(const dataset::StereoFrame& f, const TrackStep& step, double& ms)
