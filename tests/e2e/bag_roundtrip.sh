@@ -5,6 +5,7 @@
 # the tolerance, a missing topic and a truncated bag are errors that name the topics or the file, exit non-zero and
 # leave nothing written.
 source "$(dirname "$0")/common.sh"
+source "$(dirname "$0")/ros2_bag_common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=3 \
   --set Simulation.inspection_png=false > "$WORK/sim.txt"
@@ -22,22 +23,6 @@ to_rawlog() {  # to_rawlog <bag> <rawlog> [--set ...]: the Kalibr files beside t
     --set Bag2Rawlog.progress=false "$@" > "$out.log" 2>&1 || { cat "$out.log"; fail "bag2rawlog failed on $bag"; }
   cat "$out.log"
 }
-# same_images <folder A> <folder B>: the same number of images, pixel for pixel, with the same times in their names
-same_images() {
-  /usr/bin/python3 - "$1" "$2" <<'PY' || fail "images differ between $1 and $2"
-import cv2, os, sys
-a, b = (sorted(os.listdir(d)) for d in sys.argv[1:3])
-assert len(a) == len(b) and len(a) > 0, (len(a), len(b))
-for x, y in zip(a, b):
-    # stereo_<t_ns>_left.png; the rawlog's own timestamps are MRPT's 100 ns ticks (the simulator names its files
-    # with the nanoseconds it computed, the rawlog holds them rounded to 100 ns)
-    assert round(int(x.split("_")[-2]) / 100) == round(int(y.split("_")[-2]) / 100), (x, y)
-    ia = cv2.imread(os.path.join(sys.argv[1], x), cv2.IMREAD_UNCHANGED)
-    ib = cv2.imread(os.path.join(sys.argv[2], y), cv2.IMREAD_UNCHANGED)
-    assert ia.dtype == ib.dtype and ia.shape == ib.shape and (ia == ib).all(), (x, y)
-print(len(a), "images identical")
-PY
-}
 
 # 1. The round trip, with the ground truth.
 to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/sim.bag" --set Rawlog2Bag.groundtruth="$SIM/gt.tum"
@@ -54,12 +39,7 @@ to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/a.bag"
 to_bag "$WORK/rt/seq.rawlog" "$WORK/rt/seq_calib.ini" "$WORK/b.bag"
 cmp "$WORK/a.bag" "$WORK/b.bag" || fail "the round-tripped rawlog exports to another bag"
 # The ground truth comes back as T_world_cam0 within 1e-9 m.
-/usr/bin/python3 - "$SIM/gt.tum" "$WORK/rt/seq_gt_cam0.tum" <<'PY' || fail "ground truth changed"
-import sys
-rows = [[list(map(float, l.split())) for l in open(p) if l.strip() and not l.startswith("#")] for p in sys.argv[1:]]
-assert len(rows[0]) == len(rows[1]) > 0
-assert max(abs(x - y) for a, b in zip(*rows) for x, y in zip(a[1:4], b[1:4])) < 1e-9
-PY
+same_groundtruth "$SIM/gt.tum" "$WORK/rt/seq_gt_cam0.tum"
 
 # 2. quasiloc-track on both gives the same trajectory.
 track() {  # track <rawlog> <calib> <gt> <out>

@@ -6,6 +6,7 @@
 # (a truncated file, a chunk whose CRC fails, an unknown storage, an unknown compression, a missing topic, a topic of
 # a type bag2rawlog does not read) is an error naming the file and the topic, exits non-zero and leaves nothing.
 source "$(dirname "$0")/common.sh"
+source "$(dirname "$0")/ros2_bag_common.sh"
 ROS2="$SHARED/data/ros2"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=2 \
@@ -24,19 +25,6 @@ to_rawlog() {  # to_rawlog <bag> <rawlog> [--set ...]
   cat "$out.log"
 }
 kalibr() { echo --set Bag2Rawlog.kalibr_camchain="$1_camchain.yaml" --set Bag2Rawlog.kalibr_imu="$1_imu.yaml"; }
-same_images() {  # same_images <folder A> <folder B>
-  /usr/bin/python3 - "$1" "$2" <<'PY' || fail "images differ between $1 and $2"
-import cv2, os, sys
-a, b = (sorted(os.listdir(d)) for d in sys.argv[1:3])
-assert len(a) == len(b) and len(a) > 0, (len(a), len(b))
-for x, y in zip(a, b):
-    assert round(int(x.split("_")[-2]) / 100) == round(int(y.split("_")[-2]) / 100), (x, y)
-    ia = cv2.imread(os.path.join(sys.argv[1], x), cv2.IMREAD_UNCHANGED)
-    ib = cv2.imread(os.path.join(sys.argv[2], y), cv2.IMREAD_UNCHANGED)
-    assert ia.dtype == ib.dtype and ia.shape == ib.shape and (ia == ib).all(), (x, y)
-print(len(a), "images identical")
-PY
-}
 same_calibration() {  # same_calibration <ini A> <ini B>: every number within 1e-9
   /usr/bin/python3 - "$1" "$2" <<'PY' || fail "calibrations differ: $1 $2"
 import re, sys
@@ -74,12 +62,7 @@ expect_contains "$WORK/rt/seq.rawlog.log" "rosbag2 mcap"
 expect_contains "$WORK/rt/seq.rawlog.log" "unpaired images:       0 left, 0 right"
 same_images "$SIM/V1_01_easy_Images" "$WORK/rt/seq_Images"
 diff <(grep -v '^#' "$SIM/calib.ini") <(grep -v '^#' "$WORK/rt/seq_calib.ini") || fail "the calibration changed"
-/usr/bin/python3 - "$SIM/gt.tum" "$WORK/rt/seq_gt_cam0.tum" <<'PY' || fail "ground truth changed"
-import sys
-rows = [[list(map(float, l.split())) for l in open(p) if l.strip() and not l.startswith("#")] for p in sys.argv[1:]]
-assert len(rows[0]) == len(rows[1]) > 0
-assert max(abs(x - y) for a, b in zip(*rows) for x, y in zip(a[1:4], b[1:4])) < 1e-9
-PY
+same_groundtruth "$SIM/gt.tum" "$WORK/rt/seq_gt_cam0.tum"
 # Every observation: both rawlogs exported again give the same MCAP file, byte for byte.
 to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/a" --set Rawlog2Bag.compression=zstd
 to_bag "$WORK/rt/seq.rawlog" "$WORK/rt/seq_calib.ini" "$WORK/b" --set Rawlog2Bag.compression=zstd

@@ -21,57 +21,131 @@ namespace quasiloc::ros::cdr
 {
 namespace
 {
-Eigen::Vector3d readVector3(Reader& r)
+// Each message's fields are listed once (the *Fields functions), in declaration order, and walked by a Decode or an
+// Encode visitor: the reader and the writer of a type cannot disagree on its layout.
+
+/** Reads each field it is given. */
+struct Decode
 {
-    Eigen::Vector3d v;
-    for (int i = 0; i < 3; ++i) v[i] = r.f64();
-    return v;
+    Reader& r;
+    void operator()(bool& v) { v = r.boolean(); }
+    void operator()(std::uint32_t& v) { v = r.u32(); }
+    void operator()(double& v) { v = r.f64(); }
+    void operator()(std::string& v) { v = r.string(); }
+    void operator()(std::vector<std::uint8_t>& v) { v = r.byteSequence(); }
+    void operator()(std::vector<double>& v) { v = r.f64Sequence(); }
+    template <std::size_t N>
+    void operator()(std::array<double, N>& a) { r.f64Array(a); }
+    void operator()(Eigen::Vector3d& v)
+    {
+        for (int i = 0; i < 3; ++i) v[i] = r.f64();
+    }
+    /** geometry_msgs/Quaternion: x y z w. */
+    void operator()(Eigen::Quaterniond& q)
+    {
+        const double x = r.f64(), y = r.f64(), z = r.f64(), w = r.f64();
+        q = Eigen::Quaterniond(w, x, y, z);
+    }
+    void operator()(MsgHeader& h) { h = readHeader(r); }
+    /** Fields we do not keep (binning, region of interest): read past. */
+    void unusedU32() { r.u32(); }
+    void unusedBool() { r.boolean(); }
+};
+
+/** Writes each field it is given. */
+struct Encode
+{
+    Writer& w;
+    void operator()(bool v) { w.boolean(v); }
+    void operator()(std::uint32_t v) { w.u32(v); }
+    void operator()(double v) { w.f64(v); }
+    void operator()(const std::string& v) { w.string(v); }
+    void operator()(const std::vector<std::uint8_t>& v) { w.byteSequence(v); }
+    void operator()(const std::vector<double>& v) { w.f64Sequence(v); }
+    template <std::size_t N>
+    void operator()(const std::array<double, N>& a) { w.f64Array(a); }
+    void operator()(const Eigen::Vector3d& v)
+    {
+        for (int i = 0; i < 3; ++i) w.f64(v[i]);
+    }
+    void operator()(const Eigen::Quaterniond& q)
+    {
+        for (double v : {q.x(), q.y(), q.z(), q.w()}) w.f64(v);
+    }
+    void operator()(const MsgHeader& h)
+    {
+        const std::int64_t sec = h.stamp_ns >= 0 ? h.stamp_ns / 1000000000 : (h.stamp_ns - 999999999) / 1000000000;
+        w.i32(std::int32_t(sec));
+        w.u32(std::uint32_t(h.stamp_ns - sec * 1000000000));
+        w.string(h.frame_id);
+    }
+    void unusedU32() { w.u32(0); }
+    void unusedBool() { w.boolean(false); }
+};
+
+template <class IO, class M>
+void imageFields(IO& io, M& m)
+{
+    io(m.header);
+    io(m.height);
+    io(m.width);
+    io(m.encoding);
+    io(m.is_bigendian);
+    io(m.step);
+    io(m.data);
 }
 
-/** geometry_msgs/Quaternion: x y z w. */
-Eigen::Quaterniond readQuaternion(Reader& r)
+template <class IO, class M>
+void compressedImageFields(IO& io, M& m)
 {
-    const double x = r.f64(), y = r.f64(), z = r.f64(), w = r.f64();
-    return Eigen::Quaterniond(w, x, y, z);
+    io(m.header);
+    io(m.format);
+    io(m.data);
 }
 
-void writeVector3(Writer& w, const Eigen::Vector3d& v)
+template <class IO, class M>
+void imuFields(IO& io, M& m)
 {
-    for (int i = 0; i < 3; ++i) w.f64(v[i]);
+    io(m.header);
+    io(m.orientation);
+    io(m.orientation_covariance);
+    io(m.angular_velocity);
+    io(m.angular_velocity_covariance);
+    io(m.linear_acceleration);
+    io(m.linear_acceleration_covariance);
 }
 
-void writeQuaternion(Writer& w, const Eigen::Quaterniond& q)
+template <class IO, class M>
+void cameraInfoFields(IO& io, M& m)
 {
-    w.f64(q.x());
-    w.f64(q.y());
-    w.f64(q.z());
-    w.f64(q.w());
+    io(m.header);
+    io(m.height);
+    io(m.width);
+    io(m.distortion_model);
+    io(m.d);
+    io(m.k);
+    io(m.r);
+    io(m.p);
+    for (int i = 0; i < 2 + 4; ++i) io.unusedU32();  // binning_x, binning_y, roi x_offset, y_offset, height, width
+    io.unusedBool();                                 // roi do_rectify
 }
 
-void writeHeader(Writer& w, const MsgHeader& h)
+/** geometry_msgs/PoseStamped (header, Point position, Quaternion orientation). */
+template <class IO, class M>
+void poseStampedFields(IO& io, M& m)
 {
-    const std::int64_t sec = h.stamp_ns >= 0 ? h.stamp_ns / 1000000000 : (h.stamp_ns - 999999999) / 1000000000;
-    w.i32(std::int32_t(sec));
-    w.u32(std::uint32_t(h.stamp_ns - sec * 1000000000));
-    w.string(h.frame_id);
+    io(m.header);
+    io(m.position);
+    io(m.orientation);
 }
 
-TransformMsg readTransformBody(Reader& r)
+template <class IO, class M>
+void transformStampedFields(IO& io, M& m)
 {
-    TransformMsg m;
-    m.header = readHeader(r);
-    m.child_frame_id = r.string();
-    m.translation = readVector3(r);
-    m.rotation = readQuaternion(r);
-    return m;
-}
-
-void writeTransform(Writer& w, const TransformMsg& t)
-{
-    writeHeader(w, t.header);
-    w.string(t.child_frame_id);
-    writeVector3(w, t.translation);
-    writeQuaternion(w, t.rotation);
+    io(m.header);
+    io(m.child_frame_id);
+    io(m.translation);
+    io(m.rotation);
 }
 }  // namespace
 
@@ -87,77 +161,40 @@ MsgHeader readHeader(Reader& r)
     return h;
 }
 
-ImageMsg readImage(Reader& r)
+template <class M, void (*Fields)(Decode&, M&)>
+M decodeWith(Reader& r)
 {
-    ImageMsg m;
-    m.header = readHeader(r);
-    m.height = r.u32();
-    m.width = r.u32();
-    m.encoding = r.string();
-    m.is_bigendian = r.u8() != 0;
-    m.step = r.u32();
-    m.data = r.byteSequence();
+    M m;
+    Decode d{r};
+    Fields(d, m);
     return m;
 }
 
+ImageMsg readImage(Reader& r) { return decodeWith<ImageMsg, imageFields<Decode, ImageMsg>>(r); }
 CompressedImageMsg readCompressedImage(Reader& r)
 {
-    CompressedImageMsg m;
-    m.header = readHeader(r);
-    m.format = r.string();
-    m.data = r.byteSequence();
-    return m;
+    return decodeWith<CompressedImageMsg, compressedImageFields<Decode, CompressedImageMsg>>(r);
 }
-
-ImuMsg readImu(Reader& r)
+ImuMsg readImu(Reader& r) { return decodeWith<ImuMsg, imuFields<Decode, ImuMsg>>(r); }
+CameraInfoMsg readCameraInfo(Reader& r) { return decodeWith<CameraInfoMsg, cameraInfoFields<Decode, CameraInfoMsg>>(r); }
+PoseMsg readPoseStamped(Reader& r) { return decodeWith<PoseMsg, poseStampedFields<Decode, PoseMsg>>(r); }
+TransformMsg readTransformStamped(Reader& r)
 {
-    ImuMsg m;
-    m.header = readHeader(r);
-    m.orientation = readQuaternion(r);
-    r.f64Array(m.orientation_covariance);
-    m.angular_velocity = readVector3(r);
-    r.f64Array(m.angular_velocity_covariance);
-    m.linear_acceleration = readVector3(r);
-    r.f64Array(m.linear_acceleration_covariance);
-    return m;
+    return decodeWith<TransformMsg, transformStampedFields<Decode, TransformMsg>>(r);
 }
-
-CameraInfoMsg readCameraInfo(Reader& r)
-{
-    CameraInfoMsg m;
-    m.header = readHeader(r);
-    m.height = r.u32();
-    m.width = r.u32();
-    m.distortion_model = r.string();
-    m.d = r.f64Sequence();
-    r.f64Array(m.k);
-    r.f64Array(m.r);
-    r.f64Array(m.p);
-    for (int i = 0; i < 2 + 4; ++i) r.u32();  // binning_x, binning_y, roi x_offset, y_offset, height, width
-    r.boolean();                              // roi do_rectify
-    return m;
-}
-
-PoseMsg readPoseStamped(Reader& r)
-{
-    PoseMsg m;
-    m.header = readHeader(r);
-    m.position = readVector3(r);
-    m.orientation = readQuaternion(r);
-    return m;
-}
-
-TransformMsg readTransformStamped(Reader& r) { return readTransformBody(r); }
 
 PoseMsg readOdometry(Reader& r)
 {
+    // nav_msgs/Odometry: header, child_frame_id, PoseWithCovariance (pose, float64[36]), then the twist (not needed).
     PoseMsg m;
-    m.header = readHeader(r);
-    r.string();  // child_frame_id
-    m.position = readVector3(r);
-    m.orientation = readQuaternion(r);
+    std::string child_frame_id;
     std::array<double, 36> covariance;
-    r.f64Array(covariance);  // the twist that follows is not needed
+    Decode d{r};
+    d(m.header);
+    d(child_frame_id);
+    d(m.position);
+    d(m.orientation);
+    d(covariance);
     return m;
 }
 
@@ -167,75 +204,40 @@ std::vector<TransformMsg> readTFMessage(Reader& r)
     const std::uint32_t n = r.sequenceLength(72);
     std::vector<TransformMsg> v;
     v.reserve(n);
-    for (std::uint32_t i = 0; i < n; ++i) v.push_back(readTransformBody(r));
+    for (std::uint32_t i = 0; i < n; ++i) v.push_back(readTransformStamped(r));
     return v;
 }
 
-std::vector<std::uint8_t> encode(const ImageMsg& m)
+template <class M, void (*Fields)(Encode&, const M&)>
+std::vector<std::uint8_t> encodeWith(const M& m)
 {
     Writer w;
-    writeHeader(w, m.header);
-    w.u32(m.height);
-    w.u32(m.width);
-    w.string(m.encoding);
-    w.u8(m.is_bigendian ? 1 : 0);
-    w.u32(m.step);
-    w.byteSequence(m.data);
+    Encode e{w};
+    Fields(e, m);
     return w.take();
 }
 
+std::vector<std::uint8_t> encode(const ImageMsg& m) { return encodeWith<ImageMsg, imageFields<Encode, const ImageMsg>>(m); }
 std::vector<std::uint8_t> encode(const CompressedImageMsg& m)
 {
-    Writer w;
-    writeHeader(w, m.header);
-    w.string(m.format);
-    w.byteSequence(m.data);
-    return w.take();
+    return encodeWith<CompressedImageMsg, compressedImageFields<Encode, const CompressedImageMsg>>(m);
 }
-
-std::vector<std::uint8_t> encode(const ImuMsg& m)
-{
-    Writer w;
-    writeHeader(w, m.header);
-    writeQuaternion(w, m.orientation);
-    w.f64Array(m.orientation_covariance);
-    writeVector3(w, m.angular_velocity);
-    w.f64Array(m.angular_velocity_covariance);
-    writeVector3(w, m.linear_acceleration);
-    w.f64Array(m.linear_acceleration_covariance);
-    return w.take();
-}
-
+std::vector<std::uint8_t> encode(const ImuMsg& m) { return encodeWith<ImuMsg, imuFields<Encode, const ImuMsg>>(m); }
 std::vector<std::uint8_t> encode(const CameraInfoMsg& m)
 {
-    Writer w;
-    writeHeader(w, m.header);
-    w.u32(m.height);
-    w.u32(m.width);
-    w.string(m.distortion_model);
-    w.f64Sequence(m.d);
-    w.f64Array(m.k);
-    w.f64Array(m.r);
-    w.f64Array(m.p);
-    for (int i = 0; i < 2 + 4; ++i) w.u32(0);  // no binning, full-image region of interest
-    w.boolean(false);
-    return w.take();
+    return encodeWith<CameraInfoMsg, cameraInfoFields<Encode, const CameraInfoMsg>>(m);
 }
-
 std::vector<std::uint8_t> encode(const PoseMsg& m)
 {
-    Writer w;
-    writeHeader(w, m.header);
-    writeVector3(w, m.position);
-    writeQuaternion(w, m.orientation);
-    return w.take();
+    return encodeWith<PoseMsg, poseStampedFields<Encode, const PoseMsg>>(m);
 }
 
 std::vector<std::uint8_t> encodeTFMessage(const std::vector<TransformMsg>& transforms)
 {
     Writer w;
+    Encode e{w};
     w.u32(std::uint32_t(transforms.size()));
-    for (const auto& t : transforms) writeTransform(w, t);
+    for (const auto& t : transforms) transformStampedFields(e, t);
     return w.take();
 }
 
