@@ -108,9 +108,10 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
       imu_(imu),
       out_(console),
       guard_(console),
-      monitor_(options.monitor, console, [this](double after_t, double up_to_t) { log_.markUnverified(after_t, up_to_t); }),
       T_body_cam_(core::toIsometry(source.rig().T_body_left)),
-      frontend_(std::make_unique<frontend::Frontend>(options.frontend))
+      frontend_(std::make_unique<frontend::Frontend>(options.frontend)),
+      monitor_(options.monitor, console,
+               [this](double after_t, double up_to_t) { log_.markUnverified(after_t, up_to_t); })
 {
     const TrackerOptions& o = options_.tracker;
     estimation::ImuNoise noise = imuNoise(imu_);
