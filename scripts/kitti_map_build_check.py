@@ -61,6 +61,19 @@ def regions(Q, height, cam):
     return swept, vehicle
 
 
+def where_removed(label, L, height, cam):
+    """The static points a carved map lost: on the road surface or above it, and the 2 m bands across the road
+    (distance from the camera path's y) that hold most of those above it."""
+    h = height(L)
+    surface = np.abs(h) < VEHICLE_HEIGHT_M[0]
+    above = L[~surface]
+    band = np.floor((above[:, 1] - np.median(cam[:, 1])) / 2).astype(int) * 2
+    u, n = np.unique(band, return_counts=True)
+    top = ", ".join(f"y {b:+d}..{b + 2:+d} m: {c}" for b, c in sorted(zip(u, n), key=lambda t: -t[1])[:3])
+    return (f"  {label}: {len(L)} points: {surface.sum()} on the road surface (within {VEHICLE_HEIGHT_M[0]} m), "
+            f"{len(above)} above it (most in {top})")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("uncarved")
@@ -83,6 +96,7 @@ def main():
     print("|---|---|---|---|---|---|---|")
     print(f"| uncarved | {len(P)} | {swept0.sum()} | - | {vehicle0.sum()} | 100.00 % | 0 |")
     ok = True
+    notes = []
     for spec in args.carved:
         label, path = spec.split("=", 1) if "=" in spec else (os.path.basename(spec), spec)
         Q, _ = kmc.load_ply_xyzi(path)
@@ -93,10 +107,14 @@ def main():
         static_removed = static0.sum() - (~vehicle).sum()
         print(f"| {label} | {len(Q)} | {swept.sum()} | {removed:.2f} % | {vehicle.sum()} | {kept:.2f} % | "
               f"{static_removed} |")
+        notes.append(where_removed(label, P[static0][~np.isfinite(d)], height, cam))
         if args.min_removed is not None and removed < args.min_removed:
             ok = False
         if args.min_kept is not None and kept < args.min_kept:
             ok = False
+    print("\nStatic structure not kept (no carved point within 10 cm), where it lies:")
+    for n in notes:
+        print(n)
     sys.exit(0 if ok else 1)
 
 
