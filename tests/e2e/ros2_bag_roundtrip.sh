@@ -1,7 +1,8 @@
 # A simulated sequence through a ROS 2 bag and back: sim rawlog -> rawlog2bag format=mcap (a rosbag2 folder) ->
 # bag2rawlog gives the same observations (images pixel for pixel, IMU values exact: exporting both rawlogs again gives
 # byte-identical MCAP files), with the calibration from the Kalibr files and, without them, from the bag's CameraInfo
-# and /tf_static (the same numbers to 1e-9). Each chunk compression (zstd, lz4, none) and a bare .mcap path convert.
+# and /tf_static (the same numbers to 1e-9). Each chunk compression (zstd, lz4, none), a bare .mcap path, png and mono16
+# images convert to the same images.
 # A real rosbag2 recording (Crystal, SQLite3: a bgr8 Image, a jpeg CompressedImage, an Imu) converts. Bad input
 # (a truncated file, a chunk whose CRC fails, an unknown storage, an unknown compression, a missing topic, a topic of
 # a type bag2rawlog does not read) is an error naming the file and the topic, exits non-zero and leaves nothing.
@@ -74,12 +75,18 @@ same_images "$SIM/V1_01_easy_Images" "$WORK/fromtf/seq_Images"
 same_calibration "$SIM/calib.ini" "$WORK/fromtf/seq_calib.ini"
 expect_contains "$WORK/fromtf/seq_calib.ini" "/cam0/camera_info"
 
-# 3. lz4 and uncompressed chunks, and a bare .mcap path (no metadata.yaml).
+# 3. lz4 and uncompressed chunks, and a bare .mcap path (no metadata.yaml); png CompressedImage and mono16 messages.
 for c in lz4 none; do
   to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/$c" --set Rawlog2Bag.compression=$c
   to_rawlog "$WORK/$c/${c}_0.mcap" "$WORK/$c.out/seq.rawlog" $(kalibr "$WORK/$c")
   same_images "$SIM/V1_01_easy_Images" "$WORK/$c.out/seq_Images"
 done
+for enc in png mono16; do
+  to_bag "$SIM/V1_01_easy.rawlog" "$SIM/calib.ini" "$WORK/$enc" --set Rawlog2Bag.image_encoding=$enc
+  to_rawlog "$WORK/$enc" "$WORK/$enc.out/seq.rawlog" $(kalibr "$WORK/$enc")
+  same_images "$SIM/V1_01_easy_Images" "$WORK/$enc.out/seq_Images"
+done
+expect_contains "$WORK/png.out/seq.rawlog.log" "(sensor_msgs/CompressedImage)"
 
 # 4. A real rosbag2 recording (Crystal era, legacy SQLite3 schema, no metadata.yaml): its bgr8 Image and jpeg
 # CompressedImage (recorded days apart: paired only with a huge tolerance) and its Imu become one stereo frame.
