@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Runs quasiloc-track on the simulated sequences with one injected fault per run ([FaultInjection],
+"""Runs quasiloc-track (quasiloc-track-harness, its test harness) on the simulated sequences with one injected fault per run ([FaultInjection],
 docs/reliability.md) and prints a Markdown table per run: ATE, losses, relocalization time, frames reported
 unverified, the largest error of a frame not flagged unverified, and the time to get back within 3 cm after the
 fault ends.
@@ -45,7 +45,7 @@ def slug(name):
 def run_track(args, seq, fault, out_dir):
     sim = os.path.join(args.sim_root, seq, "sim")
     rawlog = os.path.join(sim, seq + ".rawlog")
-    cmd = ["flock", "/tmp/quasiloc-build.lock", os.path.join(args.build_dir, "bin", "quasiloc-track"),
+    cmd = ["flock", "/tmp/quasiloc-build.lock", os.path.join(args.build_dir, "bin", "quasiloc-track-harness"),
            os.path.join(ROOT, "config.ini"),
            "--set", "Tracking.input_rawlog=" + rawlog, "--set", "Tracking.calibration_ini=" + sim + "/calib.ini",
            "--set", "Tracking.map_file=" + sim + "/lidar_map.map", "--set", "Tracking.groundtruth=" + sim + "/gt.tum",

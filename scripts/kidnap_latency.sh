@@ -10,6 +10,8 @@
 # run, e.g. the relocalization's previous defaults: TRACK_SETS="--set Relocalization.relocalize_single_fix=false
 # --set TrackMonitor.check_every=10 --set Relocalization.relocalize_near_m=1".
 set -euo pipefail
+# The kidnap is a test harness's: its program (quasiloc-track with [Kidnap]).
+TRACK_PROGRAM=quasiloc-track-harness
 source "$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/track_variant.sh"
 ablation_setup out/kidnap "$@"
 read -r -a TIMES <<< "${KIDNAP_TIMES:-10 20}"

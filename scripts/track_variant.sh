@@ -5,7 +5,7 @@
 track_variant() {
   local seq_root="$1" out="$2" seq="$3" variant="$4"; shift 4
   local sim="$seq_root/$seq/sim"
-  "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
+  "$BIN/${TRACK_PROGRAM:-quasiloc-track}" config.ini --set Tracking.input_rawlog="$(ls "$sim"/*.rawlog | head -1)" \
     --set Tracking.calibration_ini="$sim/calib.ini" --set Tracking.map_file="$sim/lidar_map.map" \
     --set Tracking.groundtruth="$sim/gt.tum" --set Tracking.output_dir="$out/$seq/$variant" \
     --set Initialization.init=groundtruth --set Tracking.write_scene=false "$@" > "$out/$seq/$variant.log" 2>&1

@@ -28,6 +28,7 @@
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/sim/stereo_renderer.h>
 #include <quasiloc/sim/world_builder.h>
+#include <quasiloc/tracking/test_harness.h>
 #include <quasiloc/tracking/tracking_session.h>
 #include <sstream>
 #include <vector>
@@ -85,6 +86,10 @@ std::vector<Section> sections()
     for (const core::OptionsSection& s : session->sections())
         add("quasiloc-track", s.section, std::shared_ptr<const mrpt::config::CLoadableOptions>(session, s.options));
     add("quasiloc-track", "QuasiImage", nullptr);
+    // The test harness's own sections (quasiloc-track-harness reads quasiloc-track's too; quasiloc-track refuses these).
+    auto harness = std::make_shared<tracking::HarnessOptions>();
+    for (const core::OptionsSection& s : harness->sections())
+        add("quasiloc-track-harness", s.section, std::shared_ptr<const mrpt::config::CLoadableOptions>(harness, s.options));
     auto build = std::make_shared<reloc::DatabaseBuildConfig>();
     add("quasiloc-build-db", "BuildDatabase", make<app::BuildRunOptions>());
     add("quasiloc-build-db", "ViewSampling", std::shared_ptr<const mrpt::config::CLoadableOptions>(build, &build->sampling));

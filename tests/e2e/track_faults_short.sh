@@ -11,7 +11,7 @@ SIM="$WORK/sim"
 F=FaultInjection
 track() {  # track <output_dir> [--set ...]: from the ground truth, every relocalization attempt in order
   local out="$1"; shift
-  "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \
+  "$BIN/quasiloc-track-harness" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \
     --set Tracking.calibration_ini="$SIM/calib.ini" --set Tracking.map_file="$SIM/lidar_map.map" \
     --set Tracking.groundtruth="$SIM/gt.tum" --set Tracking.output_dir="$out" --set Tracking.write_scene=false \
     --set Initialization.init=groundtruth --set Relocalization.relocalize_latest_only=false "$@" > "$out.log" 2>&1 \

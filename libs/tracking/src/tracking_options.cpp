@@ -179,12 +179,4 @@ void TrackMonitorOptions::check(const std::string& input) const
                   "must be <= lost_explained_ratio");
 }
 
-void KidnapOptions::declare(core::OptionTable& t)
-{
-    t.add("kidnap_at_s", kidnap_at_s, "s", Range::any(),
-          "a test of loss recovery: this long after the start the tracker is restarted off its pose (< 0: never)");
-    t.add("kidnap_m", kidnap_m, "m", Range::any(), "to its side by this");
-    t.add("kidnap_deg", kidnap_deg, "deg", Range::any(), "turned by this about the camera's y axis");
-}
-
 }  // namespace quasiloc::tracking

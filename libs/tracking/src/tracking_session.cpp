@@ -61,7 +61,6 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     core::loadOptionsChecked(monitor, cfg, "TrackMonitor", name);
     monitor.check(name);
     core::loadOptionsChecked(relocalization, cfg, "Relocalization", name);
-    core::loadOptionsChecked(kidnap, cfg, "Kidnap", name);
     core::loadOptionsChecked(localization, cfg, "GeometricLocalization", name);
     localization.check(name);
     core::loadOptionsChecked(refinement.direct, cfg, "DirectAlignment", name);
@@ -77,7 +76,6 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     core::loadOptionsChecked(frontend.lines, cfg, "Lines", name);
     core::loadOptionsChecked(frontend.stereo, cfg, "Stereo", name);
     frontend.check(name);
-    core::loadOptionsChecked(faults, cfg, "FaultInjection", name);
 }
 
 std::vector<core::OptionsSection> SessionOptions::sections() const
@@ -87,7 +85,6 @@ std::vector<core::OptionsSection> SessionOptions::sections() const
             {"MapFactors", &tracker.factors},
             {"TrackMonitor", &monitor},
             {"Relocalization", &relocalization},
-            {"Kidnap", &kidnap},
             {"GeometricLocalization", &localization},
             {"MapRefinement", &refinement},
             {"DirectAlignment", &refinement.direct},
@@ -96,8 +93,7 @@ std::vector<core::OptionsSection> SessionOptions::sections() const
             {"Features", &frontend.features},
             {"PointMatching", &frontend.point_matching},
             {"Lines", &frontend.lines},
-            {"Stereo", &frontend.stereo},
-            {"FaultInjection", &faults}};
+            {"Stereo", &frontend.stereo}};
 }
 
 TrackingSession::TrackingSession(const SessionOptions& options, MapContext& context, dataset::FrameSource& source,
@@ -294,7 +290,7 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
     double ms_check = 0, ms_search = 0;
     const double explained = checkTrack(f, step, ms_check);
     latest_ = step.estimate;
-    kidnapIfDue(r);
+    if (frame_hook_) frame_hook_(r, *this);
     if (relocalize(f, r, ms_search)) return;  // this frame is among those tracked again
     log_.addFrame(f, r, explained, ms_check, ms_search);
     history_.add(r.t, r.T_world_cam0);
@@ -323,18 +319,9 @@ double TrackingSession::checkTrack(const dataset::StereoFrame& f, const TrackSte
     return c.explained;
 }
 
-void TrackingSession::kidnapIfDue(const FrameReport& r)
+void TrackingSession::restartTrackerAt(double t, const Eigen::Isometry3d& T_world_cam0)
 {
-    const KidnapOptions& k = options_.kidnap;
-    if (k.kidnap_at_s < 0 || kidnapped_ || r.t < t_start_ + k.kidnap_at_s) return;
-    kidnapped_ = true;
-    Eigen::Isometry3d T_wrong = r.T_world_cam0;
-    T_wrong.translation() += r.T_world_cam0.linear() * Eigen::Vector3d(k.kidnap_m, 0, 0);
-    T_wrong.linear() = T_wrong.linear() *
-                       Eigen::AngleAxisd(k.kidnap_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    out_ << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted " << k.kidnap_m
-         << " m to the side, " << k.kidnap_deg << " deg turned" << std::endl;
-    latest_ = tracker_->initialize(r.t, T_wrong, latest_.state.v_map, latest_.biasPrior(), nullptr);
+    latest_ = tracker_->initialize(t, T_world_cam0, latest_.state.v_map, latest_.biasPrior(), nullptr);
 }
 
 bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms)

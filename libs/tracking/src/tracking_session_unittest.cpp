@@ -9,8 +9,8 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/core/trajectory_io.h>
-#include <quasiloc/dataset/fault_injection.h>
 #include <quasiloc/sim/simulation.h>
+#include <quasiloc/tracking/test_harness.h>
 #include <quasiloc/tracking/tracking_session.h>
 #include <sstream>
 #include <unistd.h>
@@ -55,8 +55,14 @@ class TrackingSessionTest : public ::testing::Test
         fs::remove_all(kSimDir);
     }
 
+    /** A session's options and its test harness's. */
+    struct Config
+    {
+        tracking::SessionOptions session;
+        tracking::HarnessOptions harness;
+    };
     /** config.ini's session on the simulation, from the ground truth, with `overrides` ("Section.key", value). */
-    static tracking::SessionOptions options(const std::vector<std::pair<std::string, std::string>>& overrides)
+    static Config options(const std::vector<std::pair<std::string, std::string>>& overrides)
     {
         auto cfg = configIni();
         cfg.write("Initialization", "init", "groundtruth");  // unless overridden
@@ -65,9 +71,10 @@ class TrackingSessionTest : public ::testing::Test
             const auto dot = section_key.find('.');
             cfg.write(section_key.substr(0, dot), section_key.substr(dot + 1), value);
         }
-        tracking::SessionOptions o;
-        o.load(cfg, "config.ini");
-        return o;
+        Config c;
+        c.session.load(cfg, "config.ini");
+        c.harness.load(cfg, "config.ini");
+        return c;
     }
 
     struct Run
@@ -79,17 +86,18 @@ class TrackingSessionTest : public ::testing::Test
         std::string console;
         std::string diagnostics_csv;
     };
-    static Run run(const tracking::SessionOptions& o, const dataset::ImuCalibration* imu_override = nullptr)
+    static Run run(const Config& c, const dataset::ImuCalibration* imu_override = nullptr)
     {
         dataset::FrameSourceOptions so;
         so.groundtruth_tum = (kSimDir / "gt.tum").string();
         so.calibration_ini = (kSimDir / "calib.ini").string();
-        std::unique_ptr<dataset::FrameSource> source = dataset::openRawlog((kSimDir / "V1_01_easy.rawlog").string(), so);
-        if (o.faults.any()) source = std::make_unique<dataset::FaultInjectingSource>(std::move(source), o.faults);
+        std::unique_ptr<dataset::FrameSource> source = tracking::withFaults(
+            dataset::openRawlog((kSimDir / "V1_01_easy.rawlog").string(), so), c.harness.faults);
         const auto calibration = dataset::loadCalibration(so.calibration_ini);
         const dataset::ImuCalibration imu = imu_override ? *imu_override : calibration.requireImu(so.calibration_ini);
         std::ostringstream console;
-        tracking::TrackingSession session(o, *context_, *source, imu, console);
+        tracking::TrackingSession session(c.session, *context_, *source, imu, console);
+        tracking::applyHarness(c.harness, session, console);
         Run r;
         r.summary = session.run("simulation");
         r.estimate = session.log().estimate();

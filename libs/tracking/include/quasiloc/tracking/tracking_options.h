@@ -5,7 +5,6 @@
 //   [MapFactors]      the map's factors in the window: edges, stereo points against surfaces, lines, points, planes
 //   [TrackMonitor]    the policy of the track's health: the stereo gate, the loss check, losses (TrackMonitor)
 //   [Relocalization]  the relocalization search (TrackingSession)
-//   [Kidnap]          a test hook of the loss recovery, not a product setting
 // docs/options.md lists every key with its unit, range, default and documentation; docs/experiments.md the
 // measurements behind the defaults.
 #include <quasiloc/core/declared_options.h>
@@ -126,12 +125,6 @@ struct TrackMonitorOptions : public core::DeclaredOptions
     double input_gap_s = 0.15;  ///< three frame periods at 20 Hz
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;
-};
-
-struct KidnapOptions : public core::DeclaredOptions
-{
-    double kidnap_at_s = -1, kidnap_m = 1.0, kidnap_deg = 10;
-    void declare(core::OptionTable& t) override;
 };
 
 }  // namespace quasiloc::tracking

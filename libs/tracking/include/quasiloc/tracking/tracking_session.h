@@ -21,7 +21,7 @@
 #include <optional>
 #include <ostream>
 #include <quasiloc/dataset/calibration.h>
-#include <quasiloc/dataset/fault_injection.h>
+#include <functional>
 #include <quasiloc/dataset/frame_source.h>
 #include <quasiloc/estimation/estimator_options.h>
 #include <quasiloc/estimation/map_refinement.h>
@@ -50,15 +50,11 @@ struct SessionOptions
     TrackingRunOptions tracker;                       ///< [Tracking] + [Initialization] + [MapFactors]
     TrackMonitorOptions monitor;                      ///< [TrackMonitor]
     RelocalizationOptions relocalization;             ///< [Relocalization]
-    KidnapOptions kidnap;                             ///< [Kidnap] (test hook)
     reloc::GeometricLocalizationOptions localization;  ///< [GeometricLocalization]
     estimation::MapRefinementOptions refinement;      ///< [MapRefinement] + [DirectAlignment]
     estimation::EstimatorOptions estimator;           ///< [Estimator]
     estimation::ReweightingOptions reweighting;       ///< [Reweighting]
     frontend::FrontendOptions frontend;               ///< [Features] [PointMatching] [Lines] [Stereo]
-    /** [FaultInjection] (test facility): not the session's; quasiloc-track wraps its source in a
-     *  dataset::FaultInjectingSource when a fault is on. Here so that the program's keys are listed in one place. */
-    dataset::FaultInjectionOptions faults;
 
     /** Loads and checks every section (unknown keys are errors naming `config_name`). */
     void load(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name);
@@ -86,6 +82,15 @@ class TrackingSession
     /** Per-stage wall time over the run (one timer, mrpt's CTimeLogger): what --print-timing prints. */
     std::string timing() const;
 
+    /** Called after each tracked frame, before a loss is acted on: a test harness's hook (test_harness.h). */
+    using FrameHook = std::function<void(const FrameReport&, TrackingSession&)>;
+    void setFrameHook(FrameHook hook) { frame_hook_ = std::move(hook); }
+    /** Restarts the tracker at T_world_cam0 at time t (the latest tracked frame's) with the track's velocity and
+     *  biases and the confidence of a given start, as a tracker that jumped there on its own would be. */
+    void restartTrackerAt(double t, const Eigen::Isometry3d& T_world_cam0);
+    /** The time of the start frame. */
+    double startTime() const { return t_start_; }
+
    private:
     /** A loss is checked for and relocalized from (relocalize, and map updates on). */
     bool relocalizes() const;
@@ -98,7 +103,6 @@ class TrackingSession
     /** The geometry check of the tracked pose, when the monitor says it is due; returns its explained share (NaN
      *  when not checked). */
     double checkTrack(const dataset::StereoFrame& f, const TrackStep& step, double& ms);
-    void kidnapIfDue(const FrameReport& r);
     /** A loss begins a relocalization search; a search under way gets the frame. True when it restarted the track. */
     bool relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
     /** A fix: the loss is withdrawn when it agrees with the track, else the tracker restarts there. */
@@ -130,7 +134,7 @@ class TrackingSession
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
     ImuBiasPrior start_biases_;
     double t_start_ = 0;
-    bool kidnapped_ = false;
+    FrameHook frame_hook_;
     size_t n_ = 0;  ///< frames tracked (and started from)
 };
 
