@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""How close the map sampled from a GMMLoc .gmm lies to the room's 3D line map (issue 20).
+"""How close the map sampled from a GMMLoc .gmm lies to the room's 3D line map.
 
 Independent evidence: data/euroc/maps/lines/v1_line_3d.txt (and v2) were extracted from the same Leica scans as
 the .gmm files, by other software. Points are taken along every segment (every 2 cm) and the distance from each

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""What the real KITTI map (../shared/data/kitti_raw_seq78) can and cannot offer a camera-to-map term (issue 7).
+"""What the real KITTI map (../shared/data/kitti_raw_seq78) can and cannot offer a camera-to-map term.
 
 Independent of the C++ code (numpy + OpenCV on the raw PLY and poses), so that it checks the renderer and the
 direct term rather than repeating them. Prints three tables:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Global localization on the simulated sequences (issue 8): for each sim-rawlog folder <root>/<seq>/sim (as
+# Global localization on the simulated sequences: for each sim-rawlog folder <root>/<seq>/sim (as
 # scripts/track_sequences.sh leaves them), builds the room's database (share/quasiloc/reloc/sim_room.ini) and
 # localizes every 10th frame twice: with the camera's left image, and with the quasi-image rendered at the
 # ground-truth pose (the localization machinery without the camera-to-map modality gap). Fast and Full budgets.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The whole-sequence timing table of issue 23: tracks the main job (config.ini, 10 s), the six simulated 30 s
+# The whole-sequence timing table (docs/benchmarks.md): tracks the main job (config.ini, 10 s), the six simulated 30 s
 # sequences (scripts/track_sequences.sh) and the real EuRoC micro set (scripts/real_micro.sh), one after the other,
 # then prints per-stage median / p90 / p95 / max for each run (scripts/timing_table.py).
 #   bash scripts/timing_sequences.sh [output_root=out/timing]

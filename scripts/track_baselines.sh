@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tracking against the map: ablation of the map terms and the baselines of issue 9, on the simulated sequences that
+# Tracking against the map: ablation of the map terms and the baselines, on the simulated sequences that
 # scripts/track_sequences.sh left in <root> (reused, not simulated again). quasiloc-track with config.ini, all from
 # the same ground-truth initial state ([Tracking] init = groundtruth; the tracker is deterministic: one run per cell):
 #   full            the default: map edges as a window factor + the stereo points' distance to the map's surfaces

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The global-localization database built in shards on a Slurm cluster (issue 22; docs/quasiloc-build-db.md):
+# The global-localization database built in shards on a Slurm cluster (docs/quasiloc-build-db.md):
 # an array job of N shards (quasiloc-build-db <config.ini> --shard i/N, one task each) and a merge job that starts
 # when every shard has succeeded (--dependency=afterok) and writes the database, the same bytes as a build in one
 # process. Waits for both (unless --no-wait) and prints each shard's time as the program measured it, the merge's

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Plots of one quasiloc-track run (issue 9): a top view of the estimated trajectory against the ground truth, and
+"""Plots of one quasiloc-track run: a top view of the estimated trajectory against the ground truth, and
 the translation / rotation error and the time per stage over time. Run with Debian's python3 (numpy, matplotlib):
 
     /usr/bin/python3 share/quasiloc/plot_tracking.py <track_output_dir> <groundtruth.tum> [--title TEXT]

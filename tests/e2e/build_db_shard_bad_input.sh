@@ -1,4 +1,4 @@
-# The sharded database build's bad input (issue 22): each merge fails with a non-zero exit, an error naming the
+# The sharded database build's bad input: each merge fails with a non-zero exit, an error naming the
 # shard and what is wrong, and writes nothing: a missing shard (its index and file), a shard of another map, a shard
 # built with other options, a merge configured with other options, a copied shard file. A shard process killed
 # (SIGKILL) while it renders leaves no shard file, and the merge then reports that shard missing. Last, the good

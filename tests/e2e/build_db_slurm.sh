@@ -1,4 +1,4 @@
-# quasiloc-build-db in 4 shards through Slurm (issue 22): a single-node Slurm started for the test
+# quasiloc-build-db in 4 shards through Slurm: a single-node Slurm started for the test
 # (scripts/cluster/local_slurm.sh: a fresh munge key, munged, a generated slurm.conf, slurmctld -D and slurmd -D in
 # the background, stopped on exit whatever happens), then scripts/cluster/build_db_slurm.sh: an array job of 4
 # shards and a merge job after them. The merged database, its views file and its effective configuration equal a

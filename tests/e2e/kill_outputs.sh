@@ -1,4 +1,4 @@
-# Nothing half-written, also when a program is killed (issue 25, docs/reliability.md): quasiloc-build-db,
+# Nothing half-written, also when a program is killed (docs/reliability.md): quasiloc-build-db,
 # quasiloc-track and map-import are SIGKILLed at seeded random times while they run, each into a fresh output
 # folder; then every output present must be complete (byte for byte a full run's, or, for the files that hold
 # timings, parsing with the full run's number of rows), the main output present must mean all are present (commit

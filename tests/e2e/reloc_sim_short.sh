@@ -2,7 +2,7 @@
 # a database of the part of the room the sequence flies through, then global localization of every 10th frame.
 # Quasi-image queries (the map rendered at the true pose: the localization machinery without the camera-to-map
 # modality gap) must localize within 0.3 m for at least half the queries; camera queries may fail (cross-modal
-# matching is issue 7's problem) but must never give a pose more than 1 m off. The camera queries run without ground
+# matching is the open problem, docs/experiments.md) but must never give a pose more than 1 m off. The camera queries run without ground
 # truth (no error fields, one line saying so) and are scored afterwards by quasiloc-eval. Bad input: named, nothing
 # written.
 source "$(dirname "$0")/common.sh"

@@ -1,5 +1,5 @@
 #pragma once
-// The entry level of the validating rawlog reader (issue 25; docs/fuzzing.md): reads a rawlog entry by entry as
+// The entry level of the validating rawlog reader (docs/fuzzing.md): reads a rawlog entry by entry as
 // mrpt::obs::CRawlog::getActionObservationPairOrObservation does, without letting MRPT deserialize the classes
 // that openRawlog uses.
 //

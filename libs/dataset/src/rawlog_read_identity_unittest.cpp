@@ -1,5 +1,5 @@
 // Valid rawlogs read identically through openRawlog before and after the validating entry scanner
-// (rawlog_entries.h, issue 25): same rig, frames (timestamps, pixels), IMU samples and warnings. Each test
+// (rawlog_entries.h): same rig, frames (timestamps, pixels), IMU samples and warnings. Each test
 // reads a real file and compares a digest of everything the reader yields with the digest that the reader
 // produced before the scanner existed (MRPT's CRawlog::getActionObservationPairOrObservation deserializing
 // every entry), recorded here as a constant.

@@ -176,7 +176,9 @@ void cannyByPercentile(const cv::Mat& dx, const cv::Mat& dy, double high_percent
     if (!squared.empty())
     {
         const size_t k = std::min(squared.size() - 1, size_t(squared.size() * high_percentile / 100.0));
-        high = std::max(1.0, double(std::sqrt(float(detail::kthSmallest(squared, k)))));  // float, as it always was
+        // A float square root: its rounding decides which pixels reach the threshold, and the edge fields the
+        // tracker was measured with come from this one.
+        high = std::max(1.0, double(std::sqrt(float(detail::kthSmallest(squared, k)))));
     }
     detail::cannyL2(dx, dy, low_ratio * high, high, edges);  // cv::Canny(dx, dy, edges, low, high, true)
 }

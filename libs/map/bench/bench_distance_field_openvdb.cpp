@@ -1,5 +1,5 @@
 // bench_distance_field_openvdb: the map's distance field built with OpenVDB 10, measured against ours
-// (map::DistanceField, issue 22 "Large maps"). Built only where OpenVDB is installed (libs/map/CMakeLists.txt).
+// (map::DistanceField, docs/large_maps.md). Built only where OpenVDB is installed (libs/map/CMakeLists.txt).
 //
 //     bench_distance_field_openvdb <map file> [--band N] [--sweeps N] [--threads N] [--values float|u16]
 //                                  [--voxel M] [--max-distance M] [--ours dense|sparse|auto] [--no-check]

@@ -1,4 +1,4 @@
-// bench_vocabulary: the visual vocabulary's and inverted index's times against their budgets (issue 8: a query's
+// bench_vocabulary: the visual vocabulary's and inverted index's times against their budgets (a query's
 // retrieval must leave the Fast budget to matching and PnP). Synthetic ORB-like (32 B) and float (64-d) scenes
 // (src/synthetic_descriptors.h); prints one table.
 //     build/bin/bench_vocabulary

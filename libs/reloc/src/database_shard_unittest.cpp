@@ -1,4 +1,4 @@
-// The sharded database build (issue 22): shards rendered separately and merged save the same bytes as a
+// The sharded database build: shards rendered separately and merged save the same bytes as a
 // single-process build; a shard is a compact, connected tile of nearly equal size; the merge names a missing shard,
 // a shard of another map, a shard built with other options and a copied shard file, and reads nothing half-written.
 #include <gtest/gtest.h>

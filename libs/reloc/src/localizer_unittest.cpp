@@ -1,4 +1,4 @@
-// Global localization on a simulated room (issue 8's tests): a query rendered exactly at a database view
+// Global localization on a simulated room : a query rendered exactly at a database view
 // localizes to < 1 cm, one between views to < 0.3 m, and a query of a place that is not in the map answers
 // "not localized". The queries are quasi-images (the map seen from the query pose), so the test checks the
 // localization machinery, not cross-modal matching (which bench_crossmodal and quasiloc-localize measure).

@@ -1,6 +1,6 @@
 #pragma once
 // Direct camera-to-map alignment: a term that needs no descriptor to agree across the camera/LiDAR modality
-// gap (issue 7; beyond the paper). Two measures of how well the map, seen at a pose, lines up with the image:
+// gap (beyond the paper). Two measures of how well the map, seen at a pose, lines up with the image:
 //
 //  * EDGES (the optimised term). Map edges are the quasi-image's depth discontinuities (near side: the
 //    occluding contour) and reflectivity edges (Canny on the completed reflectivity, e.g. lane markings),

@@ -1,7 +1,7 @@
 #pragma once
 // The direct edge term of direct_alignment.h as a Ceres factor on the estimator's pose block, so that it can sit
 // in the same optimisation as IMU, visual and map-feature factors instead of entering as a pose measurement
-// computed beforehand (issue 7, part 3).
+// computed beforehand.
 //
 // One residual per map edge point i of the model, at one pyramid level of the camera edge field:
 //     d_i = DT_{bin_i}( pi( T_cam_map P_i ) ) / sigma_px,   T_cam_map = (T_map_body T_body_cam)^-1,

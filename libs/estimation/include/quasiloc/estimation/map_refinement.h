@@ -1,5 +1,5 @@
 #pragma once
-// Refining a camera pose against the LiDAR map from a predicted pose (issue 7): the step that tracking runs
+// Refining a camera pose against the LiDAR map from a predicted pose: the step that tracking runs
 // on keyframes and that relocalization runs on its hypotheses. Four methods, so that they can be compared:
 //
 //  features  render Q at the prediction; match camera keypoints to Q's over the whole image (mutual NN +

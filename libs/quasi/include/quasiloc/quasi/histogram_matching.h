@@ -1,5 +1,5 @@
 #pragma once
-// Appearance matching of a quasi-image to a camera image (issue 7, part 1): the map's reflectivity and the camera's
+// Appearance matching of a quasi-image to a camera image : the map's reflectivity and the camera's
 // grey levels measure different things (laser return strength at 905 nm against visible radiance under the day's
 // light), but where both see the same surfaces a monotone remapping can give the quasi-image the camera's grey-level
 // distribution, which is what descriptors and detectors thresholds are tuned on.

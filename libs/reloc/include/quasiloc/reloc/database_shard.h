@@ -1,5 +1,5 @@
 #pragma once
-// A database built in shards (issue 22): every shard samples the same viewpoints, renders one spatial tile of them
+// A database built in shards: every shard samples the same viewpoints, renders one spatial tile of them
 // and writes a shard file (a partial database: its views with their descriptors, no vocabulary); the merge checks
 // that the N shards belong together and finishes the database (vocabulary on the union of all views, index). A
 // single-process build is shard 0/1 + the same finish (database_builder.h), so a merged database is the

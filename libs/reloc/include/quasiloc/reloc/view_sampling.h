@@ -1,5 +1,5 @@
 #pragma once
-// Virtual viewpoints over the map's free space, for the database of rendered views (issue 8, PAPER_NOTES
+// Virtual viewpoints over the map's free space, for the database of rendered views (PAPER_NOTES
 // "Global localization"): a horizontal position grid, each position at the platform's heights above the floor
 // under it, kept only when it is clear of geometry (and, indoors, enclosed by it), then several headings and
 // pitches per position.

@@ -1,5 +1,5 @@
 #pragma once
-// A large test world (issue 22): the simulated room the camera flies in, unchanged at the centre of a square grid of
+// A large test world (docs/large_maps.md): the simulated room the camera flies in, unchanged at the centre of a square grid of
 // cells, and in every other cell another simulated room (v1 or v2, each with its own procedural clutter from its own
 // seed) turned by a random yaw: a campus of rooms that are alike but not copies, so a search over the whole world is
 // a real search. The cells are spacing_m apart; there is nothing between them (no ground: a 4 cm distance field over

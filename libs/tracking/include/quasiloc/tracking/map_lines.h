@@ -1,7 +1,7 @@
 #pragma once
 // Map lines for the tracker's point-to-line map factor (the paper's L primitive), associated by geometry alone.
 //
-// Why not by descriptor: camera and quasi-image descriptors do not agree across the modality gap (issue 7: ~0
+// Why not by descriptor: camera and quasi-image descriptors do not agree across the modality gap (docs/experiments.md: ~0
 // correct matches on the simulated room and on KITTI). A line of the map's geometry (a crease where two surfaces
 // meet, the contour of an object in front of another) is also an edge of the camera image, so with a pose
 // estimate the association is a search near the line's projection:

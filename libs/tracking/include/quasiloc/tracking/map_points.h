@@ -3,7 +3,7 @@
 // map through its provenance, matched to the camera's keypoints by descriptor inside a small window around their
 // projection at the aligned pose.
 //
-// Why only inside a small window: across the modality gap descriptors rarely agree (issue 7: at the true pose,
+// Why only inside a small window: across the modality gap descriptors rarely agree (docs/experiments.md: at the true pose,
 // 5.9 of 140 guided ORB candidates correct on simulated frames, 16.9 of 418 with the reflectivity matched to the
 // camera's histogram). The tracker associates at the edge alignment's pose (about a centimetre off), so a
 // window of a few pixels keeps the geometry in charge and leaves the descriptor to choose among the few keypoints
