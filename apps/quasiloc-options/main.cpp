@@ -41,12 +41,14 @@ namespace
 {
 using namespace quasiloc;
 
-/** One INI section: the options that read it (defaults as constructed) and the programs that use it. */
+/** One INI section: the options that read it (defaults as constructed) and the programs that use it, each with its
+ *  own options when its defaults differ (nullptr: the first program's). */
 struct Section
 {
     std::string name;
     std::shared_ptr<const mrpt::config::CLoadableOptions> options;
     std::vector<std::string> programs;
+    std::vector<std::shared_ptr<const mrpt::config::CLoadableOptions>> program_options;
 };
 
 template <class T>
@@ -62,9 +64,14 @@ std::vector<Section> sections()
     std::map<std::string, size_t> index;
     auto add = [&](const std::string& program, const std::string& name,
                    std::shared_ptr<const mrpt::config::CLoadableOptions> options) {
-        if (auto it = index.find(name); it != index.end()) return out[it->second].programs.push_back(program);
+        if (auto it = index.find(name); it != index.end())
+        {
+            out[it->second].programs.push_back(program);
+            out[it->second].program_options.push_back(std::move(options));
+            return;
+        }
         index[name] = out.size();
-        out.push_back({name, std::move(options), {program}});
+        out.push_back({name, options, {program}, {options}});
     };
     add("sim-rawlog", "Simulation", make<sim::SimulationOptions>());
     add("sim-rawlog", "World", make<sim::WorldOptions>());
@@ -85,7 +92,6 @@ std::vector<Section> sections()
     auto session = std::make_shared<tracking::SessionOptions>();
     for (const core::OptionsSection& s : session->sections())
         add("quasiloc-track", s.section, std::shared_ptr<const mrpt::config::CLoadableOptions>(session, s.options));
-    add("quasiloc-track", "QuasiImage", nullptr);
     // The test harness's own sections (quasiloc-track-harness reads quasiloc-track's too; quasiloc-track refuses these).
     auto harness = std::make_shared<tracking::HarnessOptions>();
     for (const core::OptionsSection& s : harness->sections())
@@ -93,16 +99,17 @@ std::vector<Section> sections()
     auto build = std::make_shared<reloc::DatabaseBuildConfig>();
     add("quasiloc-build-db", "BuildDatabase", make<app::BuildRunOptions>());
     add("quasiloc-build-db", "ViewSampling", std::shared_ptr<const mrpt::config::CLoadableOptions>(build, &build->sampling));
-    add("quasiloc-build-db", "QuasiImage", nullptr);
-    for (const char* s : {"Features", "PointMatching", "Lines", "Stereo"}) add("quasiloc-build-db", s, nullptr);
+    add("quasiloc-build-db", "QuasiImage", make<quasi::QuasiOptions>());
     auto frontend = std::make_shared<frontend::FrontendOptions>();
+    add("quasiloc-build-db", "Features", std::shared_ptr<const mrpt::config::CLoadableOptions>(frontend, &frontend->features));
+    for (const char* s : {"PointMatching", "Lines", "Stereo"}) add("quasiloc-build-db", s, nullptr);
     add("quasiloc-build-db", "LineMatching", std::shared_ptr<const mrpt::config::CLoadableOptions>(frontend, &frontend->line_matching));
     add("quasiloc-build-db", "Association", std::shared_ptr<const mrpt::config::CLoadableOptions>(frontend, &frontend->association));
     add("quasiloc-build-db", "Vocabulary", std::shared_ptr<const mrpt::config::CLoadableOptions>(build, &build->vocabulary));
     add("quasiloc-localize", "Localize", make<app::LocalizeRunOptions>());
     add("quasiloc-localize", "Localization", make<reloc::LocalizerOptions>());
     add("quasiloc-localize", "PointMatching", nullptr);
-    add("quasiloc-localize", "QuasiImage", nullptr);
+    add("quasiloc-localize", "QuasiImage", make<quasi::QuasiOptions>());
     add("quasiloc-eval", "Eval", make<eval::EvalOptions>());
     add("quasiloc-eval", "Eval.<sequence>", make<eval::SequenceOptions>());
     return out;
@@ -125,6 +132,31 @@ std::vector<core::OptionDescription> undeclared(const mrpt::config::CLoadableOpt
     return out;
 }
 
+std::string shownDefault(const std::string& value) { return value.empty() ? "(empty)" : "`" + value + "`"; }
+
+/** The key's default; where the programs' own options default it differently, each program's. */
+std::string defaults(const Section& s, const core::OptionDescription& key)
+{
+    std::vector<std::pair<std::string, std::string>> per_program;  // (default, program)
+    bool differ = false;
+    for (size_t i = 0; i < s.programs.size(); ++i)
+    {
+        const auto* declared = dynamic_cast<const core::DeclaredOptions*>(s.program_options[i].get());
+        if (!declared) continue;
+        for (const auto& d : declared->describe())
+            if (d.key == key.key)
+            {
+                differ = differ || d.default_value != key.default_value;
+                per_program.emplace_back(d.default_value, s.programs[i]);
+            }
+    }
+    if (!differ) return shownDefault(key.default_value);
+    std::string out;
+    for (const auto& [value, program] : per_program)
+        out += (out.empty() ? "" : "; ") + shownDefault(value) + " (" + program + ")";
+    return out;
+}
+
 std::string reference()
 {
     std::ostringstream md;
@@ -142,7 +174,7 @@ std::string reference()
         const auto keys = declared ? declared->describe() : undeclared(*s.options);
         for (const auto& k : keys)
             md << "| `" << k.key << "` | " << cell(k.type) << " | " << cell(k.unit) << " | " << cell(k.range) << " | "
-               << (k.default_value.empty() ? "(empty)" : "`" + k.default_value + "`") << " | " << cell(k.doc) << " |\n";
+               << defaults(s, k) << " | " << cell(k.doc) << " |\n";
     }
     return md.str();
 }

@@ -29,7 +29,7 @@ void refuseHarnessSections(const mrpt::config::CConfigFileBase& cfg, const std::
     }
 }
 
-tracking::SessionOptions loadOptions(const core::CommandLine& cmd, bool harness, quasi::QuasiOptions& quasi,
+tracking::SessionOptions loadOptions(const core::CommandLine& cmd, bool harness,
                                      tracking::HarnessOptions& harness_options)
 {
     const auto cfg = core::loadConfig(cmd);
@@ -39,8 +39,6 @@ tracking::SessionOptions loadOptions(const core::CommandLine& cmd, bool harness,
         harness_options.load(cfg, cmd.config_path);
     else
         refuseHarnessSections(cfg, cmd.config_path);
-    core::loadOptionsChecked(quasi, cfg, "QuasiImage", cmd.config_path);
-    quasi.check(cmd.config_path);
     const tracking::TrackingRunOptions& t = o.tracker;
     core::requireInputFiles(cmd.config_path, "Tracking",
                             {{"input_rawlog", t.input_rawlog}, {"calibration_ini", t.calibration_ini},
@@ -53,8 +51,7 @@ tracking::SessionOptions loadOptions(const core::CommandLine& cmd, bool harness,
     return o;
 }
 
-void writeOutputs(const tracking::SessionOptions& o, const quasi::QuasiOptions& quasi,
-                  const tracking::HarnessOptions* harness, const tracking::TrackingSession& session,
+void writeOutputs(const tracking::SessionOptions& o, const tracking::HarnessOptions* harness, const tracking::TrackingSession& session,
                   const tracking::SessionSummary& summary, const map::LidarMap& map)
 {
     const std::string& dir = o.tracker.output_dir;
@@ -68,7 +65,6 @@ void writeOutputs(const tracking::SessionOptions& o, const quasi::QuasiOptions& 
     if (session.hasStarter())
         core::writeTextFileAtomically(out.addFile(dir + "/initialization.txt"), session.initializationRecord());
     auto sections = o.sections();
-    sections.push_back({"QuasiImage", &quasi});
     if (harness)
         for (const core::OptionsSection& s : harness->sections()) sections.push_back(s);
     core::writeEffectiveConfig(out.addFile(dir + "/quasiloc-track.ini"), sections,
@@ -100,11 +96,10 @@ namespace quasiloc::app
 {
 int runTrack(const core::CommandLine& cmd, bool harness)
 {
-    quasi::QuasiOptions quasi;
     tracking::HarnessOptions harness_options;
-    const tracking::SessionOptions o = loadOptions(cmd, harness, quasi, harness_options);
+    const tracking::SessionOptions o = loadOptions(cmd, harness, harness_options);
     const tracking::TrackingRunOptions& t = o.tracker;
-    tracking::MapContext context(t.map_file, quasi);
+    tracking::MapContext context(t.map_file, o.quasi);
     dataset::FrameSourceOptions so;
     so.groundtruth_tum = t.groundtruth;
     so.calibration_ini = t.calibration_ini;
@@ -119,7 +114,7 @@ int runTrack(const core::CommandLine& cmd, bool harness)
     for (const std::string& w : source->warnings()) std::cout << "warning     " << w << "\n";
     std::cout << session.log().summary(summary);
     if (!session.log().hasGroundTruth()) std::cout << noGroundTruthLine(t, so.max_gt_dt_s) << std::endl;
-    writeOutputs(o, quasi, harness ? &harness_options : nullptr, session, summary, context.map());
+    writeOutputs(o, harness ? &harness_options : nullptr, session, summary, context.map());
     if (cmd.print_timing) std::cout << session.timing();
     return 0;
 }

@@ -41,7 +41,6 @@ constexpr size_t kFrames = 60;  // 3 s at 20 Hz: enough poses and images to aver
 struct Fixture
 {
     tracking::SessionOptions options;
-    quasi::QuasiOptions quasi;
     std::unique_ptr<tracking::MapContext> context;
     dataset::SensorCalibration calibration;
     std::vector<dataset::StereoFrame> frames;  ///< with ground truth
@@ -306,12 +305,11 @@ std::unique_ptr<Fixture> load(const core::CommandLine& cmd)
     auto fx = std::make_unique<Fixture>();
     const auto cfg = core::loadConfig(cmd);
     fx->options.load(cfg, cmd.config_path);
-    core::loadOptionsChecked(fx->quasi, cfg, "QuasiImage", cmd.config_path);
     const tracking::TrackingRunOptions& t = fx->options.tracker;
     core::requireInputFiles(cmd.config_path, "Tracking",
                             {{"input_rawlog", t.input_rawlog}, {"calibration_ini", t.calibration_ini},
                              {"map_file", t.map_file}, {"groundtruth", t.groundtruth}});
-    fx->context = std::make_unique<tracking::MapContext>(t.map_file, fx->quasi);
+    fx->context = std::make_unique<tracking::MapContext>(t.map_file, fx->options.quasi);
     fx->calibration = dataset::loadCalibration(t.calibration_ini);
     dataset::FrameSourceOptions so;
     so.groundtruth_tum = t.groundtruth;

@@ -96,7 +96,8 @@ void TrackerOptions::declare(core::OptionTable& t)
     t.add("max_landmarks", max_landmarks, "", Range::atLeast(0), "temporal landmarks per frame at most");
     t.add("temporal_max_gap_s", temporal_max_gap_s, "s", Range::above(0),
           "no temporal landmarks between frames farther apart than this (dropped frames): the windowed matching "
-          "assumes the small motion of consecutive frames");
+          "assumes the small motion of consecutive frames; two frame periods at 20 Hz: for a camera at 10 Hz or "
+          "slower, raise it above the frame period");
     t.addEnum("stereo_matching", stereo_matching,
               {{"guided", StereoMatching::Guided}, {"descriptors", StereoMatching::Descriptors}},
               "the right image's match of a left keypoint: guided = searched around the frame's dense SGBM "

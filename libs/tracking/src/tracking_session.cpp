@@ -52,6 +52,14 @@ double msSince(std::chrono::steady_clock::time_point t0)
 const char* mapTermName(MapTerm t) { return t == MapTerm::Factor ? "factor" : t == MapTerm::None ? "none" : "auto"; }
 }  // namespace
 
+SessionOptions::SessionOptions()
+{
+    estimator.outer_iterations = 1;
+    reweighting.mode = estimation::ReweightingMode::Uniform;
+    frontend.features.orb_levels = 4;
+    quasi.completion_radius_px = 1;
+}
+
 void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::string& name)
 {
     core::loadOptionsChecked(tracker, cfg, "Tracking", name);
@@ -76,6 +84,8 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     core::loadOptionsChecked(frontend.lines, cfg, "Lines", name);
     core::loadOptionsChecked(frontend.stereo, cfg, "Stereo", name);
     frontend.check(name);
+    core::loadOptionsChecked(quasi, cfg, "QuasiImage", name);
+    quasi.check(name);
 }
 
 std::vector<core::OptionsSection> SessionOptions::sections() const
@@ -93,7 +103,8 @@ std::vector<core::OptionsSection> SessionOptions::sections() const
             {"Features", &frontend.features},
             {"PointMatching", &frontend.point_matching},
             {"Lines", &frontend.lines},
-            {"Stereo", &frontend.stereo}};
+            {"Stereo", &frontend.stereo},
+            {"QuasiImage", &quasi}};
 }
 
 TrackingSession::TrackingSession(const SessionOptions& options, MapContext& context, dataset::FrameSource& source,

@@ -1,5 +1,6 @@
 // The tracking session without the program: a 5 s simulated V1_01 flight (the top-level config.ini's world, with
-// the real IMU biases), started from the ground truth; kidnapped and relocalized; and a false alarm withdrawn.
+// the real IMU biases), tracked by the library's default tracker from the ground truth; kidnapped and relocalized;
+// and a false alarm withdrawn.
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 
@@ -45,9 +46,8 @@ class TrackingSessionTest : public ::testing::Test
         cfg.write("Simulation", "duration_s", "5");
         cfg.write("Simulation", "inspection_png", "false");
         sim::runSimulation(cfg, "config.ini");
-        quasi::QuasiOptions quasi;
-        core::loadOptionsChecked(quasi, cfg, "QuasiImage", "config.ini");
-        context_ = std::make_unique<tracking::MapContext>((kSimDir / "lidar_map.map").string(), quasi);
+        context_ = std::make_unique<tracking::MapContext>((kSimDir / "lidar_map.map").string(),
+                                                          tracking::SessionOptions().quasi);
     }
     static void TearDownTestSuite()
     {
@@ -61,10 +61,11 @@ class TrackingSessionTest : public ::testing::Test
         tracking::SessionOptions session;
         tracking::HarnessOptions harness;
     };
-    /** config.ini's session on the simulation, from the ground truth, with `overrides` ("Section.key", value). */
+    /** The library's default session on the simulation, from the ground truth, with `overrides` ("Section.key",
+     *  value). */
     static Config options(const std::vector<std::pair<std::string, std::string>>& overrides)
     {
-        auto cfg = configIni();
+        mrpt::config::CConfigFileMemory cfg;
         cfg.write("Initialization", "init", "groundtruth");  // unless overridden
         for (const auto& [section_key, value] : overrides)
         {
@@ -72,8 +73,8 @@ class TrackingSessionTest : public ::testing::Test
             cfg.write(section_key.substr(0, dot), section_key.substr(dot + 1), value);
         }
         Config c;
-        c.session.load(cfg, "config.ini");
-        c.harness.load(cfg, "config.ini");
+        c.session.load(cfg, "test options");
+        c.harness.load(cfg, "test options");
         return c;
     }
 

@@ -44,7 +44,7 @@ enum class StereoMapPoints
 
 struct InitializationOptions : public core::DeclaredOptions
 {
-    InitMode init = InitMode::GroundTruth;
+    InitMode init = InitMode::Global;
     double init_sigma_m = 0.01, init_sigma_deg = 0.1, init_sigma_v = 0.05;
     double init_velocity_interval_s = 0.5, init_max_disagreement_deg = 2.0, init_max_speed_m_s = 4.0;
     double init_global_sigma_m = 0.05, init_global_sigma_deg = 1.0, init_global_sigma_v = 0.15;
@@ -78,15 +78,15 @@ struct TrackerOptions : public core::DeclaredOptions
 {
     bool map_updates = true;
     int keyframe_every = 1;
-    int model_downscale = 1;
+    int model_downscale = 2;
     MapTerm map_term = MapTerm::Auto;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
-    double temporal_max_gap_s = 0.3;
+    double temporal_max_gap_s = 0.1;
     int max_landmarks = 150;
-    StereoMatching stereo_matching = StereoMatching::Descriptors;
+    StereoMatching stereo_matching = StereoMatching::Guided;
     GuidedStereoOptions guided;  ///< stereo_matching = guided: the guided_* keys
     bool concurrent_stages = true;
     InitializationOptions initialization;  ///< [Initialization]

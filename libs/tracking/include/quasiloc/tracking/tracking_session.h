@@ -47,6 +47,11 @@ estimation::ImuNoise imuNoise(const dataset::ImuCalibration& c);
 
 struct SessionOptions
 {
+    /** The tracker's defaults where a shared section's struct serves other programs differently: one window round
+     *  (no structural factor by default), uniform reweighting of the structural factors, 4 ORB levels for the stereo
+     *  points, and the render's completion radius 1 (docs/experiments.md has the measurements). */
+    SessionOptions();
+
     TrackingRunOptions tracker;                       ///< [Tracking] + [Initialization] + [MapFactors]
     TrackMonitorOptions monitor;                      ///< [TrackMonitor]
     RelocalizationOptions relocalization;             ///< [Relocalization]
@@ -55,6 +60,7 @@ struct SessionOptions
     estimation::EstimatorOptions estimator;           ///< [Estimator]
     estimation::ReweightingOptions reweighting;       ///< [Reweighting]
     frontend::FrontendOptions frontend;               ///< [Features] [PointMatching] [Lines] [Stereo]
+    quasi::QuasiOptions quasi;                        ///< [QuasiImage] (the MapContext's renderers)
 
     /** Loads and checks every section (unknown keys are errors naming `config_name`). */
     void load(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name);
