@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <quasiloc/core/error.h>
 #include <quasiloc/sim/imu_synthesizer.h>
+#include <random>
 
 namespace quasiloc::sim
 {
@@ -66,6 +67,18 @@ void ImuBiasTrajectory::at(double t, Eigen::Vector3d& gyro_bias, Eigen::Vector3d
     acc_bias = (1 - w) * acc_[i0] + w * acc_[i1];
 }
 
+void drawInitialBiases(ImuNoiseOptions& o)
+{
+    std::mt19937_64 rng(o.seed ^ 0xB1A5B1A5B1A5ull);
+    std::uniform_real_distribution<double> magnitude(0.3, 1.0);
+    std::bernoulli_distribution positive(0.5);
+    for (int i = 0; i < 3; ++i)
+    {
+        o.initial_gyro_bias[i] = (positive(rng) ? 1 : -1) * magnitude(rng) * o.gyro_bias_max_rad_s;
+        o.initial_acc_bias[i] = (positive(rng) ? 1 : -1) * magnitude(rng) * o.acc_bias_max_m_s2;
+    }
+}
+
 ResolvedImuBias resolveImuBias(const ImuNoiseOptions& o, const std::string& shared_dir, const std::string& sequence,
                                double t0_s, double t1_s, const std::string& input)
 {
@@ -73,9 +86,10 @@ ResolvedImuBias resolveImuBias(const ImuNoiseOptions& o, const std::string& shar
     const std::string walk = "random walk from gyro " + vectorText(o.initial_gyro_bias, 4) + " rad/s, acc " +
                              vectorText(o.initial_acc_bias, 3) + " m/s^2" +
                              (o.noise_enabled ? "" : " (held constant: noise_enabled = false)");
-    if (o.bias == ImuBiasModel::random_walk)
+    if (o.bias == ImuBiasModel::random_walk || o.bias == ImuBiasModel::random_draw)
     {
-        r.description = walk + " (bias = random_walk)";
+        r.description = walk + (o.bias == ImuBiasModel::random_walk ? " (bias = random_walk)"
+                                                                     : " (bias = random_draw: initial biases drawn)");
         return r;
     }
     std::string path = o.bias_file;

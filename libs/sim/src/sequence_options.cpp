@@ -10,7 +10,10 @@ using core::Range;
 namespace
 {
 std::string sourceName(ImuSource s) { return s == ImuSource::real ? "real" : "synthetic"; }
-std::string biasName(ImuBiasModel b) { return b == ImuBiasModel::random_walk ? "random_walk" : "euroc_groundtruth"; }
+std::string biasName(ImuBiasModel b)
+{
+    return b == ImuBiasModel::random_walk ? "random_walk" : b == ImuBiasModel::random_draw ? "random_draw" : "euroc_groundtruth";
+}
 }  // namespace
 
 void SimulationOptions::declare(core::OptionTable& t)
@@ -29,6 +32,42 @@ void SimulationOptions::declare(core::OptionTable& t)
           "EuRoC sensor.yaml of the left camera; empty = <shared_dir>/data/euroc/calib/cam0_sensor.yaml");
     t.add("cam1_yaml", cam1_yaml,
           "EuRoC sensor.yaml of the right camera; empty = <shared_dir>/data/euroc/calib/cam1_sensor.yaml");
+    t.add("camchain", camchain,
+          "a Kalibr camchain YAML of the stereo rig (cam0 = left; T_cam_imu gives the body = IMU frame), instead of "
+          "cam0_yaml / cam1_yaml (share/quasiloc/sim/d435i_camchain.yaml: a RealSense D435i)");
+    t.addEnum("motion", motion, {{"trajectory", MotionSource::trajectory}, {"ground_robot", MotionSource::ground_robot}},
+              "trajectory: along `trajectory` (or EuRoC's ground truth); ground_robot: a ground robot's tour of the "
+              "office floor generated from seed (robot_motion.h, keys robot_*; needs [World] world = floor)");
+    t.add("robot_min_speed_m_s", robot.min_speed_m_s, "m/s", Range::between(0.05, 5),
+          "ground_robot: lowest cruise speed of a segment");
+    t.add("robot_max_speed_m_s", robot.max_speed_m_s, "m/s", Range::between(0.05, 5),
+          "ground_robot: highest cruise speed (>= robot_min_speed_m_s)");
+    t.add("robot_max_accel_m_s2", robot.max_accel_m_s2, "m/s^2", Range::between(0.05, 10),
+          "ground_robot: peak acceleration of the speed ramps");
+    t.add("robot_max_yaw_rate_deg_s", robot.max_yaw_rate_deg_s, "deg/s", Range::between(5, 360),
+          "ground_robot: peak yaw rate of a turn in place");
+    t.add("robot_stop_probability", robot.stop_probability, "", Range::between(0, 1),
+          "ground_robot: chance of a wait at a waypoint");
+    t.add("robot_stop_min_s", robot.stop_min_s, "s", Range::between(0, 60), "ground_robot: shortest wait");
+    t.add("robot_stop_max_s", robot.stop_max_s, "s", Range::between(0, 60), "ground_robot: longest wait");
+    t.add("robot_standing_s", robot.standing_s, "s", Range::between(0.5, 60),
+          "ground_robot: the robot stands still this long at the start");
+    t.add("robot_start_moving", robot.start_moving,
+          "ground_robot: the first frame when the first segment reaches its cruise speed; false: 0.5 s into the "
+          "initial wait (start standing)");
+    t.add("robot_start_in_corridor", robot.start_in_corridor,
+          "ground_robot: start at the corridor's end looking along it (a view alike all along the corridor); "
+          "false: near the far wall of a room, heading for its door");
+    t.add("robot_camera_height_m", robot.camera_height_m, "m", Range::between(0.05, 3),
+          "ground_robot: cam0 above the floor (looking horizontally forward)");
+    t.add("robot_camera_forward_m", robot.camera_forward_m, "m", Range::between(-2, 2),
+          "ground_robot: cam0 ahead of the rotation centre");
+    t.add("robot_vibration_z_mm", robot.vibration_z_mm, "mm", Range::between(0, 50),
+          "ground_robot: floor bounce, largest term (1.5-2.5 Hz) at full speed or yaw rate");
+    t.add("robot_vibration_tilt_deg", robot.vibration_tilt_deg, "deg", Range::between(0, 10),
+          "ground_robot: roll / pitch vibration, largest term (2-3 Hz) at full speed or yaw rate");
+    t.add("robot_pitch_per_accel_deg", robot.pitch_per_accel_deg, "deg/(m/s^2)", Range::between(0, 10),
+          "ground_robot: the body's pitch while accelerating");
     t.add("spline_knot_spacing_s", spline_knot_spacing_s, "s", Range::between(0.005, 2),
           "knot spacing of the spline fitted to the trajectory");
     t.add("write_map", write_map, "write lidar_map.map (and the 32-beam map with [Lidar] beam_map)");
@@ -43,6 +82,13 @@ void SimulationOptions::check(const std::string& in) const
     core::require(!output_dir.empty(), in + " output_dir", "is required");
     core::require(!sequence.empty() && sequence.find('/') == std::string::npos, in + " sequence",
                   "must be a plain name (it names the rawlog)");
+    core::require(camchain.empty() || (cam0_yaml.empty() && cam1_yaml.empty()), in + " camchain",
+                  "is an alternative to cam0_yaml / cam1_yaml: give one or the other");
+    core::require(robot.max_speed_m_s >= robot.min_speed_m_s, in + " robot_max_speed_m_s",
+                  "must be >= robot_min_speed_m_s");
+    core::require(robot.stop_max_s >= robot.stop_min_s, in + " robot_stop_max_s", "must be >= robot_stop_min_s");
+    core::require(motion == MotionSource::trajectory || trajectory.empty(), in + " trajectory",
+                  "is not read with motion = ground_robot");
 }
 
 void ImuNoiseOptions::declare(core::OptionTable& t)
@@ -63,14 +109,23 @@ void ImuNoiseOptions::declare(core::OptionTable& t)
     t.add("noise_enabled", noise_enabled, "white noise and bias random walk; false = exact samples plus the biases");
     t.add("seed", seed, "", Range::any(), "noise seed, combined with [Simulation] seed");
     t.addEnum("bias", bias,
-              {{"euroc_groundtruth", ImuBiasModel::euroc_groundtruth}, {"random_walk", ImuBiasModel::random_walk}},
+              {{"euroc_groundtruth", ImuBiasModel::euroc_groundtruth}, {"random_walk", ImuBiasModel::random_walk},
+               {"random_draw", ImuBiasModel::random_draw}},
               "euroc_groundtruth: EuRoC's ground-truth bias trajectory where there is one, else the random walk; "
-              "random_walk: from the initial biases");
+              "random_walk: from the initial biases; random_draw: from initial biases drawn from the seed (each axis "
+              "0.3..1 x gyro_bias_max_rad_s / acc_bias_max_m_s2, random sign)");
     t.add("bias_file", bias_file,
           "bias = euroc_groundtruth only; empty = <shared_dir>/data/euroc/groundtruth/body/<sequence>.csv "
           "if it exists");
     t.add("initial_gyro_bias", initial_gyro_bias, "rad/s", Range::any(), "start of the random walk (EuRoC's biases)");
     t.add("initial_acc_bias", initial_acc_bias, "m/s^2", Range::any(), "start of the random walk (EuRoC's biases)");
+    t.add("gyro_bias_max_rad_s", gyro_bias_max_rad_s, "rad/s", Range::between(1e-6, 1),
+          "bias = random_draw: bound of each axis' drawn gyroscope bias");
+    t.add("acc_bias_max_m_s2", acc_bias_max_m_s2, "m/s^2", Range::between(1e-6, 5),
+          "bias = random_draw: bound of each axis' drawn accelerometer bias");
+    t.add("kalibr_yaml", kalibr_yaml,
+          "a Kalibr imu.yaml: rate_hz and the four noise densities are taken from it (share/quasiloc/sim/"
+          "d435i_imu.yaml: the D435i's BMI055)");
 }
 
 void ImuNoiseOptions::check(const std::string& in) const

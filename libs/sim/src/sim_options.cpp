@@ -11,8 +11,9 @@ using core::Range;
 
 void WorldOptions::declare(core::OptionTable& t)
 {
-    t.addEnum("world", world, {{"v1", ViconRoom::v1}, {"v2", ViconRoom::v2}},
-              "the EuRoC Vicon room (1 or 2): shell and clutter from its GMM and line maps");
+    t.addEnum("world", world, {{"v1", ViconRoom::v1}, {"v2", ViconRoom::v2}, {"floor", ViconRoom::office_floor}},
+              "the EuRoC Vicon room (1 or 2): shell and clutter from its GMM and line maps; floor: the ground "
+              "robot's office floor of rooms along a corridor (floor_world.h, keys floor_*)");
     t.add("gmm_patches", gmm_patches, "interior GMM components as elliptical patches");
     t.add("gmm_sigma_scale", gmm_sigma_scale, "", Range::between(0.1, 5), "patch semi-axis = scale * sigma");
     t.add("gmm_min_semi_axis_m", gmm_min_semi_axis_m, "m", Range::between(0.001, 1),
@@ -36,6 +37,20 @@ void WorldOptions::declare(core::OptionTable& t)
           "side of the procedural albedo textures (a power of two)");
     t.add("shadow_map_px", shadow_map_px, "px", Range::between(0, 4096),
           "cube-map size for light shadows; 0 = no shadows, else >= 64");
+    t.add("floor_corridor_length_m", floor.corridor_length_m, "m", Range::between(2, 500),
+          "world = floor: length of the corridor (the rooms on each side partition it)");
+    t.add("floor_corridor_width_m", floor.corridor_width_m, "m", Range::between(1.2, 10), "world = floor");
+    t.add("floor_room_depth_m", floor.room_depth_m, "m", Range::between(2.5, 30),
+          "world = floor: rooms' extent away from the corridor");
+    t.add("floor_room_width_m", floor.room_width_m, "m", Range::between(2.5, 50),
+          "world = floor: mean room width along the corridor (each drawn in [0.75, 1.25] x this)");
+    t.add("floor_ceiling_m", floor.ceiling_m, "m", Range::between(2.2, 10), "world = floor: ceiling height");
+    t.add("floor_door_width_m", floor.door_width_m, "m", Range::between(0.8, 5), "world = floor: one door per room");
+    t.add("floor_furniture_per_room", floor.furniture_per_room, "", Range::between(0, 50),
+          "world = floor: tables, shelves and box stacks against a room's walls");
+    t.add("floor_posters_per_room", floor.posters_per_room, "", Range::between(0, 50), "world = floor");
+    t.add("floor_corridor_posters", floor.corridor_posters, "", Range::between(0, 100),
+          "world = floor: posters on the corridor's otherwise plain walls");
 }
 
 void WorldOptions::check(const std::string& in) const
@@ -80,6 +95,11 @@ void AppearanceOptions::declare(core::OptionTable& t)
     t.add("occluder_speed_m_s", occluder_speed_m_s, "m/s", Range::between(0, 5), "walking speed of the occluder");
     t.add("occluder_path_fraction", occluder_path_fraction, "", Range::between(0.05, 0.5),
           "ellipse semi-axes as fraction of the room extent");
+    t.add("auto_exposure_step", auto_exposure_step, "", Range::between(0, 1),
+          "0: the exposure follows its drift continuously; > 0: an auto-exposure that steps: the exposure moves in "
+          "discrete relative steps of this size, updated every auto_exposure_interval_s");
+    t.add("auto_exposure_interval_s", auto_exposure_interval_s, "s", Range::between(0.01, 100),
+          "auto_exposure_step > 0: how often the auto-exposure may change the exposure");
 }
 
 void AppearanceOptions::check(const std::string& in) const { checkRanges(in); }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <opencv2/imgcodecs.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/program_options.h>
@@ -11,7 +12,10 @@
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/dataset/rawlog_writer.h>
 #include <quasiloc/sim/inspection.h>
+#include <quasiloc/core/pose.h>
 #include <quasiloc/dataset/calibration.h>
+#include <quasiloc/dataset/kalibr.h>
+#include <quasiloc/sim/floor_world.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/sim/trajectory_spline.h>
 #include <sstream>
@@ -56,9 +60,10 @@ SimulatedImu simulateImu(const SimulationOptions& so, const ImuNoiseOptions& io,
         return out;
     }
     const double t0 = frame_ns.front() * 1e-9, t1 = frame_ns.back() * 1e-9;
-    ResolvedImuBias bias = resolveImuBias(io, so.shared_dir, so.sequence, t0, t1, config_name);
     ImuNoiseOptions imu_opt = io;
     imu_opt.seed = io.seed * 0x9E3779B97F4A7C15ull + so.seed;
+    if (io.bias == ImuBiasModel::random_draw) drawInitialBiases(imu_opt);
+    ResolvedImuBias bias = resolveImuBias(imu_opt, so.shared_dir, so.sequence, t0, t1, config_name);
     ImuSynthesizer synth(spline, imu_opt, std::move(bias.trajectory));
     out.samples = synth.generate(t0, t1, &out.truth);
     // Integer ticks from the first frame: every (rate / camera rate)-th sample has exactly a frame's timestamp,
@@ -85,19 +90,28 @@ std::string imuBiasCsv(const SimulatedImu& imu, const std::string& sequence)
     return text;
 }
 
-std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam)
+std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam,
+                   const core::StereoRig& rig)
 {
     std::ostringstream s;
-    s << "Simulated EuRoC-like sequence written by sim-rawlog (quasiloc sim library).\n\n"
-      << "World: EuRoC Vicon room " << roomName(wo.world) << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
-      << "procedural objects), trajectory: " << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory)
-      << ", seed " << o.seed << ".\n" << r.frames << " stereo frames at " << o.camera_rate_hz << " Hz, " << r.imu_samples
+    if (o.motion == MotionSource::ground_robot)
+        s << "Simulated ground-robot sequence written by sim-rawlog (quasiloc sim library).\n\n"
+          << "World: an office floor of rooms along a corridor (floor_world.h), motion: a ground robot's tour of it\n"
+          << "(robot_motion.h), " << (o.robot.start_moving ? "started moving" : "started standing") << ", seed " << o.seed
+          << ".\n";
+    else
+        s << "Simulated EuRoC-like sequence written by sim-rawlog (quasiloc sim library).\n\n"
+          << "World: EuRoC Vicon room " << roomName(wo.world) << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
+          << "procedural objects), trajectory: " << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory)
+          << ", seed " << o.seed << ".\n";
+    s << r.frames << " stereo frames at " << o.camera_rate_hz << " Hz, " << r.imu_samples
       << " IMU samples.\nIMU: " << r.imu_description << ".\nMap: " << r.map_points << " points. Minimum clearance between the room's trajectories\n"
       << "and the geometry: " << r.world.min_clearance_m << " m.\n\nFiles:\n"
       << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity [0,1]\n"
       << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "")
       << "  " << o.sequence << ".rawlog   MRPT rawlog: CObservationStereoImages 'stereo' + CObservationIMU 'imu', time order\n"
-      << "  " << o.sequence << "_Images/  raw (distorted) 752x480 8-bit PNG images referenced by the rawlog\n"
+      << "  " << o.sequence << "_Images/  raw (distorted) " << rig.left.width << "x" << rig.left.height
+      << " 8-bit PNG images referenced by the rawlog\n"
       << "  gt.tum               ground truth T_world_cam0 (TUM: t x y z qx qy qz qw) at every camera frame\n"
       << "  gt_body.tum          ground truth T_world_body (IMU frame) at every IMU sample\n"
       << (r.imu_bias_written ? "  gt_imu_bias.csv      true IMU biases at every IMU sample (t, b_g xyz, b_a xyz)\n" : "")
@@ -107,6 +121,72 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
       << "The camera sees albedo x lighting; the LiDAR reflectivity is a different material response with its own\n"
       << "detail, range and incidence falloff and noise: the two are correlated, not equal.\n";
     return s.str();
+}
+/** The rig: a Kalibr camchain, or the two EuRoC sensor.yaml files (EuRoC's own by default). */
+core::StereoRig loadRig(const SimulationOptions& so)
+{
+    if (!so.camchain.empty()) return dataset::stereoRigFromKalibr(so.camchain);
+    const std::string calib_dir = so.shared_dir + "/data/euroc/calib/";
+    return core::StereoRig::fromEuroc(so.cam0_yaml.empty() ? calib_dir + "cam0_sensor.yaml" : so.cam0_yaml,
+                                      so.cam1_yaml.empty() ? calib_dir + "cam1_sensor.yaml" : so.cam1_yaml);
+}
+
+/** The body (IMU) trajectory and where the frames start: a fitted trajectory file, or the ground robot's tour. */
+struct SimulatedMotion
+{
+    TrajectorySpline spline;
+    double first_frame_offset_s = 0;  ///< after spline.tStart()
+    std::string source;               ///< the trajectory file, or the robot's tour in words
+    std::optional<FloorLayout> floor;
+    std::vector<Eigen::Vector3f> path_cam0;  ///< robot only: cam0 positions along the whole tour (5 cm apart or less)
+};
+
+/** The robot's clock starts at a realistic UNIX time, as a real recording's would. */
+constexpr double kRobotClockStart_s = 1.7e9;
+
+SimulatedMotion robotMotion(const SimulationOptions& so, const WorldOptions& wo, const core::StereoRig& rig,
+                            const std::string& config_name)
+{
+    core::require(wo.world == ViconRoom::office_floor, config_name + " [World] world",
+                  "must be floor with [Simulation] motion = ground_robot");
+    SimulatedMotion m;
+    m.floor = makeFloorLayout(wo.floor, so.seed, config_name + " [World]");
+    const double duration = so.duration_s > 0 ? so.duration_s + so.start_offset_s : 60.0;
+    const GroundRobotMotion robot =
+        generateGroundRobotMotion(*m.floor, so.robot, duration, kRobotClockStart_s, so.seed, config_name + " [Simulation]");
+    const mrpt::poses::CPose3D T_base_cam0 = baseToCamera(so.robot);
+    const mrpt::poses::CPose3D T_cam0_body = core::fromIsometry(core::toIsometry(rig.T_body_left).inverse());
+    core::Trajectory body;
+    body.header = "T_world_body of the ground robot";
+    for (const core::TimedPose& tp : robot.T_world_base.poses)
+    {
+        const mrpt::poses::CPose3D T_world_cam0 = tp.pose + T_base_cam0;
+        body.poses.push_back({tp.t, T_world_cam0 + T_cam0_body});
+        const Eigen::Vector3f p(float(T_world_cam0.x()), float(T_world_cam0.y()), float(T_world_cam0.z()));
+        if (m.path_cam0.empty() || (m.path_cam0.back() - p).norm() > 0.05f) m.path_cam0.push_back(p);
+    }
+    TrajectorySplineOptions spo;
+    spo.knot_spacing_s = so.spline_knot_spacing_s;
+    m.spline = TrajectorySpline::fitBodyTrajectory(body, spo);
+    m.first_frame_offset_s = robot.first_frame_offset_s + so.start_offset_s;
+    char text[200];
+    std::snprintf(text, sizeof(text), "ground robot tour: %zu waypoints, %.1f m, %zu rooms entered, %zu turns in "
+                  "place, %zu waits", robot.waypoints.size(), robot.length_m, robot.rooms_visited,
+                  robot.turns_in_place, robot.stops);
+    m.source = text;
+    return m;
+}
+
+SimulatedMotion trajectoryMotion(const SimulationOptions& so, const core::StereoRig& rig)
+{
+    SimulatedMotion m;
+    m.source = so.trajectory.empty() ? so.shared_dir + "/data/euroc/groundtruth/cam0/" + so.sequence + ".txt" : so.trajectory;
+    const core::Trajectory traj = core::readTum(m.source);
+    TrajectorySplineOptions spo;
+    spo.knot_spacing_s = so.spline_knot_spacing_s;
+    m.spline = TrajectorySpline::fitCameraTrajectory(traj, rig.T_body_left, spo);
+    m.first_frame_offset_s = so.start_offset_s;
+    return m;
 }
 }  // namespace
 
@@ -130,24 +210,33 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     ao.check(config_name + " [Appearance]");
     lo.check(config_name + " [Lidar]");
     io.check(config_name + " [IMU]");
+    if (!io.kalibr_yaml.empty())
+    {
+        const dataset::ImuCalibration c = dataset::imuCalibrationFromKalibr(io.kalibr_yaml);
+        io.rate_hz = c.rate_hz;
+        io.gyroscope_noise_density = c.gyroscope_noise_density;
+        io.gyroscope_random_walk = c.gyroscope_random_walk;
+        io.accelerometer_noise_density = c.accelerometer_noise_density;
+        io.accelerometer_random_walk = c.accelerometer_random_walk;
+        io.check(io.kalibr_yaml);
+    }
     auto log = [&](const std::string& msg) {
         if (so.verbose) std::cout << msg << std::endl;
     };
 
     // Inputs: calibration, trajectory, spline.
-    const std::string calib_dir = so.shared_dir + "/data/euroc/calib/";
-    const core::StereoRig rig = core::StereoRig::fromEuroc(so.cam0_yaml.empty() ? calib_dir + "cam0_sensor.yaml" : so.cam0_yaml,
-                                                           so.cam1_yaml.empty() ? calib_dir + "cam1_sensor.yaml" : so.cam1_yaml);
-    const std::string traj_path =
-        so.trajectory.empty() ? so.shared_dir + "/data/euroc/groundtruth/cam0/" + so.sequence + ".txt" : so.trajectory;
-    const core::Trajectory traj = core::readTum(traj_path);
-    TrajectorySplineOptions spo;
-    spo.knot_spacing_s = so.spline_knot_spacing_s;
-    const TrajectorySpline spline = TrajectorySpline::fitCameraTrajectory(traj, rig.T_body_left, spo);
+    const core::StereoRig rig = loadRig(so);
+    const bool robot = so.motion == MotionSource::ground_robot;
+    core::require(robot || wo.world != ViconRoom::office_floor, config_name + " [World] world",
+                  "floor needs [Simulation] motion = ground_robot");
+    const SimulatedMotion motion = robot ? robotMotion(so, wo, rig, config_name) : trajectoryMotion(so, rig);
+    const std::string& traj_path = motion.source;
+    const TrajectorySpline& spline = motion.spline;
+    if (robot) log(motion.source);
     const mrpt::poses::CPose3D T_body_cam0 = rig.T_body_left;
     auto T_world_cam0 = [&](double t) { return spline.T_world_body(t) + T_body_cam0; };
 
-    const auto t0_ns = static_cast<int64_t>(std::llround((spline.tStart() + so.start_offset_s) * 1e9));
+    const auto t0_ns = static_cast<int64_t>(std::llround((spline.tStart() + motion.first_frame_offset_s) * 1e9));
     const auto end_ns = static_cast<int64_t>(std::floor(spline.tEnd() * 1e9));
     const int64_t last_ns = so.duration_s > 0 ? std::min(end_ns, t0_ns + static_cast<int64_t>(so.duration_s * 1e9)) : end_ns;
     const double period_ns = 1e9 / so.camera_rate_hz;
@@ -171,14 +260,16 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
 
     // World: clear of every trajectory of the room and of the simulated one.
     auto clock = std::chrono::steady_clock::now();
-    std::vector<Eigen::Vector3f> keep_clear = loadRoomTrajectoryPositions(so.shared_dir, roomName(wo.world));
+    std::vector<Eigen::Vector3f> keep_clear =
+        robot ? motion.path_cam0 : loadRoomTrajectoryPositions(so.shared_dir, roomName(wo.world));
     for (int64_t t : frame_ns)
     {
         const mrpt::poses::CPose3D T = T_world_cam0(t * 1e-9);
         keep_clear.emplace_back(static_cast<float>(T.x()), static_cast<float>(T.y()), static_cast<float>(T.z()));
     }
     timer.enter("world");
-    const World world = buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
+    const World world = robot ? buildFloorWorld(wo, *motion.floor, so.seed, keep_clear, &r.world)
+                              : buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
     timer.leave("world");
     r.world_time_s = seconds(clock);
     log("world " + roomName(wo.world) + ": " + std::to_string(r.world.triangles) + " triangles, " + std::to_string(r.world.gmm_patches) +
@@ -290,8 +381,9 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     calib.imu->accelerometer_random_walk = io.accelerometer_random_walk;
     calib.imu->gravity_m_s2 = io.gravity_m_s2;
     dataset::saveCalibration(calib, (dir / "calib.ini").string(),
-                             "Simulated EuRoC stereo rig (cam0 = left, cam1 = right; body = IMU frame) and IMU noise "
-                             "model;\nthe biases were not measured (zero, with the sigmas of real MEMS biases)");
+                             std::string(so.camchain.empty() ? "Simulated EuRoC" : "Simulated (" + so.camchain + ")") +
+                                 " stereo rig (cam0 = left, cam1 = right; body = IMU frame) and IMU noise "
+                                 "model;\nthe biases were not measured (zero, with the sigmas of real MEMS biases)");
     core::writeEffectiveConfig((dir / "sim-rawlog.ini").string(),
                                {{"Simulation", &so}, {"World", &wo}, {"Appearance", &ao}, {"Lidar", &lo}, {"IMU", &io}},
                                "Effective configuration of sim-rawlog (" + config_name + ")");
@@ -304,7 +396,7 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         r.files.push_back((out_final / "inspection.png").string());
     }
     r.total_time_s = seconds(t_total);
-    core::writeTextFileAtomically((dir / "README.txt").string(), readme(so, wo, r, lo.beam_map && so.write_map));
+    core::writeTextFileAtomically((dir / "README.txt").string(), readme(so, wo, r, lo.beam_map && so.write_map, rig));
     r.files.push_back((out_final / "README.txt").string());
     staged.commit();
     return r;

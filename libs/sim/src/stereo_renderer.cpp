@@ -78,7 +78,9 @@ std::vector<float> lightScales(const AppearanceOptions& o, size_t num_lights, do
     return s;
 }
 
-double exposureAt(const AppearanceOptions& o, size_t num_lights, double t_rel)
+namespace
+{
+double continuousExposure(const AppearanceOptions& o, size_t num_lights, double t_rel)
 {
     double e = o.exposure * (1.0 + o.exposure_variation * std::sin(2 * M_PI * t_rel / o.exposure_period_s));
     if (o.illumination_change && num_lights > 0)
@@ -90,6 +92,16 @@ double exposureAt(const AppearanceOptions& o, size_t num_lights, double t_rel)
         e *= std::pow(std::max(mean, 0.05), -o.auto_exposure_compensation);
     }
     return e;
+}
+}  // namespace
+
+double exposureAt(const AppearanceOptions& o, size_t num_lights, double t_rel)
+{
+    if (o.auto_exposure_step <= 0) return continuousExposure(o, num_lights, t_rel);
+    const double t_update = std::floor(t_rel / o.auto_exposure_interval_s) * o.auto_exposure_interval_s;
+    const double target = continuousExposure(o, num_lights, t_update);
+    const double level = std::round(std::log(target / o.exposure) / std::log1p(o.auto_exposure_step));
+    return o.exposure * std::pow(1 + o.auto_exposure_step, level);
 }
 
 Mesh occluderMesh(const AppearanceOptions& o, const World& world, double t_rel)

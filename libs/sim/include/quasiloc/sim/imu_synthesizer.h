@@ -46,7 +46,8 @@ enum class ImuSource
 enum class ImuBiasModel
 {
     euroc_groundtruth,
-    random_walk
+    random_walk,
+    random_draw  ///< the random walk from initial biases drawn from the seed (drawInitialBiases)
 };
 
 /** Section [IMU]; each key's unit, range and meaning: declare() (sim_options.cpp). */
@@ -66,6 +67,9 @@ struct ImuNoiseOptions : public core::DeclaredOptions
     std::string bias_file;
     Eigen::Vector3d initial_gyro_bias{-0.0023, 0.0249, 0.0817};  ///< EuRoC's (header comment)
     Eigen::Vector3d initial_acc_bias{-0.021, 0.122, 0.079};      ///< EuRoC's (header comment)
+    double gyro_bias_max_rad_s = 0.00873;  ///< bias = random_draw: per-axis magnitude bound (0.5 deg/s)
+    double acc_bias_max_m_s2 = 0.08;       ///< bias = random_draw: per-axis magnitude bound
+    std::string kalibr_yaml;  ///< a Kalibr imu.yaml: rate and the four densities from it
 
     void declare(core::OptionTable& t) override;
     /** The declared ranges; real_imu_csv only with source = real, bias_file only with bias = euroc_groundtruth. */
@@ -95,6 +99,11 @@ class ImuBiasTrajectory
     std::vector<Eigen::Vector3d> gyro_, acc_;
     std::string source_;
 };
+
+/** bias = random_draw: sets options.initial_gyro_bias / initial_acc_bias to biases drawn from options.seed, each axis
+ *  of magnitude uniform in [0.3, 1] x its bound with a random sign (a consumer MEMS part's turn-on bias: never zero,
+ *  up to the bound). */
+void drawInitialBiases(ImuNoiseOptions& options);
 
 /** The bias model a simulation uses, resolved from [IMU] bias / bias_file (header comment). */
 struct ResolvedImuBias

@@ -27,13 +27,22 @@
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/sim/imu_synthesizer.h>
 #include <quasiloc/sim/lidar_sampler.h>
+#include <quasiloc/sim/robot_motion.h>
 #include <quasiloc/sim/stereo_renderer.h>
 #include <quasiloc/sim/world_builder.h>
 #include <string>
 
 namespace quasiloc::sim
 {
-/** Section [Simulation]; each key's unit, range and meaning: declare() (sim_options.cpp). */
+/** How the rig moves: along a given trajectory (EuRoC's ground truth or `trajectory`), or as a ground robot
+ *  through the office floor (robot_motion.h; needs [World] world = floor). */
+enum class MotionSource
+{
+    trajectory,
+    ground_robot
+};
+
+/** Section [Simulation]; each key's unit, range and meaning: declare() (sequence_options.cpp). */
 struct SimulationOptions : public core::DeclaredOptions
 {
     std::string output_dir;
@@ -45,6 +54,9 @@ struct SimulationOptions : public core::DeclaredOptions
     double camera_rate_hz = 20;
     uint64_t seed = 1;
     std::string cam0_yaml, cam1_yaml;
+    std::string camchain;  ///< a Kalibr camchain instead of cam0_yaml / cam1_yaml
+    MotionSource motion = MotionSource::trajectory;
+    GroundRobotOptions robot;  ///< motion = ground_robot (keys robot_*)
     double spline_knot_spacing_s = 0.1;
     bool write_map = true;
     bool inspection_png = true;

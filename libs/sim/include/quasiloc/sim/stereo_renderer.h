@@ -46,6 +46,8 @@ struct AppearanceOptions : public core::DeclaredOptions
     bool occluder = false;
     double occluder_speed_m_s = 0.8;
     double occluder_path_fraction = 0.35;
+    double auto_exposure_step = 0;
+    double auto_exposure_interval_s = 0.5;
 
     void declare(core::OptionTable& t) override;
     /** The declared ranges (InputError naming `input` and the key). */
@@ -55,7 +57,9 @@ struct AppearanceOptions : public core::DeclaredOptions
 /** Light intensity scale per light at time t_rel (seconds since the start of the trajectory). */
 std::vector<float> lightScales(const AppearanceOptions& o, size_t num_lights, double t_rel);
 
-/** Sensor gain at t_rel: base exposure x drift x partial compensation of the lights' dimming. */
+/** Sensor gain at t_rel: base exposure x drift x partial compensation of the lights' dimming; with
+ *  auto_exposure_step > 0 that value taken at the last update (every auto_exposure_interval_s) and rounded to the
+ *  nearest of the levels exposure x (1 + step)^k. */
 double exposureAt(const AppearanceOptions& o, size_t num_lights, double t_rel);
 
 /** Mesh of the moving occluder at t_rel (empty when disabled); world frame. */

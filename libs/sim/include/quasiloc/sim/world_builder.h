@@ -14,19 +14,21 @@
 //    dropped; a procedural object too close is not placed.
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/sim/euroc_room_data.h>
+#include <quasiloc/sim/floor_world.h>
 #include <quasiloc/sim/world.h>
 #include <string>
 #include <vector>
 
 namespace quasiloc::sim
 {
-/** The EuRoC Vicon room a world is built from. */
+/** The world: a EuRoC Vicon room, or the ground robot's office floor (floor_world.h). */
 enum class ViconRoom
 {
     v1,
-    v2
+    v2,
+    office_floor
 };
-/** "v1", "v2": how the room's data files and sequences are named. */
+/** "v1", "v2" (how the room's data files and sequences are named), "floor". */
 std::string roomName(ViconRoom room);
 
 /** Section [World]; each key's unit, range and meaning: declare() (sim_options.cpp). */
@@ -49,6 +51,7 @@ struct WorldOptions : public core::DeclaredOptions
     double ambient = 0.05;
     int texture_size_px = 512;
     int shadow_map_px = 512;
+    FloorOptions floor;  ///< world = floor only (keys floor_*)
 
     void declare(core::OptionTable& t) override;
     /** The declared ranges, then the rules a range cannot say (InputError naming `input` and the key). */
