@@ -40,9 +40,9 @@ tracking::SessionOptions loadOptions(const core::CommandLine& cmd, bool harness,
     else
         refuseHarnessSections(cfg, cmd.config_path);
     const tracking::TrackingRunOptions& t = o.tracker;
-    core::requireInputFiles(cmd.config_path, "Tracking",
-                            {{"input_rawlog", t.input_rawlog}, {"calibration_ini", t.calibration_ini},
-                             {"map_file", t.map_file}});
+    core::requireInputFiles(
+        cmd.config_path, "Tracking",
+        {{"input_rawlog", t.input_rawlog}, {"calibration_ini", t.calibration_ini}, {"map_file", t.map_file}});
     core::require(!t.groundtruth.empty() || t.initialization.init != tracking::InitMode::GroundTruth,
                   cmd.config_path + ": [Tracking] groundtruth",
                   "is required with [Initialization] init = groundtruth (the start is taken from it); without ground "
@@ -51,8 +51,9 @@ tracking::SessionOptions loadOptions(const core::CommandLine& cmd, bool harness,
     return o;
 }
 
-void writeOutputs(const tracking::SessionOptions& o, const tracking::HarnessOptions* harness, const tracking::TrackingSession& session,
-                  const tracking::SessionSummary& summary, const map::LidarMap& map)
+void writeOutputs(const tracking::SessionOptions& o, const tracking::HarnessOptions* harness,
+                  const tracking::TrackingSession& session, const tracking::SessionSummary& summary,
+                  const map::LidarMap& map)
 {
     const std::string& dir = o.tracker.output_dir;
     const tracking::RunLog& log = session.log();

@@ -6,9 +6,10 @@
 //
 // Stages (the tracker's order, tracker.h): IMU prediction, the camera edge field, the quasi-image render at the
 // pose, the map edge model, the direct alignment from a pose 2 cm / 0.5 deg off, the stereo points of both images
-// (descriptor matching) or of the left image guided by the dense disparity (guided matching), the dense stereo cloud (stereo_map_points = dense), and the whole Tracker::step (the window included: its share is the counter window_ms). Every benchmark cycles
-// over the first [Bench] frames frames of the rawlog. The real EuRoC micro set: the same with the --set lines of
-// scripts/real_micro.sh (docs/benchmarks.md).
+// (descriptor matching) or of the left image guided by the dense disparity (guided matching), the dense stereo cloud
+// (stereo_map_points = dense), and the whole Tracker::step (the window included: its share is the counter window_ms).
+// Every benchmark cycles over the first [Bench] frames frames of the rawlog. The real EuRoC micro set: the same with
+// the --set lines of scripts/real_micro.sh (docs/benchmarks.md).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -112,7 +113,8 @@ std::vector<quasi::QuasiImage> renderAll(int downscale = 1)
     std::vector<quasi::QuasiImage> out(fixture().frames.size());
     for (size_t k = 0; k < out.size(); ++k)
         fixture().context->renderer().render(core::fromIsometry(perturbed(truth(frameAt(k)))),
-                                             leftCamera().downscaled(downscale), out[k], true, completionRadius(downscale));
+                                             leftCamera().downscaled(downscale), out[k], true,
+                                             completionRadius(downscale));
     return out;
 }
 
@@ -127,8 +129,9 @@ void BM_EdgeModel(benchmark::State& state)
     for (auto _ : state)
     {
         const quasi::QuasiImage& q = qs[k % qs.size()];
-        const auto model = estimation::buildDirectAlignmentModel(directOptions(), q.depth, q.reflectivity, q.valid,
-                                                                 q.sparse, camera, perturbed(truth(frameAt(k))), downscale);
+        const auto model =
+            estimation::buildDirectAlignmentModel(directOptions(), q.depth, q.reflectivity, q.valid, q.sparse, camera,
+                                                  perturbed(truth(frameAt(k))), downscale);
         points += model.edge_points_world.size();
         ++k;
     }
@@ -247,13 +250,14 @@ void BM_TrackFrame(benchmark::State& state)
         tracker.setMapDistanceField(fx.context->distanceField(fx.options.localization).get());
     // As TrackingSession does: the dense stereo of stereo_map_points = dense.
     const reloc::StereoCloud cloud(fx.calibration.rig, fx.options.localization.stereo);
-    if (fx.options.tracker.factors.stereo_map_points == tracking::StereoMapPoints::Dense) tracker.setStereoCloud(&cloud);
+    if (fx.options.tracker.factors.stereo_map_points == tracking::StereoMapPoints::Dense)
+        tracker.setStereoCloud(&cloud);
     const auto restart = [&] {
         const dataset::StereoFrame &f0 = fx.frames[0], &f1 = fx.frames[1];
         const Eigen::Isometry3d T_body_cam = core::toIsometry(fx.calibration.rig.T_body_left);
-        const Eigen::Vector3d v = ((truth(f1) * T_body_cam.inverse()).translation() -
-                                   (truth(f0) * T_body_cam.inverse()).translation()) /
-                                  (f1.timestamp - f0.timestamp);
+        const Eigen::Vector3d v =
+            ((truth(f1) * T_body_cam.inverse()).translation() - (truth(f0) * T_body_cam.inverse()).translation()) /
+            (f1.timestamp - f0.timestamp);
         tracking::ImuBiasPrior biases;
         biases.gyro_bias = fx.calibration.requireImu("bench_tracking").gyroscope_bias;
         biases.acc_bias = fx.calibration.requireImu("bench_tracking").accelerometer_bias;
@@ -307,8 +311,10 @@ std::unique_ptr<Fixture> load(const core::CommandLine& cmd)
     fx->options.load(cfg, cmd.config_path);
     const tracking::TrackingRunOptions& t = fx->options.tracker;
     core::requireInputFiles(cmd.config_path, "Tracking",
-                            {{"input_rawlog", t.input_rawlog}, {"calibration_ini", t.calibration_ini},
-                             {"map_file", t.map_file}, {"groundtruth", t.groundtruth}});
+                            {{"input_rawlog", t.input_rawlog},
+                             {"calibration_ini", t.calibration_ini},
+                             {"map_file", t.map_file},
+                             {"groundtruth", t.groundtruth}});
     fx->context = std::make_unique<tracking::MapContext>(t.map_file, fx->options.quasi);
     fx->calibration = dataset::loadCalibration(t.calibration_ini);
     dataset::FrameSourceOptions so;
@@ -330,15 +336,14 @@ int main(int argc, char** argv)
     std::vector<char*> args(argv, argv + argc);
     std::string default_config = "config.ini";
     if (argc < 2) args.push_back(default_config.data());
-    return core::runProgram(
-        int(args.size()), args.data(),
-        "usage: bench_tracking [config.ini] [--set Section.key=value]... [Google Benchmark flags]",
-        [](const core::CommandLine& cmd) {
-            const std::unique_ptr<Fixture> fx = load(cmd);
-            g_fixture = fx.get();
-            benchmark::RunSpecifiedBenchmarks();
-            benchmark::Shutdown();
-            g_fixture = nullptr;
-            return 0;
-        });
+    return core::runProgram(int(args.size()), args.data(),
+                            "usage: bench_tracking [config.ini] [--set Section.key=value]... [Google Benchmark flags]",
+                            [](const core::CommandLine& cmd) {
+                                const std::unique_ptr<Fixture> fx = load(cmd);
+                                g_fixture = fx.get();
+                                benchmark::RunSpecifiedBenchmarks();
+                                benchmark::Shutdown();
+                                g_fixture = nullptr;
+                                return 0;
+                            });
 }

@@ -12,8 +12,7 @@ BackgroundSearch::~BackgroundSearch()
     starter_.deferConsole(false);
 }
 
-void BackgroundSearch::begin(const std::string& label, const std::optional<SearchPrior>& prior,
-                             bool single_fix)
+void BackgroundSearch::begin(const std::string& label, const std::optional<SearchPrior>& prior, bool single_fix)
 {
     core::require(!searching_, "BackgroundSearch", "begin() while a search is under way");
     worker_.wait();

@@ -35,7 +35,8 @@ std::shared_ptr<const FrameMeasurement> PendingMeasurement::get()
 }
 
 FrameMeasurer::FrameMeasurer(const core::StereoRig& rig, const TrackerOptions& options,
-                             const frontend::FrontendOptions& frontend, const estimation::DirectAlignmentOptions& direct)
+                             const frontend::FrontendOptions& frontend,
+                             const estimation::DirectAlignmentOptions& direct)
     : options_(options),
       rig_(rig),
       direct_(direct),
@@ -83,9 +84,9 @@ void FrameMeasurer::edgeField(const cv::Mat& image, FrameMeasurement& m) const
     const core::CameraModel& camera = rig_.left;
     core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
                   "camera image", "must be a non-empty 8-bit gray or BGR image");
-    core::require(image.cols == camera.width && image.rows == camera.height, "camera image",
-                  "size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                      " differs from the camera model's");
+    core::require(
+        image.cols == camera.width && image.rows == camera.height, "camera image",
+        "size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + " differs from the camera model's");
     cv::Mat gray = image;
     if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
     m.edge_field = estimation::buildCameraEdgeField(direct_, gray);
@@ -174,8 +175,7 @@ std::unique_ptr<PendingMeasurement> FrameMeasurer::start(const dataset::StereoFr
         core::OrderedTasks& tasks = p->tasks_;
         worker_->start([&tasks] {
             while (tasks.runNext())
-            {
-            }
+            {}
         });
         p->worker_ = worker_.get();
     }

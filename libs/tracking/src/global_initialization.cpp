@@ -19,8 +19,7 @@ GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer,
       imu_noise_(imu_noise),
       options_(options),
       static_(imu_noise.gyro_noise_density, options.standstill)
-{
-}
+{}
 
 ImuBiasPrior GlobalInitializer::biases() const
 {
@@ -79,17 +78,17 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
 bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
                                        std::string& note) const
 {
-    const std::vector<size_t> closing = placesClosingThePair(T_world_anchor_, anchor_->timestamp, ambiguous.poses, t,
-                                                             pendingSamples(), T_body_cam_, imu_noise_, biases(),
-                                                             options_);
+    const std::vector<size_t> closing =
+        placesClosingThePair(T_world_anchor_, anchor_->timestamp, ambiguous.poses, t, pendingSamples(), T_body_cam_,
+                             imu_noise_, biases(), options_);
     if (closing.size() != 1) return false;
     const size_t pick = closing.front();
     if (ambiguous.best_by_appearance && *ambiguous.best_by_appearance != pick) return false;
     r.T_world_cam = ambiguous.poses[pick];
     r.localized = true;
     r.reason.clear();
-    note += (note.empty() ? "" : "; ") + std::string("ambiguity settled by the anchor (pose ") +
-            std::to_string(pick) + ")";
+    note +=
+        (note.empty() ? "" : "; ") + std::string("ambiguity settled by the anchor (pose ") + std::to_string(pick) + ")";
     return true;
 }
 
@@ -128,8 +127,8 @@ std::optional<Eigen::Vector3d> pairVelocity(const Eigen::Isometry3d& T_world_cam
     std::ostringstream s;
     s.precision(3);
     if (disagreement_deg > bound_deg)
-        s << "the two fixes' rotation differs from the bias-corrected gyroscope's by " << disagreement_deg
-          << " deg (> " << bound_deg << ": " << options.max_disagreement_deg << " + 3 x " << biases.gyro_sigma
+        s << "the two fixes' rotation differs from the bias-corrected gyroscope's by " << disagreement_deg << " deg (> "
+          << bound_deg << ": " << options.max_disagreement_deg << " + 3 x " << biases.gyro_sigma
           << " rad/s gyroscope bias sigma [" << biases.source << "])";
     else if (v.norm() > options.max_speed_m_s)
         s << "implied speed " << v.norm() << " m/s (> " << options.max_speed_m_s << ")";
@@ -190,8 +189,9 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     if (anchor_ && attempt.result.localized)
     {
         std::string why;
-        if (const auto v = pairVelocity(T_world_anchor_, anchor_->timestamp, attempt.result.T_world_cam, frame.timestamp,
-                                        pendingSamples(), T_body_cam_, imu_noise_, biases(), options_, &why))
+        if (const auto v =
+                pairVelocity(T_world_anchor_, anchor_->timestamp, attempt.result.T_world_cam, frame.timestamp,
+                             pendingSamples(), T_body_cam_, imu_noise_, biases(), options_, &why))
         {
             attempt.note = "pair closed" + bracketed(appearance_note);
             attempts_.push_back(attempt);

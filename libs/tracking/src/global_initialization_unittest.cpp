@@ -61,9 +61,9 @@ TEST(GlobalInitialization, VelocityBetweenFixesRecoversTheTrueVelocity)
     const Eigen::Isometry3d T_body_cam = bodyToCamera();
     const double t_b = 0.5;
     double disagreement_deg = -1;
-    const Eigen::Vector3d v = tracking::velocityBetweenFixes(
-        m.T_world_body(0) * T_body_cam, 0.0, m.T_world_body(t_b) * T_body_cam, t_b, m.samples(t_b, noise), T_body_cam,
-        noise, knownZeroBiases(), &disagreement_deg);
+    const Eigen::Vector3d v =
+        tracking::velocityBetweenFixes(m.T_world_body(0) * T_body_cam, 0.0, m.T_world_body(t_b) * T_body_cam, t_b,
+                                       m.samples(t_b, noise), T_body_cam, noise, knownZeroBiases(), &disagreement_deg);
     EXPECT_LT((v - m.v0).norm(), 2e-3) << v.transpose();
     EXPECT_LT(disagreement_deg, 0.05);
 }
@@ -121,8 +121,8 @@ TEST(GlobalInitialization, ASingleFixKeepsTheTracksVelocityRelativeToTheBody)
     wrong.translation() = Eigen::Vector3d(1, 0, -0.2);
     const Eigen::Isometry3d T_world_body_track = wrong * m.T_world_body(t);
     const Eigen::Vector3d v_track = wrong.linear() * v_true;
-    const Eigen::Vector3d v = tracking::velocityAtFix(m.T_world_body(t) * T_body_cam, T_body_cam, T_world_body_track,
-                                                      v_track);
+    const Eigen::Vector3d v =
+        tracking::velocityAtFix(m.T_world_body(t) * T_body_cam, T_body_cam, T_world_body_track, v_track);
     EXPECT_LT((v - v_true).norm(), 1e-9) << v.transpose();
     // Taking the track's map-frame velocity as it is would be off by the track's rotation error.
     EXPECT_GT((v_track - v_true).norm(), 0.05);
@@ -140,7 +140,8 @@ TEST(GlobalInitialization, TheBiasAwarePairCheckAcceptsTheRightFixesUnderARealBi
     // 2 s of standing data before the motion give the static estimate.
     std::vector<dataset::ImuSample> standing;
     for (int k = 0; k < 400; ++k)
-        standing.push_back({-2.0 + k * 0.005, Eigen::Vector3d(0, 0, 9.81), bias + 1e-3 * Eigen::Vector3d(std::sin(k), std::cos(3 * k), std::sin(7 * k))});
+        standing.push_back({-2.0 + k * 0.005, Eigen::Vector3d(0, 0, 9.81),
+                            bias + 1e-3 * Eigen::Vector3d(std::sin(k), std::cos(3 * k), std::sin(7 * k))});
     const auto still = tracking::staticImuEstimate(standing, noise.gyro_noise_density, {});
     ASSERT_TRUE(still);
     const tracking::ImuBiasPrior prior = tracking::withStaticEstimate(tracking::ImuBiasPrior{}, still);
@@ -153,10 +154,11 @@ TEST(GlobalInitialization, TheBiasAwarePairCheckAcceptsTheRightFixesUnderARealBi
     EXPECT_FALSE(tracking::pairVelocity(a, 0, turn * b, 0.5, samples, T_body_cam, noise, prior, options, &why));
     // With no static start the calibration's unknown-bias prior (0.1 rad/s) still accepts the right pair and
     // rejects the twin.
-    EXPECT_TRUE(tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, tracking::ImuBiasPrior{}, options, &why))
+    EXPECT_TRUE(
+        tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, tracking::ImuBiasPrior{}, options, &why))
         << why;
-    EXPECT_FALSE(
-        tracking::pairVelocity(a, 0, turn * b, 0.5, samples, T_body_cam, noise, tracking::ImuBiasPrior{}, options, &why));
+    EXPECT_FALSE(tracking::pairVelocity(a, 0, turn * b, 0.5, samples, T_body_cam, noise, tracking::ImuBiasPrior{},
+                                        options, &why));
     // The old check (the bias taken as zero and known) rejects the right pair: what stopped the start on real data.
     EXPECT_FALSE(tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, knownZeroBiases(), options, &why));
     EXPECT_NE(why.find("bias-corrected gyroscope"), std::string::npos) << why;

@@ -22,9 +22,9 @@ GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, co
       out_(console)
 {
     const auto t0 = std::chrono::steady_clock::now();
-    localizer_ = std::make_unique<reloc::GeometricLocalizer>(context.map(), rig, localization,
-                                                             context.distanceField(localization),
-                                                             context.renderer().sharedVisibilityIndex(), context.name());
+    localizer_ = std::make_unique<reloc::GeometricLocalizer>(
+        context.map(), rig, localization, context.distanceField(localization),
+        context.renderer().sharedVisibilityIndex(), context.name());
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     setup_s_ = ms / 1000;
     init_options_.velocity_interval_s = o.init_velocity_interval_s;
@@ -38,14 +38,13 @@ GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, co
          "query_points, candidates, ms_cloud, ms_search, ms_refine, error_m, error_deg, search_radius_m, note\n";
     record_ = r.str();
     out_ << "global localization by geometry ready (" << localizer_->positions() << " candidate positions, "
-              << std::fixed << std::setprecision(0) << ms << " ms)" << std::endl;
+         << std::fixed << std::setprecision(0) << ms << " ms)" << std::endl;
 }
 
 GlobalStarter::~GlobalStarter() = default;
 
 std::optional<GlobalInitialState> GlobalStarter::find(const std::function<bool(dataset::StereoFrame&)>& next,
-                                                                const std::string& label,
-                                                                const std::optional<SearchPrior>& prior)
+                                                      const std::string& label, const std::optional<SearchPrior>& prior)
 {
     begin(label, prior);
     dataset::StereoFrame f;
@@ -56,8 +55,7 @@ std::optional<GlobalInitialState> GlobalStarter::find(const std::function<bool(d
     return std::nullopt;
 }
 
-void GlobalStarter::begin(const std::string& label, const std::optional<SearchPrior>& prior,
-                          bool single_fix)
+void GlobalStarter::begin(const std::string& label, const std::optional<SearchPrior>& prior, bool single_fix)
 {
     GlobalInitOptions options = init_options_;
     options.single_fix = single_fix;

@@ -10,9 +10,9 @@ GuidedStereo::GuidedStereo(const core::StereoRig& rig, const core::StereoRectifi
                            const frontend::StereoOptions& stereo, const GuidedStereoOptions& options)
     : rig_(rig), stereo_(stereo), opt_(options)
 {
-    core::require(opt_.patch_radius_px >= 1 && opt_.search_px >= 1 && opt_.max_prior_spread_px >= 0 &&
-                      opt_.max_mean_abs_diff > 0,
-                  "GuidedStereo", "patch radius and search >= 1, spread >= 0 and difference > 0 needed");
+    core::require(
+        opt_.patch_radius_px >= 1 && opt_.search_px >= 1 && opt_.max_prior_spread_px >= 0 && opt_.max_mean_abs_diff > 0,
+        "GuidedStereo", "patch radius and search >= 1, spread >= 0 and difference > 0 needed");
     const cv::Matx33d R[2] = {rect.R_left, rect.R_right};
     for (int c = 0; c < 2; ++c)
         for (int i = 0; i < 3; ++i)
@@ -90,9 +90,9 @@ std::vector<frontend::StereoPoint> GuidedStereo::match(const std::vector<cv::Key
 {
     core::require(!d.disparity.empty() && d.disparity.type() == CV_16SC1 && d.scale >= 1, "GuidedStereo::match",
                   "no SGBM disparity (CV_16SC1) given");
-    core::require(d.left_rect.type() == CV_8UC1 && d.right_rect.type() == CV_8UC1 &&
-                      d.left_rect.size() == d.right_rect.size(),
-                  "GuidedStereo::match", "the rectified pair must be two 8-bit gray images of one size");
+    core::require(
+        d.left_rect.type() == CV_8UC1 && d.right_rect.type() == CV_8UC1 && d.left_rect.size() == d.right_rect.size(),
+        "GuidedStereo::match", "the rectified pair must be two 8-bit gray images of one size");
     std::vector<frontend::StereoPoint> out;
     right.clear();
     const double fb = f_ * baseline_m_;

@@ -99,8 +99,8 @@ TEST(GuidedStereo, PointsLieOnTheSurfacesAsCloselyAsDescriptorMatches)
         const double d_desc = medianSurfaceDistance(by_descriptors, p.T_world_cam);
         const double d_guide = medianSurfaceDistance(by_guide, p.T_world_cam);
         std::cout << "heading " << heading << " deg: descriptors " << by_descriptors.size() << " points, median "
-                  << d_desc * 100 << " cm from the surfaces; guided " << by_guide.size() << " points, "
-                  << d_guide * 100 << " cm\n";
+                  << d_desc * 100 << " cm from the surfaces; guided " << by_guide.size() << " points, " << d_guide * 100
+                  << " cm\n";
         EXPECT_GE(by_guide.size(), by_descriptors.size() * 8 / 10);
         EXPECT_LE(d_guide, std::max(1.2 * d_desc, 0.005));
         ASSERT_EQ(right_keypoints.size(), by_guide.size());

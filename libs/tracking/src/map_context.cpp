@@ -57,8 +57,9 @@ std::shared_ptr<const map::DistanceField> MapContext::distanceField(const reloc:
         figures_.field_sparse = field_->sparse();
     }
     // The layout may differ: a dense and a sparse field hold the same values.
-    core::require(float(o.field_voxel_m) == field_->voxelSize() && float(o.field_max_distance_m) == field_->maxDistance(),
-                  name_, "the distance field was built with other field_voxel_m / field_max_distance_m");
+    core::require(
+        float(o.field_voxel_m) == field_->voxelSize() && float(o.field_max_distance_m) == field_->maxDistance(), name_,
+        "the distance field was built with other field_voxel_m / field_max_distance_m");
     return field_;
 }
 

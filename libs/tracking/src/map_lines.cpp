@@ -52,7 +52,7 @@ cv::Mat boxSumsAtStep(const cv::Mat& depth, const cv::Mat& ray_x, const cv::Mat&
     const int r = window / 2, out_rows = depth.rows / step, out_cols = depth.cols / step;
     cv::Mat sums(out_rows, out_cols, CV_32FC4, cv::Scalar::all(0));
     std::vector<cv::Vec4d> ring(size_t(window) * size_t(out_cols), cv::Vec4d::all(0));  // the last `window` rows' sums
-    std::vector<cv::Vec4d> column(size_t(out_cols), cv::Vec4d::all(0));                // their sum
+    std::vector<cv::Vec4d> column(size_t(out_cols), cv::Vec4d::all(0));                 // their sum
     for (int v_in = 0; v_in < depth.rows + r; ++v_in)
     {
         cv::Vec4d* row = &ring[size_t(v_in % window) * size_t(out_cols)];
@@ -319,7 +319,8 @@ std::vector<estimation::LineFactorInput> associateMapLines(const std::vector<fro
             if (cand.rms <= window_px) candidates.push_back(std::move(cand));
         }
         if (candidates.empty()) continue;
-        std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) { return a.rms < b.rms; });
+        std::sort(candidates.begin(), candidates.end(),
+                  [](const Candidate& a, const Candidate& b) { return a.rms < b.rms; });
         if (int(candidates.size()) > options.max_candidates) candidates.resize(size_t(options.max_candidates));
         std::vector<double> p(candidates.size());
         double sum = 0;

@@ -150,7 +150,8 @@ TEST(MapLines, NoCandidateLiesOutsideItsWindow)
         camera.push_back(segment(u0, v, u0 + float(30 + 100 * U(rng)), v + dv));
     }
     const double window = 4;
-    const auto factors = tracking::associateMapLines(camera, map, kCamera, Eigen::Isometry3d::Identity(), window, 1.5, o);
+    const auto factors =
+        tracking::associateMapLines(camera, map, kCamera, Eigen::Isometry3d::Identity(), window, 1.5, o);
     ASSERT_FALSE(factors.empty());
     for (const auto& f : factors)
     {

@@ -10,8 +10,7 @@ namespace quasiloc::tracking
 {
 MapPlaneAssociator::MapPlaneAssociator(const core::CameraModel& camera, const MapPlaneOptions& options)
     : camera_(camera), options_(options), rays_(camera)
-{
-}
+{}
 
 bool MapPlaneAssociator::fitPlane(const cv::Mat& depth, const Eigen::Isometry3d& T_world_q, int u, int v,
                                   Eigen::Vector3d& n, double& d) const
@@ -58,9 +57,9 @@ bool MapPlaneAssociator::fitPlane(const cv::Mat& depth, const Eigen::Isometry3d&
 }
 
 std::vector<estimation::PlaneFactorInput> MapPlaneAssociator::associate(const std::vector<Eigen::Vector3d>& points_cam,
-                                                                       const std::vector<double>& sigma_m,
-                                                                       const quasi::QuasiImage& q,
-                                                                       const Eigen::Isometry3d& T_world_cam) const
+                                                                        const std::vector<double>& sigma_m,
+                                                                        const quasi::QuasiImage& q,
+                                                                        const Eigen::Isometry3d& T_world_cam) const
 {
     std::vector<estimation::PlaneFactorInput> out;
     const Eigen::Isometry3d T_world_q = core::toIsometry(q.T_world_cam);
@@ -87,7 +86,8 @@ std::vector<estimation::PlaneFactorInput> MapPlaneAssociator::associate(const st
             if (std::abs(dist) > options_.max_distance_m) continue;
             bool same = false;
             for (const auto& c : f.candidates)
-                same |= std::abs(c.n_map.dot(n)) >= merge_cos && std::abs(c.n_map.dot(p_world) + c.d - dist) <= options_.merge_m;
+                same |= std::abs(c.n_map.dot(n)) >= merge_cos &&
+                        std::abs(c.n_map.dot(p_world) + c.d - dist) <= options_.merge_m;
             if (same) continue;
             estimation::PlaneCandidate c;
             c.n_map = n, c.d = d;

@@ -35,7 +35,7 @@ TEST(MapPlanes, CandidatesFollowTheSurfacesAroundThePoint)
     const auto f = a.associate({mid, near_crease, off}, {0.02, 0.02, 0.02}, q, Eigen::Isometry3d::Identity());
     ASSERT_EQ(f.size(), 2u);  // the point off every surface has no candidate
     ASSERT_EQ(f[0].candidates.size(), 1u);
-    EXPECT_NEAR(std::abs(f[0].candidates[0].n_map.z()), 1.0, 1e-3);   // the wall's normal
+    EXPECT_NEAR(std::abs(f[0].candidates[0].n_map.z()), 1.0, 1e-3);  // the wall's normal
     EXPECT_NEAR(std::abs(f[0].candidates[0].d), 3.0, 1e-3);
     EXPECT_NEAR(f[0].candidates[0].probability, 1.0, 1e-9);
     ASSERT_EQ(f[1].candidates.size(), 2u);  // wall and floor

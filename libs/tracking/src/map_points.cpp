@@ -5,13 +5,10 @@
 
 namespace quasiloc::tracking
 {
-std::vector<estimation::PointMatch> associateMapPoints(const frontend::Features& camera_features,
-                                                       const frontend::Features& quasi_features,
-                                                       const quasi::QuasiImage& q, const map::LidarMap& map,
-                                                       const core::CameraModel& camera,
-                                                       const Eigen::Isometry3d& T_world_cam,
-                                                       const frontend::PointMatchingOptions& matching,
-                                                       const MapPointOptions& options)
+std::vector<estimation::PointMatch> associateMapPoints(
+    const frontend::Features& camera_features, const frontend::Features& quasi_features, const quasi::QuasiImage& q,
+    const map::LidarMap& map, const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam,
+    const frontend::PointMatchingOptions& matching, const MapPointOptions& options)
 {
     // The quasi-image's keypoints that lift, with their map points' projections at T_world_cam as search centres.
     frontend::Features lifted = quasi_features;

@@ -55,8 +55,8 @@ TEST(MapPoints, AssociatesWithinTheWindowOnlyAndLiftsThroughProvenance)
     tracking::MapPointOptions o;
     o.window_px = 3;
     frontend::PointMatchingOptions matching;
-    const auto matches = tracking::associateMapPoints(camera_features, quasi_features, q, wall, kCamera, T_world_cam,
-                                                      matching, o);
+    const auto matches =
+        tracking::associateMapPoints(camera_features, quasi_features, q, wall, kCamera, T_world_cam, matching, o);
     ASSERT_EQ(int(matches.size()), n / 2);
     for (const auto& m : matches)
     {
@@ -70,5 +70,6 @@ TEST(MapPoints, AssociatesWithinTheWindowOnlyAndLiftsThroughProvenance)
     // A pose 0.1 m to the side moves every projection ~10 px: nothing is associated any more.
     Eigen::Isometry3d T_off = Eigen::Isometry3d::Identity();
     T_off.translation().x() = 0.1;
-    EXPECT_TRUE(tracking::associateMapPoints(camera_features, quasi_features, q, wall, kCamera, T_off, matching, o).empty());
+    EXPECT_TRUE(
+        tracking::associateMapPoints(camera_features, quasi_features, q, wall, kCamera, T_off, matching, o).empty());
 }

@@ -25,7 +25,8 @@ const char* const kCsvHeader =
     "t,keyframe,map_update,correction_m,correction_deg,edge_inlier_ratio,edge_points,prior_sigma_m,"
     "prior_sigma_deg,lost,landmarks,error_m,error_deg,ms_predict,ms_image,ms_align,ms_visual,ms_window,ms_total,"
     "bg_x,bg_y,bg_z,ba_x,ba_y,ba_z,stereo_map_points,explained_ratio,ms_check,camera_lines,map_lines,line_factors,"
-    "line_candidates,line_window_px,ms_lines,ms_search,quasi_keypoints,point_factors,ms_points,plane_factors,plane_candidates,ms_planes,"
+    "line_candidates,line_window_px,ms_lines,ms_search,quasi_keypoints,point_factors,ms_points,plane_factors,plane_"
+    "candidates,ms_planes,"
     "bg_sigma_x,bg_sigma_y,bg_sigma_z,ba_sigma_x,ba_sigma_y,ba_sigma_z,standing,stereo_map_sigmas,stereo_rejected,"
     "ms_window_solve,ms_window_marginal,unverified\n";
 
@@ -37,8 +38,8 @@ void RunLog::addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d
     if (frame.T_world_cam0) gt_traj_.poses.push_back({frame.timestamp, *frame.T_world_cam0});
 }
 
-void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, double explained_ratio,
-                      double ms_check, double ms_search)
+void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, double explained_ratio, double ms_check,
+                      double ms_search)
 {
     traj_.poses.push_back({r.t, core::fromIsometry(r.T_world_cam0)});
     double e_deg = NAN;
@@ -74,9 +75,9 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, doubl
 void RunLog::rewindTo(double t)
 {
     auto drop = [t](core::Trajectory& traj) {
-        traj.poses.erase(std::remove_if(traj.poses.begin(), traj.poses.end(),
-                                        [t](const core::TimedPose& p) { return p.t >= t; }),
-                         traj.poses.end());
+        traj.poses.erase(
+            std::remove_if(traj.poses.begin(), traj.poses.end(), [t](const core::TimedPose& p) { return p.t >= t; }),
+            traj.poses.end());
     };
     drop(traj_);
     drop(gt_traj_);
@@ -151,7 +152,8 @@ std::string RunLog::summary(const SessionSummary& s) const
     if (e.count > 0)
         o << "ATE         RMSE " << 100 * e.rmse << " cm, median " << 100 * e.median << " cm, max " << 100 * e.max
           << " cm (map frame, no alignment, vs ground truth at " << e.count << " poses)\n";
-    o << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, p95 " << f.ms_p95 << " ms, max " << f.ms_max << " ms\n"
+    o << "time/frame  median " << f.ms_median << " ms, p90 " << f.ms_p90 << " ms, p95 " << f.ms_p95 << " ms, max "
+      << f.ms_max << " ms\n"
       << std::setprecision(1) << "map         " << s.map.points << " points: load " << s.map.load_s << " s, index "
       << s.map.index_s << " s, distance field " << s.map.field_s << " s (" << std::setprecision(0) << s.map.field_mb
       << " MB, " << (s.map.field_sparse ? "sparse" : "dense") << "), global localizer set-up " << std::setprecision(1)
@@ -173,7 +175,8 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     j.key("first_frame_t").value(s.t_first_frame ? *s.t_first_frame : NAN);
     j.key("search_s").value(s.start_search_s);
     if (s.T_world_cam0_start_truth && hasGroundTruth())
-        j.key("error_m").value(core::translationDistance(s.T_world_cam0_start, *s.T_world_cam0_start_truth))
+        j.key("error_m")
+            .value(core::translationDistance(s.T_world_cam0_start, *s.T_world_cam0_start_truth))
             .key("error_deg")
             .value(core::rotationDistanceRad(s.T_world_cam0_start, *s.T_world_cam0_start_truth) * 180 / M_PI);
     j.endObject();

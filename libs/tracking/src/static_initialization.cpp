@@ -72,7 +72,8 @@ std::optional<StaticImuEstimate> staticImuEstimate(const std::vector<dataset::Im
     if (span < std::max(o.min_still_s, 2 * o.block_s))
         s << "standing span " << span << " s < " << o.min_still_s << " s";
     else if (gyro_dev > o.max_gyro_block_dev_rad_s)
-        s << "moving: gyroscope block means deviate by " << gyro_dev << " rad/s (> " << o.max_gyro_block_dev_rad_s << ")";
+        s << "moving: gyroscope block means deviate by " << gyro_dev << " rad/s (> " << o.max_gyro_block_dev_rad_s
+          << ")";
     else if (acc_dev > o.max_acc_block_dev_m_s2)
         s << "moving: accelerometer block means deviate by " << acc_dev << " m/s^2 (> " << o.max_acc_block_dev_m_s2
           << ")";

@@ -24,7 +24,8 @@ std::vector<dataset::ImuSample> imuSamples(double seconds, const std::function<E
     for (int k = 0; k * dt < seconds; ++k)
     {
         const double t = 100 + k * dt;
-        const Eigen::Vector3d vib(std::sin(2 * M_PI * 37 * t), std::sin(2 * M_PI * 83 * t + 1), std::cos(2 * M_PI * 37 * t));
+        const Eigen::Vector3d vib(std::sin(2 * M_PI * 37 * t), std::sin(2 * M_PI * 83 * t + 1),
+                                  std::cos(2 * M_PI * 37 * t));
         dataset::ImuSample s;
         s.t = t;
         s.gyro = kGyroBias + rate(t) + 0.05 * vib + sg * Eigen::Vector3d(n(rng), n(rng), n(rng));

@@ -47,11 +47,11 @@ TrackingSession::FrameHook kidnapHook(const KidnapOptions& options, std::ostream
         *done = true;
         Eigen::Isometry3d T_wrong = r.T_world_cam0;
         T_wrong.translation() += r.T_world_cam0.linear() * Eigen::Vector3d(options.kidnap_m, 0, 0);
-        T_wrong.linear() = T_wrong.linear() * Eigen::AngleAxisd(options.kidnap_deg * M_PI / 180,
-                                                                Eigen::Vector3d::UnitY())
-                                                  .toRotationMatrix();
-        console << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted "
-                << options.kidnap_m << " m to the side, " << options.kidnap_deg << " deg turned" << std::endl;
+        T_wrong.linear() =
+            T_wrong.linear() *
+            Eigen::AngleAxisd(options.kidnap_deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+        console << "kidnapped at t " << std::fixed << std::setprecision(3) << r.t << ": restarted " << options.kidnap_m
+                << " m to the side, " << options.kidnap_deg << " deg turned" << std::endl;
         session.restartTrackerAt(r.t, T_wrong);
     };
 }

@@ -80,8 +80,10 @@ StereoGate TrackMonitor::stereoGate() const
     g.min_edge_ratio = options_.stereo_check_min_edge_ratio;
     g.usual_edge_ratio = usual_edge_ratio_;
     if (options_.stereo_check_max_sigmas <= 0) return g;
-    if (stereo_held_until_) g.max_sigmas = options_.stereo_check_release_sigmas;
-    else if (edgesTrusted() && !input_fault_t_) g.max_sigmas = options_.stereo_check_max_sigmas;
+    if (stereo_held_until_)
+        g.max_sigmas = options_.stereo_check_release_sigmas;
+    else if (edgesTrusted() && !input_fault_t_)
+        g.max_sigmas = options_.stereo_check_max_sigmas;
     return g;
 }
 
@@ -159,8 +161,7 @@ bool TrackMonitor::lostByMisses(const FrameReport& r) const { return r.alignment
 
 bool TrackMonitor::lossDue(const FrameReport& r) const
 {
-    return health_ != TrackHealth::Lost &&
-           (lostByMisses(r) || failed_checks_ >= options_.lost_after_failed_checks);
+    return health_ != TrackHealth::Lost && (lostByMisses(r) || failed_checks_ >= options_.lost_after_failed_checks);
 }
 
 void TrackMonitor::searchBegun()

@@ -30,8 +30,7 @@ struct Harness
 
     explicit Harness(const TrackMonitorOptions& o)
         : options(o), monitor(o, console, [this](double a, double b) { stretches.emplace_back(a, b); })
-    {
-    }
+    {}
 };
 
 using Event = std::function<void(Harness&)>;
@@ -78,9 +77,7 @@ Event frame(Frame f)
 /** A check of the last frame: explained share, and after aligning from the tracked pose. */
 Event check(double explained, double refined_explained)
 {
-    return [=](Harness& h) {
-        h.outcomes.push_back(h.monitor.checked(h.last, {explained, true, refined_explained}));
-    };
+    return [=](Harness& h) { h.outcomes.push_back(h.monitor.checked(h.last, {explained, true, refined_explained})); };
 }
 Event searchBegun()
 {
@@ -206,8 +203,7 @@ TEST(TrackMonitor, MissedAlignmentsLoseTheTrackAndARestartNeedsUsualEdges)
               {"passed, unconfirmed", check(0.9, 0.9), H::Restarted, 0, true, false},
               {"usual edges", frame({0.6, true, 1.0, 0.5}), H::Restarted, 0, true, false},
               {"passed, confirmed", check(0.9, 0.9), H::Verified, 3, false, false}},
-             {{0.0, 0.4}, {0.4, 0.6}},
-             {CheckOutcome::PassedUnconfirmed, CheckOutcome::Passed});
+             {{0.0, 0.4}, {0.4, 0.6}}, {CheckOutcome::PassedUnconfirmed, CheckOutcome::Passed});
 }
 
 TEST(TrackMonitor, ARejectedStereoIsHeldThenReleased)

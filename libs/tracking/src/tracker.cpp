@@ -115,8 +115,8 @@ TrackEstimate Tracker::initializeFromGlobal(double t, const Eigen::Isometry3d& T
                                             const dataset::StereoFrame* frame)
 {
     const InitializationOptions& o = options_.initialization;
-    return start(t, T_world_cam0, v_world, frame, o.init_global_sigma_m, o.init_global_sigma_deg,
-                 o.init_global_sigma_v, biases);
+    return start(t, T_world_cam0, v_world, frame, o.init_global_sigma_m, o.init_global_sigma_deg, o.init_global_sigma_v,
+                 biases);
 }
 
 void Tracker::applyStandstill(const StaticImuEstimate& still)
@@ -143,9 +143,9 @@ TrackEstimate Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, co
 {
     core::require(T_world_cam0.matrix().allFinite() && v_world.allFinite(), "Tracker::initialize",
                   "initial pose or velocity is not finite");
-    core::require(biases.gyro_bias.allFinite() && biases.acc_bias.allFinite() && biases.gyro_sigma > 0 &&
-                      biases.acc_sigma > 0,
-                  "Tracker::initialize", "IMU bias prior is not finite or has a sigma <= 0");
+    core::require(
+        biases.gyro_bias.allFinite() && biases.acc_bias.allFinite() && biases.gyro_sigma > 0 && biases.acc_sigma > 0,
+        "Tracker::initialize", "IMU bias prior is not finite or has a sigma <= 0");
     state_ = estimation::FrameState{};
     state_.gyro_bias = biases.gyro_bias;
     state_.acc_bias = biases.acc_bias;

@@ -31,9 +31,9 @@ Tracker::MapAlignment Tracker::alignToMap(const estimation::FrameState& predicte
     const core::CameraModel render_camera = stereo_.left.model.downscaled(downscale);
     renderer_.render(core::fromIsometry(T_world_cam_pred), render_camera, quasi_, f.map_points,
                      renderer_.options().completionRadiusAt(downscale));
-    a.model = std::make_shared<const estimation::DirectAlignmentModel>(estimation::buildDirectAlignmentModel(
-        refinement_.direct, quasi_.depth, quasi_.reflectivity, quasi_.valid, quasi_.sparse, render_camera,
-        T_world_cam_pred, downscale));
+    a.model = std::make_shared<const estimation::DirectAlignmentModel>(
+        estimation::buildDirectAlignmentModel(refinement_.direct, quasi_.depth, quasi_.reflectivity, quasi_.valid,
+                                              quasi_.sparse, render_camera, T_world_cam_pred, downscale));
     const estimation::CameraEdgeField& field = measurement.edgeField();
     Eigen::Isometry3d T_world_cam = T_world_cam_pred;
     estimation::DirectAlignmentStats stats;
@@ -141,8 +141,8 @@ void Tracker::addMapPoints(const dataset::StereoFrame& frame, const frontend::Fr
     rep.ms_points = tic.Tac() * 1e3;
 }
 
-void Tracker::addMapPlanes(const FrameMeasurement& m, const Eigen::Isometry3d& T_world_cam,
-                           estimation::WindowInput& in, FrameReport& rep) const
+void Tracker::addMapPlanes(const FrameMeasurement& m, const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in,
+                           FrameReport& rep) const
 {
     mrpt::system::CTicTac tic;
     std::vector<Eigen::Vector3d> p_cam;
@@ -225,13 +225,14 @@ void Tracker::addVisualTerms(const dataset::StereoFrame& frame, const std::share
     if (a.T_world_cam && f.map_points && points) addMapPoints(frame, m->left, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_lines)
         addMapLines(m->lines, a.map_lines, *a.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
-    if (points && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok)
-        addStereoMapTerm(*m, in);
+    if (points && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok) addStereoMapTerm(*m, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
     // A frame whose stereo was left out is not the next frame's landmarks either: they start again from the next
     // good frame.
-    if (points && stereo_ok) temporalLandmarks(m, rep.t, in.landmarks);
-    else if (!stereo_ok) previous_.reset();
+    if (points && stereo_ok)
+        temporalLandmarks(m, rep.t, in.landmarks);
+    else if (!stereo_ok)
+        previous_.reset();
     rep.landmarks = int(in.landmarks.size());
 }
 

@@ -44,7 +44,8 @@ void MapFactorOptions::declare(core::OptionTable& t)
     t.add("stereo_map_truncation_m", stereo_map_truncation_m, "m", Range::above(0),
           "points farther than this from the map do not pull (occluders, clutter)");
     t.add("stereo_map_max_depth_m", stereo_map_max_depth_m, "m", Range::above(0), "farther stereo points are left out");
-    t.addEnum("stereo_map_points", stereo_map_points, {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
+    t.addEnum("stereo_map_points", stereo_map_points,
+              {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
               "dense: the frame's SGBM cloud ([GeometricLocalization] stereo keys); sparse: the ORB stereo matches");
     t.add("map_lines", map_lines, "point-to-line map factors on keyframes (map_lines.h), reweighted by [Reweighting]");
     t.add("line_sigma_px", line_sigma_px, "px", Range::above(0), "a camera segment's offset sigma");
@@ -56,8 +57,9 @@ void MapFactorOptions::declare(core::OptionTable& t)
     t.add("line_max_angle_deg", line_max_angle_deg, "deg", Range::strictlyBetween(0, 90),
           "a map line and a camera segment associate within this angle");
     t.add("line_max_candidates", line_max_candidates, "", Range::atLeast(1), "map lines per camera segment at most");
-    t.add("map_points", map_points,
-          "point factors on keyframes: quasi-image keypoints matched by descriptor near their projection (map_points.h)");
+    t.add(
+        "map_points", map_points,
+        "point factors on keyframes: quasi-image keypoints matched by descriptor near their projection (map_points.h)");
     t.add("point_window_px", point_window_px, "px", Range::above(0),
           "a match lies within this of the map point's projection at the aligned pose");
     t.add("point_sigma_px", point_sigma_px, "px", Range::above(0), "a point factor's pixel sigma");
@@ -113,7 +115,8 @@ void TrackerOptions::declare(core::OptionTable& t)
           "guided matching: the patches' mean absolute difference per pixel, each patch's mean removed, at most "
           "(gray levels)");
     t.add("concurrent_stages", concurrent_stages,
-          "a frame's independent tasks (edge field, stereo points, dense stereo) on a worker thread and the tracking thread");
+          "a frame's independent tasks (edge field, stereo points, dense stereo) on a worker thread and the tracking "
+          "thread");
 }
 
 void TrackingRunOptions::declare(core::OptionTable& t)
@@ -155,8 +158,9 @@ void TrackMonitorOptions::declare(core::OptionTable& t)
     t.add("stereo_check_min_edge_ratio", stereo_check_min_edge_ratio, "", Range::atLeast(0),
           "the check trusts the edge-aligned pose only when its inlier ratio is at least this share of the usual one "
           "(aligned from a wrong pose the edges fit worse: then the stereo is believed)");
-    t.add("usual_edge_ratio_weight", usual_edge_ratio_weight, "", Range::strictlyBetween(0, 1),
-          "the usual edge inlier ratio is a running mean over the frames whose stereo agreed, the newest weighing this");
+    t.add(
+        "usual_edge_ratio_weight", usual_edge_ratio_weight, "", Range::strictlyBetween(0, 1),
+        "the usual edge inlier ratio is a running mean over the frames whose stereo agreed, the newest weighing this");
     t.add("check_every", check_every, "frames", Range::atLeast(1), "the geometry check of the tracked pose");
     t.add("lost_explained_ratio", lost_explained_ratio, "", Range::fromUpTo(0, 1),
           "a check that explains this share of the stereo points confirms the pose");

@@ -126,11 +126,11 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
     noise.gap_max_s = options_.estimator.imu_gap_max_s;
     noise.gap_acc_sigma = options_.estimator.imu_gap_acc_sigma;
     noise.gap_gyro_sigma = options_.estimator.imu_gap_gyro_sigma;
-    tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting,
-                                         source.rig(), noise, context.renderer(), options_.frontend);
+    tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting, source.rig(),
+                                         noise, context.renderer(), options_.frontend);
     // auto resolves to factor when the map's reflectivity varies (Tracker's constructor), else to none.
     out_ << "map term: " << mapTermName(tracker_->mapTerm())
-         << (o.map_term != MapTerm::Auto                  ? ""
+         << (o.map_term != MapTerm::Auto              ? ""
              : tracker_->mapTerm() == MapTerm::Factor ? " (auto: the map's reflectivity varies)"
                                                       : " (auto: the map's reflectivity is constant)")
          << std::endl;
@@ -158,8 +158,8 @@ std::string TrackingSession::timing() const { return timer_.getStatsAsText(); }
 void TrackingSession::recordTiming(const FrameReport& r, double ms_check, double ms_search)
 {
     const std::pair<const char*, double> stages[] = {
-        {"frame.predict", r.ms_predict}, {"frame.edge_field", r.ms_image}, {"frame.align", r.ms_align},
-        {"frame.visual", r.ms_visual},   {"frame.window", r.ms_window},    {"frame.tracker_total", r.ms_total},
+        {"frame.predict", r.ms_predict}, {"frame.edge_field", r.ms_image},    {"frame.align", r.ms_align},
+        {"frame.visual", r.ms_visual},   {"frame.window", r.ms_window},       {"frame.tracker_total", r.ms_total},
         {"frame.check", ms_check},       {"frame.search_handover", ms_search}};
     for (const auto& [name, ms] : stages)
         if (ms > 0) timer_.registerUserMeasure(name, ms * 1e-3, true);
@@ -233,7 +233,7 @@ void TrackingSession::startGlobally(const std::string& input)
                   "IMU (see the printed attempts)");
     GlobalInitialState& start = *found;
     latest_ = tracker_->initializeFromGlobal(start.anchor.timestamp, start.T_world_cam0, *start.v_world, start.biases,
-                                   &start.anchor);  // a pair: always has a velocity
+                                             &start.anchor);  // a pair: always has a velocity
     start_biases_ = start.biases;
     for (auto& p : start.pending) queued_.push_back(std::move(p));
     summary_.T_world_cam0_start = start.T_world_cam0;
@@ -254,8 +254,7 @@ SessionSummary TrackingSession::run(const std::string& input)
         startGlobally(input);
     monitor_.started(t_start_);
     // After the start: the search thread takes over the starter's console lines (the start's are printed as made).
-    if (starter_ && relocalizes())
-        search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
+    if (starter_ && relocalizes()) search_.emplace(*starter_, options_.relocalization.relocalize_latest_only);
     dataset::StereoFrame f;
     core::require(nextFrame(f), input, "no frame after the initial one");
     out_ << "IMU biases at the start: " << describe(start_biases_) << std::endl;
@@ -351,8 +350,7 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
         std::optional<SearchPrior> prior;
         if (o.relocalize_near_m > 0)
             if (const auto known = history_.at(last_verified_t))
-                prior = SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m,
-                                    o.relocalize_speed_m_s};
+                prior = SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m, o.relocalize_speed_m_s};
         starter_->setBiasPrior(latest_.biasPrior());
         search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix);
     }
@@ -374,8 +372,7 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
     summary_.longest_wait_s = std::max(summary_.longest_wait_s, t_now - last_verified_t);
     const auto tracked = history_.at(t_fix);
     const TrackerOptions& o = options_.tracker;
-    const bool agrees = tracked &&
-                        core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
+    const bool agrees = tracked && core::translationDistance(*tracked, found.T_world_cam0) <= o.max_correction_m &&
                         core::rotationDistanceRad(*tracked, found.T_world_cam0) * 180 / M_PI <= o.max_correction_deg;
     out_ << "relocalization at t " << std::fixed << std::setprecision(3) << t_fix << ": unverified since t "
          << last_verified_t << ", found at t " << t_now << "; "

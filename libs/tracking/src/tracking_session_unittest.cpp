@@ -92,8 +92,8 @@ class TrackingSessionTest : public ::testing::Test
         dataset::FrameSourceOptions so;
         so.groundtruth_tum = (kSimDir / "gt.tum").string();
         so.calibration_ini = (kSimDir / "calib.ini").string();
-        std::unique_ptr<dataset::FrameSource> source = tracking::withFaults(
-            dataset::openRawlog((kSimDir / "V1_01_easy.rawlog").string(), so), c.harness.faults);
+        std::unique_ptr<dataset::FrameSource> source =
+            tracking::withFaults(dataset::openRawlog((kSimDir / "V1_01_easy.rawlog").string(), so), c.harness.faults);
         const auto calibration = dataset::loadCalibration(so.calibration_ini);
         const dataset::ImuCalibration imu = imu_override ? *imu_override : calibration.requireImu(so.calibration_ini);
         std::ostringstream console;
@@ -154,7 +154,8 @@ TEST_F(TrackingSessionTest, NoTemporalLandmarksAcrossDroppedFrames)
     // One second of frames dropped (their IMU kept): the first frame after it has moved too far from the last one
     // for the windowed temporal matching, so it gets no landmark; the next frame has them again.
     const auto gap = [](double max_gap_s) {
-        return options({{"FaultInjection.drop_from_s", "2"}, {"FaultInjection.drop_duration_s", "1"},
+        return options({{"FaultInjection.drop_from_s", "2"},
+                        {"FaultInjection.drop_duration_s", "1"},
                         {"Tracking.temporal_max_gap_s", std::to_string(max_gap_s)}});
     };
     const auto firstAfterGap = [](const std::vector<std::pair<double, int>>& rows) {

@@ -54,7 +54,7 @@ class BackgroundSearch
     bool latest_only_ = true;
     std::deque<dataset::StereoFrame> queue_;    // this thread's: frames not yet handed over
     std::vector<dataset::StereoFrame> batch_;   // the worker's while it runs
-    std::optional<GlobalInitialState> found_;  // written by the worker, read once it is idle
+    std::optional<GlobalInitialState> found_;   // written by the worker, read once it is idle
     std::optional<GlobalInitialState> result_;  // collected, not yet returned
     bool searching_ = false;
     core::WorkerThread worker_;  // last: destroyed (joined) first

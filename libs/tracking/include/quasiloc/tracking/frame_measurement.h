@@ -27,17 +27,17 @@ namespace quasiloc::tracking
 struct FrameMeasurement
 {
     double t = 0;
-    frontend::FrameFeatures left, right;         ///< ORB points (right: stereo_matching = descriptors only)
-    std::vector<frontend::StereoPoint> stereo;   ///< left-right matches
-    std::vector<int> stereo_of_left;             ///< left keypoint -> index in stereo (-1: none)
-    reloc::StereoDisparity disparity;            ///< stereo_map_points = dense: the SGBM disparity
-    std::vector<Eigen::Vector3f> dense;          ///< ... and its cloud (left camera frame)
+    frontend::FrameFeatures left, right;        ///< ORB points (right: stereo_matching = descriptors only)
+    std::vector<frontend::StereoPoint> stereo;  ///< left-right matches
+    std::vector<int> stereo_of_left;            ///< left keypoint -> index in stereo (-1: none)
+    reloc::StereoDisparity disparity;           ///< stereo_map_points = dense: the SGBM disparity
+    std::vector<Eigen::Vector3f> dense;         ///< ... and its cloud (left camera frame)
     /** The previous frame's left points matched to these (query: previous, train: these); empty across a gap longer
      *  than temporal_max_gap_s. */
     std::vector<frontend::PointMatch> temporal;
-    estimation::CameraEdgeField edge_field;      ///< requested: the camera side of the direct map alignment
-    std::vector<frontend::LineSegment> lines;    ///< requested: the left image's segments (map_lines)
-    double ms_edge_field = 0;                    ///< its wall time
+    estimation::CameraEdgeField edge_field;    ///< requested: the camera side of the direct map alignment
+    std::vector<frontend::LineSegment> lines;  ///< requested: the left image's segments (map_lines)
+    double ms_edge_field = 0;                  ///< its wall time
 };
 
 /** What a frame's measurement includes beyond its points. */
@@ -88,7 +88,8 @@ class FrameMeasurer
     std::unique_ptr<PendingMeasurement> start(const dataset::StereoFrame& frame, const MeasurementRequest& request,
                                               std::shared_ptr<const FrameMeasurement> previous, double previous_t);
     /** The same, measured on this thread and taken at once. */
-    std::shared_ptr<const FrameMeasurement> measure(const dataset::StereoFrame& frame, const MeasurementRequest& request,
+    std::shared_ptr<const FrameMeasurement> measure(const dataset::StereoFrame& frame,
+                                                    const MeasurementRequest& request,
                                                     std::shared_ptr<const FrameMeasurement> previous,
                                                     double previous_t);
 

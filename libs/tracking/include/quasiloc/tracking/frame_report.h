@@ -12,7 +12,7 @@ struct FrameReport
     double t = 0;
     Eigen::Isometry3d T_world_cam0 = Eigen::Isometry3d::Identity();
     bool keyframe = false;
-    bool map_update = false;       ///< the map alignment was accepted as a measurement
+    bool map_update = false;                      ///< the map alignment was accepted as a measurement
     double correction_m = 0, correction_deg = 0;  ///< map alignment minus prediction
     double edge_inlier_ratio = 0;
     int edge_points = 0;
@@ -28,12 +28,12 @@ struct FrameReport
      *  disagreed with the map (a left/right desync, a broken calibration). */
     bool stereo_rejected = false;
     int camera_lines = 0, map_lines = 0, line_factors = 0;  ///< map_lines: segments, lifted map lines, factors
-    double line_candidates = 0;  ///< mean candidates per line factor
+    double line_candidates = 0;                             ///< mean candidates per line factor
     double line_window_px = 0;
     double ms_lines = 0;
     int quasi_keypoints = 0, point_factors = 0;  ///< map_points: the quasi-image's keypoints, point factors
     double ms_points = 0;
-    int plane_factors = 0;  ///< map_planes
+    int plane_factors = 0;        ///< map_planes
     double plane_candidates = 0;  ///< mean candidates per plane factor
     double ms_planes = 0;
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated

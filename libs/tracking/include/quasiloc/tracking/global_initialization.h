@@ -92,7 +92,7 @@ struct InitAttempt
 {
     double t = 0;
     reloc::GeometricLocalization result;
-    std::string note;  ///< anchor / pair closed / why the pair failed
+    std::string note;            ///< anchor / pair closed / why the pair failed
     double search_radius_m = 0;  ///< the SearchPrior's sphere (0: the whole map)
 };
 

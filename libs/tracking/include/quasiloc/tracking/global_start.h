@@ -51,9 +51,9 @@ class GlobalStarter
     /** What the frame's stereo geometry says of a tracked pose. */
     struct TrackCheck
     {
-        double explained = 0;          ///< share of the stereo points the map explains at the tracked pose
-        bool refined = false;          ///< the points were aligned to the map from the tracked pose (below)
-        double refined_explained = 0;  ///< that share at the aligned pose
+        double explained = 0;               ///< share of the stereo points the map explains at the tracked pose
+        bool refined = false;               ///< the points were aligned to the map from the tracked pose (below)
+        double refined_explained = 0;       ///< that share at the aligned pose
         double moved_m = 0, moved_deg = 0;  ///< from the tracked pose to the aligned one
     };
     /** explained = GeometricLocalizer::inlierRatio at T_world_cam0; when it is below `refine_below`, the points are
@@ -61,8 +61,8 @@ class GlobalStarter
      *  view the map merely explains poorly (the alignment stays) from a wrong pose (it moves away). `points`: the
      *  frame's stereo cloud when the tracker computed it already (the same SGBM with the same options: one stereo
      *  pipeline per frame); empty: computed here. */
-    TrackCheck checkTrack(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0,
-                          double refine_below, const std::vector<Eigen::Vector3f>& points = {}) const;
+    TrackCheck checkTrack(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0, double refine_below,
+                          const std::vector<Eigen::Vector3f>& points = {}) const;
 
     /** The console lines of the attempts are kept (takeConsole) instead of printed: for a search on another thread,
      *  whose lines the tracking thread prints between its own. */

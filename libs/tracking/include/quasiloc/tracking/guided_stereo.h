@@ -23,8 +23,8 @@ class GuidedStereo
    public:
     /** `rect` must be the rectification of the disparities given to match() (reloc::StereoCloud::rectification);
      *  `stereo` gives the disparity and depth ranges, as for the descriptor matching. */
-    GuidedStereo(const core::StereoRig& rig, const core::StereoRectification& rect, const frontend::StereoOptions& stereo,
-                 const GuidedStereoOptions& options = {});
+    GuidedStereo(const core::StereoRig& rig, const core::StereoRectification& rect,
+                 const frontend::StereoOptions& stereo, const GuidedStereoOptions& options = {});
 
     /** Stereo points of the `left` keypoints (raw left image). `right` receives one keypoint per point, its pixel
      *  in the raw right image (StereoPoint::right indexes it; size, angle and octave are the left keypoint's). */

@@ -16,9 +16,9 @@ namespace quasiloc::tracking
 struct MapBuildFigures
 {
     size_t points = 0;
-    double load_s = 0;     ///< reading the map file
-    double index_s = 0;    ///< the visibility index and the tracker's renderer
-    double field_s = 0;    ///< the distance field (0 until built)
+    double load_s = 0;   ///< reading the map file
+    double index_s = 0;  ///< the visibility index and the tracker's renderer
+    double field_s = 0;  ///< the distance field (0 until built)
     double field_mb = 0;
     bool field_sparse = false;
 };

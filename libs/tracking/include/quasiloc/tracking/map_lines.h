@@ -1,8 +1,8 @@
 #pragma once
 // Map lines for the tracker's point-to-line map factor (the paper's L primitive), associated by geometry alone.
 //
-// Why not by descriptor: camera and quasi-image descriptors do not agree across the modality gap (docs/experiments.md: ~0
-// correct matches on the simulated room and on KITTI). A line of the map's geometry (a crease where two surfaces
+// Why not by descriptor: camera and quasi-image descriptors do not agree across the modality gap (docs/experiments.md:
+// ~0 correct matches on the simulated room and on KITTI). A line of the map's geometry (a crease where two surfaces
 // meet, the contour of an object in front of another) is also an edge of the camera image, so with a pose
 // estimate the association is a search near the line's projection:
 //  1. map side: the quasi-image rendered at the predicted pose, shaded by its surface normals (normalShading:
@@ -28,20 +28,20 @@ namespace quasiloc::tracking
 {
 struct MapLineOptions
 {
-    int shading_step = 2;         ///< the shading (and the map side's line detection) at every step-th pixel
-    double min_contrast = 16;     ///< mean shading difference across a map segment (grey levels)
+    int shading_step = 2;      ///< the shading (and the map side's line detection) at every step-th pixel
+    double min_contrast = 16;  ///< mean shading difference across a map segment (grey levels)
     /** Half-width of the band across a segment searched for a depth discontinuity. The shading's normals are
      *  averaged over 9 px, so a contour's segment can sit several pixels inside the foreground; bench_crossmodal's
      *  line profile (simulated frames, 3 px window): the truth associates more segments than a pose one step
      *  away in 31 / 62 / 83 / 80 % of the steps with 4 / 8 / 12 / 16 px. */
     double contour_band_px = 12;
-    int samples = 16;             ///< samples along a segment
-    double tolerance_m = 0.03;    ///< a support point lies within this of the fitted 3D line
-    int min_support = 6;          ///< support points a map line needs
-    double min_length_m = 0.15;   ///< 3D extent of the support
-    double max_angle_deg = 5;     ///< camera segment vs projected map line
-    double min_overlap = 0.3;     ///< shared extent along the camera segment, as a share of the shorter one
-    int max_candidates = 3;       ///< per camera segment, nearest first
+    int samples = 16;            ///< samples along a segment
+    double tolerance_m = 0.03;   ///< a support point lies within this of the fitted 3D line
+    int min_support = 6;         ///< support points a map line needs
+    double min_length_m = 0.15;  ///< 3D extent of the support
+    double max_angle_deg = 5;    ///< camera segment vs projected map line
+    double min_overlap = 0.3;    ///< shared extent along the camera segment, as a share of the shorter one
+    int max_candidates = 3;      ///< per camera segment, nearest first
     double min_probability = 0.05;
 };
 
@@ -57,7 +57,8 @@ class MapLineExtractor
 {
    public:
     /** lines: the detector's options, lengths in image pixels (the shading's detector scales them). */
-    MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options, const frontend::LineOptions& lines);
+    MapLineExtractor(const core::CameraModel& camera, const MapLineOptions& options,
+                     const frontend::LineOptions& lines);
     ~MapLineExtractor();
     /** The map lines of a completed depth image rendered at T_world_cam: segments detected on its normalShading,
      *  those that are edges (isEdge) lifted (lift). */

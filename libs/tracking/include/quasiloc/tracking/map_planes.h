@@ -18,11 +18,11 @@ namespace quasiloc::tracking
 {
 struct MapPlaneOptions
 {
-    int window_px = 6;            ///< half-width of a fitting window (every 2nd pixel is used)
-    int offset_px = 8;            ///< the side windows' offset from the point's pixel
-    int min_points = 12;          ///< valid depth pixels a fit needs
-    double max_rms_m = 0.01;      ///< a fit farther from flat is not a plane
-    double max_distance_m = 0.1;  ///< a candidate plane farther from the point is not one
+    int window_px = 6;                      ///< half-width of a fitting window (every 2nd pixel is used)
+    int offset_px = 8;                      ///< the side windows' offset from the point's pixel
+    int min_points = 12;                    ///< valid depth pixels a fit needs
+    double max_rms_m = 0.01;                ///< a fit farther from flat is not a plane
+    double max_distance_m = 0.1;            ///< a candidate plane farther from the point is not one
     double merge_deg = 10, merge_m = 0.02;  ///< fits closer than this are the same plane
 };
 

@@ -3,8 +3,8 @@
 // map through its provenance, matched to the camera's keypoints by descriptor inside a small window around their
 // projection at the aligned pose.
 //
-// Why only inside a small window: across the modality gap descriptors rarely agree (docs/experiments.md: at the true pose,
-// 5.9 of 140 guided ORB candidates correct on simulated frames, 16.9 of 418 with the reflectivity matched to the
+// Why only inside a small window: across the modality gap descriptors rarely agree (docs/experiments.md: at the true
+// pose, 5.9 of 140 guided ORB candidates correct on simulated frames, 16.9 of 418 with the reflectivity matched to the
 // camera's histogram). The tracker associates at the edge alignment's pose (about a centimetre off), so a
 // window of a few pixels keeps the geometry in charge and leaves the descriptor to choose among the few keypoints
 // left in it.
@@ -30,11 +30,8 @@ struct MapPointOptions
  *  projected with `camera` at T_world_cam and matched (matching: mutual nearest neighbour + ratio by descriptor)
  *  to the camera keypoints within window_px of that projection. Each match is a PointMatch (camera pixel, map
  *  point). */
-std::vector<estimation::PointMatch> associateMapPoints(const frontend::Features& camera_features,
-                                                       const frontend::Features& quasi_features,
-                                                       const quasi::QuasiImage& q, const map::LidarMap& map,
-                                                       const core::CameraModel& camera,
-                                                       const Eigen::Isometry3d& T_world_cam,
-                                                       const frontend::PointMatchingOptions& matching,
-                                                       const MapPointOptions& options);
+std::vector<estimation::PointMatch> associateMapPoints(
+    const frontend::Features& camera_features, const frontend::Features& quasi_features, const quasi::QuasiImage& q,
+    const map::LidarMap& map, const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam,
+    const frontend::PointMatchingOptions& matching, const MapPointOptions& options);
 }  // namespace quasiloc::tracking

@@ -18,17 +18,17 @@ namespace quasiloc::tracking
 struct SessionSummary
 {
     size_t frames = 0;
-    int losses = 0;           ///< loss declared (rejected alignments or failed geometry checks)
-    int withdrawn = 0;        ///< losses whose fix confirmed the track
-    int relocalizations = 0;  ///< restarts at a fix
+    int losses = 0;                   ///< loss declared (rejected alignments or failed geometry checks)
+    int withdrawn = 0;                ///< losses whose fix confirmed the track
+    int relocalizations = 0;          ///< restarts at a fix
     double longest_unverified_s = 0;  ///< from a confirmed pose to the relocalization that followed a loss
     double longest_wait_s = 0;        ///< ... and to when its fix was found (replay time)
     Eigen::Isometry3d T_world_cam0_start = Eigen::Isometry3d::Identity();
     std::optional<Eigen::Isometry3d> T_world_cam0_start_truth;  ///< the start frame's ground truth, if any
     std::optional<double> t_first_frame;  ///< the first frame read (a global start may come frames later)
-    double start_search_s = 0;             ///< init = global: wall time until the start was found
-    MapBuildFigures map;                   ///< loading the map and building from it
-    double localizer_setup_s = 0;          ///< the global localizer's set-up (distance field and candidates)
+    double start_search_s = 0;            ///< init = global: wall time until the start was found
+    MapBuildFigures map;                  ///< loading the map and building from it
+    double localizer_setup_s = 0;         ///< the global localizer's set-up (distance field and candidates)
 };
 
 class RunLog
@@ -40,8 +40,8 @@ class RunLog
     void addStart(const dataset::StereoFrame& frame, const Eigen::Isometry3d& T_world_cam0);
     /** A tracked frame; explained_ratio: the geometry check's share (NaN when not checked), ms_check its wall time,
      *  ms_search the relocalization search's on this frame (both counted in the frame's time). */
-    void addFrame(const dataset::StereoFrame& frame, const FrameReport& r, double explained_ratio,
-                  double ms_check, double ms_search);
+    void addFrame(const dataset::StereoFrame& frame, const FrameReport& r, double explained_ratio, double ms_check,
+                  double ms_search);
 
     /** Forgets everything logged at or after time t (starts and frames): a relocalization that finds the track
      *  was wrong re-tracks the frames from its start. */

@@ -23,11 +23,11 @@ namespace quasiloc::tracking
 {
 struct StandstillOptions
 {
-    double min_still_s = 0.5;                ///< shortest span that counts as standing
+    double min_still_s = 0.5;  ///< shortest span that counts as standing
     double block_s = 0.25;
     double max_gyro_block_dev_rad_s = 0.025;
     double max_acc_block_dev_m_s2 = 0.25;
-    double min_gyro_bias_sigma = 3e-4;       ///< rad/s
+    double min_gyro_bias_sigma = 3e-4;  ///< rad/s
     /** The standing span kept: a longer one no longer narrows the estimate (its sigma is at min_gyro_bias_sigma
      *  after about 1 s of EuRoC's noise), and the tracker re-examines the span on every frame while it stands. */
     double max_span_s = 10;
@@ -36,8 +36,8 @@ struct StandstillOptions
 /** What a standing span of IMU samples tells. */
 struct StaticImuEstimate
 {
-    Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  ///< body frame, rad/s
-    double gyro_bias_sigma = 0;                           ///< rad/s, per axis
+    Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();            ///< body frame, rad/s
+    double gyro_bias_sigma = 0;                                     ///< rad/s, per axis
     Eigen::Vector3d mean_specific_force = Eigen::Vector3d::Zero();  ///< body frame: up times gravity (plus the
                                                                     ///< accelerometer bias)
     double span_s = 0;
@@ -68,8 +68,7 @@ class StaticInitializer
    public:
     StaticInitializer(double gyro_noise_density, const StandstillOptions& options = {})
         : gyro_noise_density_(gyro_noise_density), options_(options)
-    {
-    }
+    {}
     void add(const std::vector<dataset::ImuSample>& samples);
     /** The estimate over the samples so far, if they stand still and span min_still_s. */
     std::optional<StaticImuEstimate> estimate() const;

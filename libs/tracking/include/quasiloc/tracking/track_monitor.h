@@ -51,9 +51,9 @@ struct CheckResult
 
 enum class CheckOutcome
 {
-    Passed,               ///< the pose is confirmed
-    PassedUnconfirmed,    ///< passed, but after a restart the frame's edges fit worse than usual: not confirmed
-    Failed                ///< the stereo fits the map better elsewhere, or too little of it is explained
+    Passed,             ///< the pose is confirmed
+    PassedUnconfirmed,  ///< passed, but after a restart the frame's edges fit worse than usual: not confirmed
+    Failed              ///< the stereo fits the map better elsewhere, or too little of it is explained
 };
 const char* toString(CheckOutcome o);
 
@@ -113,9 +113,9 @@ class TrackMonitor
     UnverifiedSink unverified_;
     TrackHealth health_ = TrackHealth::Verified;
     TrackHealth before_loss_ = TrackHealth::Verified;  ///< Lost: what a withdrawn loss returns to
-    std::optional<double> unverified_after_;            ///< the open unverified stretch
-    std::optional<double> input_fault_t_;  ///< the frame read after an input fault, until it is tracked
-    std::optional<double> stereo_held_until_;  ///< the stereo was left out: held until then
+    std::optional<double> unverified_after_;           ///< the open unverified stretch
+    std::optional<double> input_fault_t_;              ///< the frame read after an input fault, until it is tracked
+    std::optional<double> stereo_held_until_;          ///< the stereo was left out: held until then
     double last_verified_t_ = 0;
     int failed_checks_ = 0;  ///< in a row
     double usual_edge_ratio_ = NAN;

@@ -107,7 +107,7 @@ class Tracker
         std::shared_ptr<const estimation::DirectAlignmentModel> model;
         std::optional<Eigen::Isometry3d> T_map_body;
         std::optional<Eigen::Isometry3d> T_world_cam;  ///< map_lines / map_points / map_planes
-        std::vector<MapLine> map_lines;                 ///< map_lines: the quasi-image's, lifted
+        std::vector<MapLine> map_lines;                ///< map_lines: the quasi-image's, lifted
     };
     TrackEstimate start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                         const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
@@ -182,8 +182,8 @@ class Tracker
     core::StereoRig rig_;
     Eigen::Isometry3d T_body_cam_ = Eigen::Isometry3d::Identity();
     FrameMeasurer measurer_;
-    quasi::QuasiImage quasi_;  ///< the map rendered at the last keyframe's prediction
-    std::unique_ptr<frontend::Frontend> quasi_frontend_;  ///< map_points: the quasi-image's keypoints
+    quasi::QuasiImage quasi_;                               ///< the map rendered at the last keyframe's prediction
+    std::unique_ptr<frontend::Frontend> quasi_frontend_;    ///< map_points: the quasi-image's keypoints
     std::unique_ptr<MapPlaneAssociator> plane_associator_;  ///< map_planes
     std::unique_ptr<MapLineExtractor> line_extractor_;      ///< map_lines
     std::optional<StaticInitializer> standstill_;

@@ -52,15 +52,15 @@ struct SessionOptions
      *  points, and the render's completion radius 1 (docs/experiments.md has the measurements). */
     SessionOptions();
 
-    TrackingRunOptions tracker;                       ///< [Tracking] + [Initialization] + [MapFactors]
-    TrackMonitorOptions monitor;                      ///< [TrackMonitor]
-    RelocalizationOptions relocalization;             ///< [Relocalization]
+    TrackingRunOptions tracker;                        ///< [Tracking] + [Initialization] + [MapFactors]
+    TrackMonitorOptions monitor;                       ///< [TrackMonitor]
+    RelocalizationOptions relocalization;              ///< [Relocalization]
     reloc::GeometricLocalizationOptions localization;  ///< [GeometricLocalization]
-    estimation::MapRefinementOptions refinement;      ///< [MapRefinement] + [DirectAlignment]
-    estimation::EstimatorOptions estimator;           ///< [Estimator]
-    estimation::ReweightingOptions reweighting;       ///< [Reweighting]
-    frontend::FrontendOptions frontend;               ///< [Features] [PointMatching] [Lines] [Stereo]
-    quasi::QuasiOptions quasi;                        ///< [QuasiImage] (the MapContext's renderers)
+    estimation::MapRefinementOptions refinement;       ///< [MapRefinement] + [DirectAlignment]
+    estimation::EstimatorOptions estimator;            ///< [Estimator]
+    estimation::ReweightingOptions reweighting;        ///< [Reweighting]
+    frontend::FrontendOptions frontend;                ///< [Features] [PointMatching] [Lines] [Stereo]
+    quasi::QuasiOptions quasi;                         ///< [QuasiImage] (the MapContext's renderers)
 
     /** Loads and checks every section (unknown keys are errors naming `config_name`). */
     void load(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name);
@@ -123,7 +123,7 @@ class TrackingSession
     std::ostream& out_;
     InputGuard guard_;
     Eigen::Isometry3d T_body_cam_;
-    std::unique_ptr<frontend::Frontend> frontend_;  ///< the global starter's
+    std::unique_ptr<frontend::Frontend> frontend_;      ///< the global starter's
     std::unique_ptr<reloc::StereoCloud> stereo_cloud_;  ///< stereo_map_points = dense
     std::unique_ptr<Tracker> tracker_;
     std::unique_ptr<GlobalStarter> starter_;
