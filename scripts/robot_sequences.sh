@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The simulated ground robot (share/quasiloc/sim/robot_floor.ini: D435i rig, BMI055 IMU, an office floor): for each
 # seed, a sequence started standing and one started moving, each simulated then tracked with the top-level
-# config.ini's tracker (init = global), and one table of the figures issue 38 sets targets for.
+# config.ini's tracker (init = global), and one table of the figures the ground-robot targets are set for (docs/benchmarks.md).
 #   bash scripts/robot_sequences.sh [output_root=out/robot] [duration_s=30] [seeds...=1 2 3]
 # Simulated folders are reused when present (delete them to simulate again). Needs a built tree (scripts/build.sh).
 # Tracker overrides (the rig differs from the simulated EuRoC one, the tracker does not): temporal_max_gap_s = 0.05
