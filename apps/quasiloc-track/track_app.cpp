@@ -20,8 +20,9 @@ using namespace quasiloc;
 /** The product refuses the harness's sections: a kidnap or a fault asked of it would otherwise be ignored. */
 void refuseHarnessSections(const mrpt::config::CConfigFileBase& cfg, const std::string& config_name)
 {
-    for (const std::string& section : tracking::harnessSections())
+    for (const core::OptionsSection& harness : tracking::HarnessOptions().sections())
     {
+        const std::string& section = harness.section;
         std::vector<std::string> keys;
         if (cfg.sectionExists(section)) cfg.getAllKeys(section, keys);
         core::require(keys.empty(), config_name + ": [" + section + "] " + (keys.empty() ? "" : keys.front()),

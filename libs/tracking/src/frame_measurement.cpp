@@ -8,6 +8,13 @@
 
 namespace quasiloc::tracking
 {
+cv::Mat grayImage(const cv::Mat& image)
+{
+    cv::Mat gray = image;
+    if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
+    return gray;
+}
+
 PendingMeasurement::~PendingMeasurement()
 {
     // The worker's tasks write into this measurement: they end before it does, whatever happened.
@@ -82,14 +89,10 @@ void FrameMeasurer::edgeField(const cv::Mat& image, FrameMeasurement& m) const
 {
     mrpt::system::CTicTac tic;
     const core::CameraModel& camera = rig_.left;
-    core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
-                  "camera image", "must be a non-empty 8-bit gray or BGR image");
     core::require(
         image.cols == camera.width && image.rows == camera.height, "camera image",
         "size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + " differs from the camera model's");
-    cv::Mat gray = image;
-    if (image.channels() == 3) cv::cvtColor(image, gray, cv::COLOR_BGR2GRAY);
-    m.edge_field = estimation::buildCameraEdgeField(direct_, gray);
+    m.edge_field = estimation::buildCameraEdgeField(direct_, image);  // checks the type, converts BGR to gray
     m.ms_edge_field = tic.Tac() * 1e3;
 }
 
@@ -157,12 +160,7 @@ std::unique_ptr<PendingMeasurement> FrameMeasurer::start(const dataset::StereoFr
     FrameMeasurement& m = *p->m_;
     m.t = frame.timestamp;
     if (request.points) addPointTasks(frame, *p, std::move(previous), previous_t);
-    if (request.lines)
-        p->tasks_.add([this, &frame, &m] {
-            cv::Mat gray = frame.left;
-            if (gray.channels() == 3) cv::cvtColor(frame.left, gray, cv::COLOR_BGR2GRAY);
-            m.lines = line_detector_->detect(gray);
-        });
+    if (request.lines) p->tasks_.add([this, &frame, &m] { m.lines = line_detector_->detect(grayImage(frame.left)); });
     if (request.edge_field)
     {
         // Last in claiming order: the estimator claims it ahead of its turn once the map's render is done.

@@ -25,12 +25,6 @@ std::vector<core::OptionsSection> HarnessOptions::sections() const
     return {{"Kidnap", &kidnap}, {"FaultInjection", &faults}};
 }
 
-const std::vector<std::string>& harnessSections()
-{
-    static const std::vector<std::string> names{"Kidnap", "FaultInjection"};
-    return names;
-}
-
 std::unique_ptr<dataset::FrameSource> withFaults(std::unique_ptr<dataset::FrameSource> source,
                                                  const dataset::FaultInjectionOptions& faults)
 {

@@ -123,11 +123,7 @@ void Tracker::addMapPoints(const dataset::StereoFrame& frame, const frontend::Fr
     // the camera image's histogram.
     cv::Mat quasi_gray = quasi_.gray;
     if (refinement_.quasi_gray == estimation::QuasiGray::MatchedReflectivity)
-    {
-        cv::Mat camera_gray = frame.left;
-        if (camera_gray.channels() == 3) cv::cvtColor(frame.left, camera_gray, cv::COLOR_BGR2GRAY);
-        quasi_gray = quasi::reflectivityMatchedToImage(quasi_, camera_gray);
-    }
+        quasi_gray = quasi::reflectivityMatchedToImage(quasi_, grayImage(frame.left));
     frontend::FrameFeatures fq;
     quasi_frontend_->extractPoints(quasi_gray, quasi_.valid, fq);
     MapPointOptions po;

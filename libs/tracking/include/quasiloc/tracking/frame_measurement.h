@@ -23,6 +23,9 @@
 
 namespace quasiloc::tracking
 {
+/** An 8-bit image as gray (BGR converted; gray as it is, not copied). */
+cv::Mat grayImage(const cv::Mat& image);
+
 /** What one frame's images give the estimator. Immutable once measured. */
 struct FrameMeasurement
 {

@@ -33,9 +33,6 @@ struct HarnessOptions
     std::vector<core::OptionsSection> sections() const;
 };
 
-/** The harness's section names: a product program refuses keys in them. */
-const std::vector<std::string>& harnessSections();
-
 /** `source` with the faults injected (itself when no fault is on). */
 std::unique_ptr<dataset::FrameSource> withFaults(std::unique_ptr<dataset::FrameSource> source,
                                                  const dataset::FaultInjectionOptions& faults);
