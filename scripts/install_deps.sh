@@ -10,6 +10,8 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev
   # The fuzz targets (fuzz/, scripts/fuzz.sh, docs/fuzzing.md): clang with libFuzzer, ASan and UBSan.
   clang-14 libfuzzer-14-dev
+  # The format_check test (tests/format_check.sh): the sources follow .clang-format.
+  clang-format-14
   libyaml-cpp-dev
   # The system-call filter of the rawlog reader's child process (libs/dataset/src/isolated_object_child.cpp).
   libseccomp-dev

@@ -68,16 +68,16 @@ void printViews(const reloc::DatabaseBuildStats& st, const BuildRunOptions& o)
 {
     std::ostringstream line;  // the thresholds as written in the INI file, whatever the console's format
     line << "views       " << st.rendered << " rendered, " << st.dropped_valid << " dropped (valid pixels < "
-              << o.min_valid_fraction << "), " << st.dropped_lifted << " dropped (lifted keypoints < " << o.min_lifted
-              << "), " << st.kept << " kept\n";
+         << o.min_valid_fraction << "), " << st.dropped_lifted << " dropped (lifted keypoints < " << o.min_lifted
+         << "), " << st.kept << " kept\n";
     std::cout << line.str();
 }
 
 std::string viewsTime(const reloc::DatabaseBuildStats& st)
 {
     std::ostringstream s;
-    s << std::fixed << std::setprecision(1) << "views " << st.ms_views / 1000 << " s (" << st.threads
-      << " workers, " << std::setprecision(2) << st.ms_per_view_cpu << " ms per view each)";
+    s << std::fixed << std::setprecision(1) << "views " << st.ms_views / 1000 << " s (" << st.threads << " workers, "
+      << std::setprecision(2) << st.ms_per_view_cpu << " ms per view each)";
     return s.str();
 }
 
@@ -110,7 +110,9 @@ void printStageTimes(const char* program, const std::vector<std::pair<const char
 std::vector<core::OptionsSection> BuildInputs::sections() const
 {
     auto s = frontend.sections();
-    s.insert(s.end(), {{"BuildDatabase", &run}, {"ViewSampling", &config.sampling}, {"QuasiImage", &config.quasi},
+    s.insert(s.end(), {{"BuildDatabase", &run},
+                       {"ViewSampling", &config.sampling},
+                       {"QuasiImage", &config.quasi},
                        {"Vocabulary", &config.vocabulary}});
     return s;
 }

@@ -52,8 +52,8 @@ Mode parseMode(const std::vector<std::string>& flags)
         else
         {
             m.merge = true;
-            const bool number = !value.empty() && value.size() < 7 &&
-                                value.find_first_not_of("0123456789") == std::string::npos;
+            const bool number =
+                !value.empty() && value.size() < 7 && value.find_first_not_of("0123456789") == std::string::npos;
             core::require(number && std::stoi(value) >= 1, "command line (--merge " + value + ")",
                           "the shard count N must be a whole number >= 1");
             m.merge_count = std::stoi(value);

@@ -42,7 +42,8 @@ const char* kUsage =
     "                     [--name NAME] [--output-dir DIR] [--max-dt-s S]\n"
     "                     [--association nearest|interpolated] [--align none|se3|sim3] [--rpe-delta-m M]\n"
     "                     [--rpe-delta-s S] [--rpe-delta-frames N] [--print-timing]\n"
-    "       quasiloc-eval <config.ini> [--set Eval.key=value]... [--set Eval.<sequence>.key=value]... [--print-timing]\n"
+    "       quasiloc-eval <config.ini> [--set Eval.key=value]... [--set Eval.<sequence>.key=value]... "
+    "[--print-timing]\n"
     "Evaluates estimated trajectories (ATE unaligned, SE(3)- and Sim(3)-aligned; RPE per metre and per second) and\n"
     "localization queries against ground truth (docs/quasiloc-eval.md, share/quasiloc/eval_example.ini).";
 
@@ -72,11 +73,16 @@ quasiloc::core::CommandLine fromFlags(const quasiloc::core::CommandLine& cmd)
         const std::string value = cmd.flags[++i];
         std::string key = f.substr(2);
         std::replace(key.begin(), key.end(), '-', '_');
-        if (key == "estimate") estimate = value;
-        else if (key == "groundtruth") groundtruth = value;
-        else if (key == "name") name = value;
-        else if (key == "kind" || key == "queries") sequence_keys.emplace_back(key, value);
-        else eval_keys.emplace_back("Eval." + key, value);
+        if (key == "estimate")
+            estimate = value;
+        else if (key == "groundtruth")
+            groundtruth = value;
+        else if (key == "name")
+            name = value;
+        else if (key == "kind" || key == "queries")
+            sequence_keys.emplace_back(key, value);
+        else
+            eval_keys.emplace_back("Eval." + key, value);
     }
     require(!estimate.empty(), "command line", "--estimate <TUM> is required (or give an INI file)");
     require(!groundtruth.empty(), "command line", "--groundtruth <TUM> is required (or give an INI file)");

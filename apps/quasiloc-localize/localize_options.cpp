@@ -22,8 +22,7 @@ void LocalizeRunOptions::declare(core::OptionTable& t)
 std::vector<reloc::LocalizationMode> LocalizeRunOptions::checkedModes(const std::string& name) const
 {
     const std::string key = name + ": [Localize] ";
-    core::require(query_image == QueryImage::Camera || (!map_file.empty() && !groundtruth.empty()),
-                  key + "query_image",
+    core::require(query_image == QueryImage::Camera || (!map_file.empty() && !groundtruth.empty()), key + "query_image",
                   "quasi needs map_file and groundtruth (the query is rendered at the ground-truth pose)");
     std::vector<reloc::LocalizationMode> out;
     for (const auto& m : modes) out.push_back(reloc::localizationModeFromString(m, key + "modes"));

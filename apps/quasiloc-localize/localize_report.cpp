@@ -32,8 +32,10 @@ ModeSummary summarize(const std::string& mode, const std::vector<QueryRow>& rows
         ++s.evaluated;
         if (!q.report.localized) continue;
         for (int k = 0; k < 3; ++k) within[k] += q.err_m <= kThresholds[k] ? 1 : 0;
-        if (q.err_m <= kThresholds[2]) ate.push_back(q.err_m);
-        else ++s.wrong;
+        if (q.err_m <= kThresholds[2])
+            ate.push_back(q.err_m);
+        else
+            ++s.wrong;
     }
     for (int k = 0; k < 3; ++k) s.recall[k] = s.evaluated ? 100.0 * double(within[k]) / double(s.evaluated) : NAN;
     s.ate_m = eval::computeStats(ate);
@@ -59,8 +61,8 @@ std::string csvOf(const std::vector<QueryRow>& rows)
         std::replace(reason.begin(), reason.end(), ',', ';');
         csv << std::setprecision(17) << q.t << std::setprecision(6) << "," << r.localized << "," << reason << ","
             << r.inliers << "," << r.correspondences << "," << r.retried << "," << reranked << "," << q.err_m << ","
-            << q.err_deg << "," << r.ms.extract << "," << r.ms.retrieval << "," << r.ms.rerank << "," << r.ms.pnp
-            << "," << r.ms.total << "\n";
+            << q.err_deg << "," << r.ms.extract << "," << r.ms.retrieval << "," << r.ms.rerank << "," << r.ms.pnp << ","
+            << r.ms.total << "\n";
     }
     return csv.str();
 }
@@ -68,8 +70,10 @@ std::string csvOf(const std::vector<QueryRow>& rows)
 std::string markdownOf(const std::vector<ModeSummary>& modes, const std::string& what)
 {
     std::ostringstream md;
-    md << std::fixed << std::setprecision(1) << "# quasiloc-localize summary\n\n" << what << "\n\n"
-       << "| mode | queries | with ground truth | localized | Recall@0.1 m | Recall@0.3 m | Recall@1.0 m | mATE (<= 1 m) "
+    md << std::fixed << std::setprecision(1) << "# quasiloc-localize summary\n\n"
+       << what << "\n\n"
+       << "| mode | queries | with ground truth | localized | Recall@0.1 m | Recall@0.3 m | Recall@1.0 m | mATE (<= 1 "
+          "m) "
           "[cm] | wrong (> 1 m) | median ms | p-max ms | extract | retrieval | rerank | PnP |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     bool any_ground_truth = false;

@@ -20,9 +20,9 @@ struct ModeSummary
 {
     std::string mode;
     size_t queries = 0;
-    size_t evaluated = 0;  ///< queries with ground truth: the recall's denominator
-    size_t localized = 0;  ///< queries localized (with or without ground truth)
-    size_t wrong = 0;      ///< localized but > 1 m off the ground truth
+    size_t evaluated = 0;          ///< queries with ground truth: the recall's denominator
+    size_t localized = 0;          ///< queries localized (with or without ground truth)
+    size_t wrong = 0;              ///< localized but > 1 m off the ground truth
     double recall[3] = {0, 0, 0};  ///< within 0.1, 0.3 and 1.0 m
     eval::ErrorStats ate_m, ms_total, ms_extract, ms_retrieval, ms_rerank, ms_pnp;
 };

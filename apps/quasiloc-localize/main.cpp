@@ -104,8 +104,8 @@ QueryRow localizeOne(reloc::Localizer& localizer, const cv::Mat& image, const da
     return row;
 }
 
-void report(const QueryRow& row, const dataset::StereoFrame& f, reloc::LocalizationMode mode,
-            const reloc::Database& db, std::ostream& diagnostics)
+void report(const QueryRow& row, const dataset::StereoFrame& f, reloc::LocalizationMode mode, const reloc::Database& db,
+            std::ostream& diagnostics)
 {
     const std::string error =
         row.has_gt && row.report.localized ? ", error " + std::to_string(row.err_m) + " m" : std::string();

@@ -83,21 +83,24 @@ void clouds()
     for (const auto& p : kPoints) ascii << p[0] << " " << p[1] << " " << p[2] << " " << int(p[3]) << "\n";
     ascii << "3 0 1 2\n";
     writeBytes("fuzz_ply", "ascii.ply", ascii.str());
-    std::string b = "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
-                    "element vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
-                    "property float intensity\nend_header\n";
+    std::string b =
+        "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+        "element vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+        "property float intensity\nend_header\n";
     b += char(3) + raw(int32_t(0)) + raw(int32_t(1)) + raw(int32_t(2));
     for (const auto& p : kPoints) b += raw(p);
     writeBytes("fuzz_ply", "binary_le.ply", b);
-    std::string be = "ply\nformat binary_big_endian 1.0\nelement vertex 5\nproperty double x\nproperty double y\n"
-                     "property double z\nproperty ushort reflectivity\nend_header\n";
+    std::string be =
+        "ply\nformat binary_big_endian 1.0\nelement vertex 5\nproperty double x\nproperty double y\n"
+        "property double z\nproperty ushort reflectivity\nend_header\n";
     auto rev = [](std::string s) { return std::string(s.rbegin(), s.rend()); };
     for (const auto& p : kPoints)
         be += rev(raw(double(p[0]))) + rev(raw(double(p[1]))) + rev(raw(double(p[2]))) + rev(raw(uint16_t(p[3])));
     writeBytes("fuzz_ply", "binary_be.ply", be);
 
-    const std::string head = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
-                             "COUNT 1 1 1 1\nWIDTH 5\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\n";
+    const std::string head =
+        "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
+        "COUNT 1 1 1 1\nWIDTH 5\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 5\n";
     std::ostringstream pa;
     pa << head << "DATA ascii\n";
     for (const auto& p : kPoints) pa << p[0] << " " << p[1] << " " << p[2] << " " << p[3] << "\n";
@@ -141,7 +144,7 @@ void gmm()
         std::string mean, cov;
         for (int i = 0; i < 3; ++i) mean += raw(double(i + c));
         for (int i = 0; i < 9; ++i) cov += raw(double(i % 4 == 0 ? 0.01 : 0.0));
-        std::string msg("\x08\x01\x10\x00", 4);                                      // is_degenerated, is_salient
+        std::string msg("\x08\x01\x10\x00", 4);                                          // is_degenerated, is_salient
         msg += "\x1a" + varint(mean.size()) + mean + "\x22" + varint(cov.size()) + cov;  // packed mean, covariance
         file += varint(msg.size()) + msg;
     }

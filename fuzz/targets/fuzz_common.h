@@ -76,6 +76,9 @@ void expectCleanError(F&& read)
     }
 }
 
-inline std::vector<uint8_t> bytesOf(const uint8_t* data, size_t size) { return std::vector<uint8_t>(data, data + size); }
+inline std::vector<uint8_t> bytesOf(const uint8_t* data, size_t size)
+{
+    return std::vector<uint8_t>(data, data + size);
+}
 
 }  // namespace quasiloc::fuzz

@@ -17,7 +17,8 @@ sensor_type: camera
 T_BS:
   cols: 4
   rows: 4
-  data: [1.0, 0.0, 0.0, )") + x + R"(, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
+  data: [1.0, 0.0, 0.0, )") +
+           x + R"(, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]
 rate_hz: 20
 resolution: [752, 480]
 camera_model: pinhole
@@ -41,7 +42,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     fuzz::expectCleanError([&] { (void)dataset::readEurocImuCsv(csv); });
     fuzz::expectCleanError([&] { (void)dataset::readEurocBiasCsv(csv); });
     fuzz::expectCleanError([&] { (void)dataset::readGroundTruthCam0(csv, mrpt::poses::CPose3D()); });
-    for (const char* sub : {"cam0", "cam1", "imu0"}) fuzz::writeInput(data, size, std::string("asl/mav0/") + sub + "/data.csv");
+    for (const char* sub : {"cam0", "cam1", "imu0"})
+        fuzz::writeInput(data, size, std::string("asl/mav0/") + sub + "/data.csv");
     fuzz::expectCleanError([&] { (void)dataset::readEurocSequence((fuzz::scratchDir() / "asl").string()); });
     return 0;
 }

@@ -8,7 +8,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
     using namespace quasiloc;
     fuzz::expectCleanError([&] {
-        const map::RawCloud cloud = map::readCloudBytes(fuzz::bytesOf(data, size), map::CloudFormat::KittiBin, "fuzz-input");
+        const map::RawCloud cloud =
+            map::readCloudBytes(fuzz::bytesOf(data, size), map::CloudFormat::KittiBin, "fuzz-input");
         map::IntensityNormalisation norm = map::chooseIntensityNormalisation(cloud.intensity, 0.0);
         const map::LidarMap m = map::toLidarMap(cloud, norm);
         (void)m.size();

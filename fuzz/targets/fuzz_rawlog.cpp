@@ -16,8 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
         auto source = dataset::openRawlog(path, options);
         dataset::StereoFrame frame;
         for (int i = 0; i < 64 && source->next(frame); ++i)
-        {
-        }
+        {}
         (void)source->warnings();
     });
     return 0;

@@ -27,17 +27,16 @@ const char* kSection = "Bag2Rawlog";
 void printResult(const ros::Bag2RawlogResult& r, double seconds)
 {
     std::printf("bag:                   %s, %.1f MB; %s %zu (%s), right %zu (%s), IMU %zu, ground truth %zu messages\n",
-                r.bag_format.c_str(), r.bag_bytes / 1e6, "left", r.left_msgs, r.left_type.c_str(), r.right_msgs, r.right_type.c_str(),
-                r.imu_msgs, r.gt_msgs);
+                r.bag_format.c_str(), r.bag_bytes / 1e6, "left", r.left_msgs, r.left_type.c_str(), r.right_msgs,
+                r.right_type.c_str(), r.imu_msgs, r.gt_msgs);
     std::printf("stereo frames written: %zu (largest left-right offset %.3f ms)\n", r.stereo_written,
                 r.max_pair_offset_ms);
     std::printf("unpaired images:       %zu left, %zu right (%zu of them out of order)\n", r.unpaired_left,
                 r.unpaired_right, r.out_of_order);
     for (const auto& line : r.unpaired_report) std::printf("  %s\n", line.c_str());
-    if (r.unpaired_left + r.unpaired_right > r.unpaired_report.size())
-        std::printf("  ...\n");
-    std::printf("IMU samples written:   %zu (%zu observations later than the reorder window: dropped)\n",
-                r.imu_written, r.late_dropped);
+    if (r.unpaired_left + r.unpaired_right > r.unpaired_report.size()) std::printf("  ...\n");
+    std::printf("IMU samples written:   %zu (%zu observations later than the reorder window: dropped)\n", r.imu_written,
+                r.late_dropped);
     std::printf("frames span:           %lld .. %lld ns\n", static_cast<long long>(r.first_frame_ns),
                 static_cast<long long>(r.last_frame_ns));
     std::printf("rawlog:                %s (images in %s)\n", r.rawlog_path.c_str(), r.images_folder.c_str());
@@ -67,7 +66,4 @@ int run(const core::CommandLine& cmd)
 }
 }  // namespace
 
-int main(int argc, char** argv)
-{
-    return core::runProgram(argc, argv, kUsage, run);
-}
+int main(int argc, char** argv) { return core::runProgram(argc, argv, kUsage, run); }

@@ -107,7 +107,4 @@ int run(const core::CommandLine& raw_cmd)
 }
 }  // namespace
 
-int main(int argc, char** argv)
-{
-    return core::runProgram(argc, argv, kUsage, run, /*config_required=*/false);
-}
+int main(int argc, char** argv) { return core::runProgram(argc, argv, kUsage, run, /*config_required=*/false); }

@@ -133,7 +133,8 @@ int run(const core::CommandLine& cmd)
     map::exportCloud(kept, b.output_dir + "/" + b.method + "_map.ply");
     if (!removed.empty()) map::exportCloud(removed, b.output_dir + "/" + b.method + "_removed.ply");
     std::cout << std::fixed << std::setprecision(2) << "| method | carving wall [s] | carving CPU [s] | fusion [s] | "
-              << "carving structure [MB] | peak RSS [MB] | points kept | points removed |\n|---|---|---|---|---|---|---|---|\n"
+              << "carving structure [MB] | peak RSS [MB] | points kept | points removed "
+                 "|\n|---|---|---|---|---|---|---|---|\n"
               << "| " << b.method << " | " << carve_wall << " | " << carve_cpu << " | " << fuse_wall << " | "
               << memory / 1.0e6 << " | " << peakRssBytes() / 1.0e6 << " | " << kept.size() << " | " << removed.size()
               << " |\n";

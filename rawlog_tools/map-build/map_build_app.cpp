@@ -116,8 +116,8 @@ int run(const core::CommandLine& cmd)
     std::cout << "wrote       " << r.map.size() << " points to " << opt.output << ", effective config " << ini_path
               << "\n";
     std::cout << "time        wall (CPU) pass 1 " << r.seconds[0] << " (" << r.cpu_seconds[0] << ") s, pass 2 "
-              << r.seconds[1] << " (" << r.cpu_seconds[1] << ") s, pass 3 " << r.seconds[2] << " ("
-              << r.cpu_seconds[2] << ") s, total wall " << total_s << " s\n";
+              << r.seconds[1] << " (" << r.cpu_seconds[1] << ") s, pass 3 " << r.seconds[2] << " (" << r.cpu_seconds[2]
+              << ") s, total wall " << total_s << " s\n";
     return 0;
 }
 

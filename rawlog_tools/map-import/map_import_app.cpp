@@ -57,19 +57,18 @@ namespace
 std::string applyFlags(const std::vector<std::string>& flags,
                        std::vector<std::pair<std::string, std::string>>& overrides)
 {
-    static const std::pair<const char*, const char*> kFlagKeys[] = {
-        {"--input", "input"},
-        {"--output", "output"},
-        {"--format", "format"},
-        {"--voxel", "voxel_size_m"},
-        {"--intensity-scale", "intensity_scale"},
-        {"--export", "export_cloud"},
-        {"--export-encoding", "export_encoding"},
-        {"--gmm-density", "gmm_density_per_m2"},
-        {"--gmm-truncation", "gmm_truncation_sigma"},
-        {"--gmm-max-flatness", "gmm_max_flatness"},
-        {"--gmm-reflectivity", "gmm_reflectivity"},
-        {"--gmm-seed", "gmm_seed"}};
+    static const std::pair<const char*, const char*> kFlagKeys[] = {{"--input", "input"},
+                                                                    {"--output", "output"},
+                                                                    {"--format", "format"},
+                                                                    {"--voxel", "voxel_size_m"},
+                                                                    {"--intensity-scale", "intensity_scale"},
+                                                                    {"--export", "export_cloud"},
+                                                                    {"--export-encoding", "export_encoding"},
+                                                                    {"--gmm-density", "gmm_density_per_m2"},
+                                                                    {"--gmm-truncation", "gmm_truncation_sigma"},
+                                                                    {"--gmm-max-flatness", "gmm_max_flatness"},
+                                                                    {"--gmm-reflectivity", "gmm_reflectivity"},
+                                                                    {"--gmm-seed", "gmm_seed"}};
     std::string ini;
     for (size_t i = 0; i < flags.size(); ++i)
     {
@@ -143,8 +142,8 @@ ImportedMap importGmm(const MapImportOptions& opt, mrpt::system::CTimeLogger& ti
               << "components  " << st.sampled << " sampled, " << st.skipped_not_flat
               << " skipped as not flat (sigma_min / sigma_mid > " << opt.gmm_max_flatness << ")\n"
               << "sampled     " << r.points_sampled << " points on " << std::round(st.area_m2 * 10) / 10
-              << " m2 of ellipses (" << opt.gmm_density_per_m2
-              << " points/m2, truncated at " << opt.gmm_truncation_sigma << " sigma, seed " << opt.gmm_seed << ")\n"
+              << " m2 of ellipses (" << opt.gmm_density_per_m2 << " points/m2, truncated at "
+              << opt.gmm_truncation_sigma << " sigma, seed " << opt.gmm_seed << ")\n"
               << "reflectivity constant " << opt.gmm_reflectivity << " (a GMM has no intensities)\n";
     printVoxel(opt, r.points_sampled, r.map.size());
     return {std::move(r.map), "sample"};
@@ -194,9 +193,9 @@ int run(const core::CommandLine& cmd_in)
     if (!opt.export_cloud.empty())
         std::cout << "exported    " << opt.export_cloud << " (" << map::toString(opt.export_encoding) << ", "
                   << fileSizeText(opt.export_cloud) << ")\n";
-    std::cout << "map         " << r.map.summary() << "\n" << std::fixed << std::setprecision(3)
-              << "time        read " << timer.getLastTime("import.read") << " s, " << r.second_stage << " "
-              << timer.getLastTime("import." + r.second_stage) << " s";
+    std::cout << "map         " << r.map.summary() << "\n"
+              << std::fixed << std::setprecision(3) << "time        read " << timer.getLastTime("import.read") << " s, "
+              << r.second_stage << " " << timer.getLastTime("import." + r.second_stage) << " s";
     if (opt.voxel_size_m > 0) std::cout << ", voxel " << timer.getLastTime("import.voxel") << " s";
     std::cout << ", save " << timer.getLastTime("save") << " s, total " << total_s << " s\n";
     if (cmd.print_timing) std::cout << timer.getStatsAsText();

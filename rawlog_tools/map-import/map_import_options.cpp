@@ -26,9 +26,15 @@ void MapImportOptions::declare(core::OptionTable& t)
           "the LidarMap file: MRPT's serialization (gz) of a CPointsMapXYZI, intensity = reflectivity in [0, 1]");
     // bin, txt and text: other names of kitti and xyzi, accepted as before.
     t.addEnum("format", format,
-              {{"auto", InputFormat::Auto}, {"ply", InputFormat::Ply}, {"pcd", InputFormat::Pcd},
-               {"kitti", InputFormat::Kitti}, {"xyzi", InputFormat::Xyzi}, {"gmm", InputFormat::Gmm},
-               {"bin", InputFormat::Kitti}, {"txt", InputFormat::Xyzi}, {"text", InputFormat::Xyzi}},
+              {{"auto", InputFormat::Auto},
+               {"ply", InputFormat::Ply},
+               {"pcd", InputFormat::Pcd},
+               {"kitti", InputFormat::Kitti},
+               {"xyzi", InputFormat::Xyzi},
+               {"gmm", InputFormat::Gmm},
+               {"bin", InputFormat::Kitti},
+               {"txt", InputFormat::Xyzi},
+               {"text", InputFormat::Xyzi}},
               "the input's format; auto = from the extension");
     t.add("voxel_size_m", voxel_size_m, "m", Range::atLeast(0),
           "> 0: one point per occupied voxel (mean position and reflectivity); 0 = off");
@@ -36,7 +42,8 @@ void MapImportOptions::declare(core::OptionTable& t)
           "> 0: reflectivity = raw / intensity_scale (e.g. 255); 0 = automatic rule; must be 0 for .gmm input");
     t.add("export_cloud", export_cloud, "optional: also write the imported map as a cloud (.ply .pcd .bin .txt)");
     t.addEnum("export_encoding", export_encoding,
-              {{"ascii", map::CloudEncoding::Ascii}, {"binary", map::CloudEncoding::Binary},
+              {{"ascii", map::CloudEncoding::Ascii},
+               {"binary", map::CloudEncoding::Binary},
                {"binary_big_endian", map::CloudEncoding::BinaryBigEndian},
                {"binary_compressed", map::CloudEncoding::BinaryCompressed},
                {"binary_little_endian", map::CloudEncoding::Binary}},
@@ -88,9 +95,9 @@ void MapImportOptions::check(const std::string& config_name) const
     checkRanges(config_name + " [MapImport]");
     core::require(!input.empty(), at + "input", "is required (or --input FILE)");
     core::require(!output.empty(), at + "output", "is required (or --output FILE.map)");
-    core::require(std::filesystem::absolute(input).lexically_normal() !=
-                      std::filesystem::absolute(output).lexically_normal(),
-                  at + "output", "must differ from the input");
+    core::require(
+        std::filesystem::absolute(input).lexically_normal() != std::filesystem::absolute(output).lexically_normal(),
+        at + "output", "must differ from the input");
     core::require(!gmmInput() || intensity_scale == 0, at + "intensity_scale",
                   "does not apply to .gmm input (a GMM has no intensities; set gmm_reflectivity)");
     if (!export_cloud.empty())

@@ -27,8 +27,8 @@ int main(int argc, char** argv)
         std::printf("observations copied: %zu (stereo frames %zu)\n", r.observations_copied, r.stereo_frames);
         std::printf("quasi-images written: %zu (frames without pose: %zu)\n", r.quasi_images, r.frames_without_pose);
         std::printf("render time: mean %.2f ms, max %.2f ms\n", r.mean_render_ms, r.max_render_ms);
-        std::printf("provenance reprojection error: sparse max %.4f px, completed max %.4f px\n",
-                    r.max_sparse_error_px, r.max_completed_error_px);
+        std::printf("provenance reprojection error: sparse max %.4f px, completed max %.4f px\n", r.max_sparse_error_px,
+                    r.max_completed_error_px);
         if (r.pngs_written) std::printf("PNGs written: %zu in %s\n", r.pngs_written, options.png_dir.c_str());
         std::printf("output: %s\n", options.output_rawlog.c_str());
         for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());

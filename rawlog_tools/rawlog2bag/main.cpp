@@ -35,7 +35,8 @@ int run(const core::CommandLine& cmd)
     std::printf("stereo frames written: %zu\n", r.stereo_written);
     std::printf("IMU samples written:   %zu\n", r.imu_written);
     std::printf("ground truth poses:    %zu\n", r.gt_written);
-    if (r.ignored) std::printf("observations ignored:  %zu (neither stereo with a right image nor full IMU)\n", r.ignored);
+    if (r.ignored)
+        std::printf("observations ignored:  %zu (neither stereo with a right image nor full IMU)\n", r.ignored);
     std::printf("bag:                   %s (%.1f MB)\n", r.bag_path.c_str(), r.bag_bytes / 1e6);
     std::printf("Kalibr calibration:    %s, %s\n", r.camchain_path.c_str(), r.imu_yaml_path.c_str());
     std::printf("time taken:            %.2f s (%.1f MB/s of bag, %.1f stereo frames/s)\n", seconds,
@@ -44,7 +45,4 @@ int run(const core::CommandLine& cmd)
 }
 }  // namespace
 
-int main(int argc, char** argv)
-{
-    return core::runProgram(argc, argv, kUsage, run);
-}
+int main(int argc, char** argv) { return core::runProgram(argc, argv, kUsage, run); }

@@ -17,7 +17,8 @@ Eigen::Isometry3d axisStep(int k, double step_m, double step_deg)
     if (axis < 3)
         d.translation()[axis] = sign * step_m;
     else
-        d.linear() = Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3)).toRotationMatrix();
+        d.linear() =
+            Eigen::AngleAxisd(sign * step_deg * M_PI / 180, Eigen::Vector3d::Unit(axis - 3)).toRotationMatrix();
     return d;
 }
 
@@ -34,7 +35,8 @@ CostProfile profileDirectTerms(const CrossModalSequence& seq, quasi::QuasiRender
         const auto field = estimation::buildCameraEdgeField(options, fr.image);
         const auto model = estimation::buildDirectAlignmentModel(options, q.depth, q.reflectivity, q.valid, q.sparse,
                                                                  seq.camera, fr.T_world_cam);
-        const auto nmi = estimation::buildNmiSamples(options, q.depth, q.reflectivity, q.sparse, seq.camera, fr.T_world_cam);
+        const auto nmi =
+            estimation::buildNmiSamples(options, q.depth, q.reflectivity, q.sparse, seq.camera, fr.T_world_cam);
         p.mean_edge_points += double(model.edge_points_world.size());
         const double e0 = estimation::edgeCost(options, field, 0, seq.camera, model, fr.T_world_cam);
         const double n0 = estimation::normalizedMutualInformation(options, field, seq.camera, nmi, fr.T_world_cam);

@@ -33,8 +33,8 @@ frontend::DenseMap centredDenseMap(const frontend::DenseMap& map, const std::vec
     return out;
 }
 
-FeatureMetricModel buildFeatureMetricModel(const frontend::DenseMap& quasi_dense,
-                                           const cv::Mat& depth, const cv::Mat& valid, const core::CameraModel& camera,
+FeatureMetricModel buildFeatureMetricModel(const frontend::DenseMap& quasi_dense, const cv::Mat& depth,
+                                           const cv::Mat& valid, const core::CameraModel& camera,
                                            const Eigen::Isometry3d& T_world_cam)
 {
     core::require(!quasi_dense.empty(), "feature-metric model", "the quasi-image has no dense feature map");

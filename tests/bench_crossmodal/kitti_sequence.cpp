@@ -47,7 +47,8 @@ std::vector<Eigen::Isometry3d> readPoses(const std::string& path)
         ++line_no;
         if (line.empty() || line[0] == '#') continue;
         std::istringstream in(line);
-        poses.push_back(core::toIsometry(core::fromMatrixRowMajor(readNumbers(in), path + ":" + std::to_string(line_no))));
+        poses.push_back(
+            core::toIsometry(core::fromMatrixRowMajor(readNumbers(in), path + ":" + std::to_string(line_no))));
     }
     core::require(!poses.empty(), path, "no pose");
     return poses;

@@ -31,7 +31,7 @@ struct BenchOptions : public core::DeclaredOptions
 {
     std::string kitti_dir = std::string(QUASILOC_SHARED_DIR) + "/data/kitti_raw_seq78";
     std::string kitti_map;  ///< empty: kitti_dir/map_even_frames_5cm.ply
-    int kitti_frames = 0;  ///< 0: every query frame (39)
+    int kitti_frames = 0;   ///< 0: every query frame (39)
     double kitti_max_depth_m = 60;
     std::string sim_dir = "/tmp/quasiloc_bench_crossmodal/V1_01_easy_10s_2s";
     std::string sim_world = "share/quasiloc/sim/V1_01_easy.ini";
@@ -40,12 +40,13 @@ struct BenchOptions : public core::DeclaredOptions
     std::string methods = "features,guided,direct,combined";
     double success_m = 0.1, success_deg = 0.5;
     double correct_px = 3.0;  ///< a 2D-3D correspondence is correct when the point projects this close at the true pose
-    bool profile = true;            ///< print the cost profile of the direct terms (cost_profile.h)
+    bool profile = true;      ///< print the cost profile of the direct terms (cost_profile.h)
     double profile_step_m = 0.1, profile_step_deg = 1.0;
-    bool refine = true;             ///< run the refinements (false: the profile alone, for quick comparisons)
-    bool from_truth = true;         ///< also refine from the true pose: where each method's optimum lies
+    bool refine = true;         ///< run the refinements (false: the profile alone, for quick comparisons)
+    bool from_truth = true;     ///< also refine from the true pose: where each method's optimum lies
     double line_window_px = 3;  ///< map-line profile: association window
-    std::string overlay_dir;  ///< if set: per sequence, a PNG of the first frame's camera edges and map edges at the true pose
+    std::string
+        overlay_dir;  ///< if set: per sequence, a PNG of the first frame's camera edges and map edges at the true pose
 
     void declare(core::OptionTable& t) override
     {
@@ -79,7 +80,8 @@ struct Level
     const char* name;
     double t_m, rot_deg;
 };
-const Level kLevels[] = {{"(a) 0.1 m / 1 deg", 0.1, 1.0}, {"(b) 0.3 m / 3 deg", 0.3, 3.0}, {"(c) 1 m / 5 deg", 1.0, 5.0}};
+const Level kLevels[] = {
+    {"(a) 0.1 m / 1 deg", 0.1, 1.0}, {"(b) 0.3 m / 3 deg", 0.3, 3.0}, {"(c) 1 m / 5 deg", 1.0, 5.0}};
 
 /** The true pose perturbed in the camera frame by exactly t_m along and rot_deg about random directions. */
 Eigen::Isometry3d perturb(const Eigen::Isometry3d& T_world_cam, const Level& l, uint32_t seed)
@@ -160,7 +162,8 @@ void writeOverlay(const std::string& path, const bench::QueryFrame& fr, const co
     quasi::QuasiImage q;
     renderer.render(core::fromIsometry(fr.T_world_cam), cam, q);
     const auto field = estimation::buildCameraEdgeField(o, fr.image);
-    const auto model = estimation::buildDirectAlignmentModel(o, q.depth, q.reflectivity, q.valid, q.sparse, cam, fr.T_world_cam);
+    const auto model =
+        estimation::buildDirectAlignmentModel(o, q.depth, q.reflectivity, q.valid, q.sparse, cam, fr.T_world_cam);
     cv::Mat vis;
     cv::cvtColor(field.gray, vis, cv::COLOR_GRAY2BGR);
     vis.setTo(cv::Scalar(0, 0, 255), field.levels[0].edges);
@@ -168,7 +171,8 @@ void writeOverlay(const std::string& path, const bench::QueryFrame& fr, const co
     for (const auto& P : model.edge_points_world)
     {
         Eigen::Vector2d u;
-        if (cam.project(T_cam_world * P, u)) cv::circle(vis, cv::Point(int(u.x()), int(u.y())), 1, cv::Scalar(0, 255, 0), -1);
+        if (cam.project(T_cam_world * P, u))
+            cv::circle(vis, cv::Point(int(u.x()), int(u.y())), 1, cv::Scalar(0, 255, 0), -1);
     }
     cv::Mat out;
     cv::vconcat(vis, q.bgr, out);
@@ -195,30 +199,35 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
     estimation::MapRefiner refiner(ro, renderer, frontend);
 
     if (!b.overlay_dir.empty())
-        writeOverlay(b.overlay_dir + "/" + seq.name + "_edges.png", seq.frames.front(), seq.camera, renderer, ro.direct);
+        writeOverlay(b.overlay_dir + "/" + seq.name + "_edges.png", seq.frames.front(), seq.camera, renderer,
+                     ro.direct);
     if (b.profile)
     {
-        const bench::CostProfile p = bench::profileDirectTerms(seq, renderer, ro.direct, b.profile_step_m, b.profile_step_deg, frontend,
-                                                                   ro.quasi_gray == estimation::QuasiGray::MatchedReflectivity);
-        std::cout << "\n## " << seq.name << ": cost profile at the true pose (" << seq.frames.size() << " frames x 12 steps of "
-                  << b.profile_step_m << " m / " << b.profile_step_deg << " deg)\n\n"
-                  << "| valid pixels | edge points | edge cost lowest at truth | mean edge cost rise | NMI highest at truth | mean NMI drop | feature-metric highest at truth | mean feature-metric drop |\n"
+        const bench::CostProfile p =
+            bench::profileDirectTerms(seq, renderer, ro.direct, b.profile_step_m, b.profile_step_deg, frontend,
+                                      ro.quasi_gray == estimation::QuasiGray::MatchedReflectivity);
+        std::cout << "\n## " << seq.name << ": cost profile at the true pose (" << seq.frames.size()
+                  << " frames x 12 steps of " << b.profile_step_m << " m / " << b.profile_step_deg << " deg)\n\n"
+                  << "| valid pixels | edge points | edge cost lowest at truth | mean edge cost rise | NMI highest at "
+                     "truth | mean NMI drop | feature-metric highest at truth | mean feature-metric drop |\n"
                   << "|---|---|---|---|---|---|---|---|\n"
-                  << std::fixed << std::setprecision(1) << "| " << 100 * p.mean_valid_fraction << " % | " << p.mean_edge_points
-                  << " | " << 100.0 * p.edge_truth_best / std::max(1, p.steps) << " % | " << std::setprecision(3)
-                  << 100 * p.mean_edge_rise << " % | " << std::setprecision(1) << 100.0 * p.nmi_truth_best / std::max(1, p.steps)
-                  << " % | " << std::setprecision(4) << p.mean_nmi_drop << " | ";
+                  << std::fixed << std::setprecision(1) << "| " << 100 * p.mean_valid_fraction << " % | "
+                  << p.mean_edge_points << " | " << 100.0 * p.edge_truth_best / std::max(1, p.steps) << " % | "
+                  << std::setprecision(3) << 100 * p.mean_edge_rise << " % | " << std::setprecision(1)
+                  << 100.0 * p.nmi_truth_best / std::max(1, p.steps) << " % | " << std::setprecision(4)
+                  << p.mean_nmi_drop << " | ";
         if (p.fm_truth_best < 0)
             std::cout << "- | - |\n\n";
         else
-            std::cout << std::setprecision(1) << 100.0 * p.fm_truth_best / std::max(1, p.steps) << " % | " << std::setprecision(4)
-                      << p.mean_fm_drop << " |\n\n";
+            std::cout << std::setprecision(1) << 100.0 * p.fm_truth_best / std::max(1, p.steps) << " % | "
+                      << std::setprecision(4) << p.mean_fm_drop << " |\n\n";
         const bench::LineProfile lp =
             bench::profileMapLines(seq, renderer, fo.lines, b.line_window_px, b.profile_step_m, b.profile_step_deg);
         std::cout << "Map lines (normal shading of the quasi-image at the true pose, tracking/map_lines.h) against the "
                      "camera's segments, associated by geometry within "
                   << b.line_window_px << " px:\n\n"
-                  << "| camera segments | map lines | segments associated at the truth | one step away | truth associates more |\n"
+                  << "| camera segments | map lines | segments associated at the truth | one step away | truth "
+                     "associates more |\n"
                   << "|---|---|---|---|---|\n"
                   << std::setprecision(1) << "| " << lp.camera_segments << " | " << lp.map_lines << " | "
                   << lp.associated_at_truth << " | " << lp.associated_one_step << " | "
@@ -264,7 +273,8 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
         for (int li = 0; li < 3; ++li)
             for (int d = 0; d < b.draws; ++d)
             {
-                const Eigen::Isometry3d T0 = perturb(fr.T_world_cam, kLevels[li], uint32_t(1000 * fi + 10 * li + d + 1));
+                const Eigen::Isometry3d T0 =
+                    perturb(fr.T_world_cam, kLevels[li], uint32_t(1000 * fi + 10 * li + d + 1));
                 for (size_t mi = 0; mi < methods.size(); ++mi)
                 {
                     const auto r = refiner.refine(methods[mi], T0, kLevels[li].t_m, kLevels[li].rot_deg * M_PI / 180);
@@ -281,32 +291,35 @@ void runSequence(const bench::CrossModalSequence& seq, const BenchOptions& b, co
     }
     const double nf = double(seq.frames.size());
     std::cout << "\n\n## " << seq.name << ": " << seq.frames.size() << " query frames x " << b.draws
-              << " draws per level, " << seq.map.size() << " map points, " << seq.camera.width << "x" << seq.camera.height
-              << "\n\n";
-    std::cout << "success = final error < " << b.success_m << " m and < " << b.success_deg
-              << " deg; time = the refinement (render, Q features, matching, PnP, direct) per attempt; the camera image's "
-                 "own features and edge field take "
-              << std::fixed << std::setprecision(1) << image_ms / nf << " ms once per frame\n\n";
+              << " draws per level, " << seq.map.size() << " map points, " << seq.camera.width << "x"
+              << seq.camera.height << "\n\n";
+    std::cout
+        << "success = final error < " << b.success_m << " m and < " << b.success_deg
+        << " deg; time = the refinement (render, Q features, matching, PnP, direct) per attempt; the camera image's "
+           "own features and edge field take "
+        << std::fixed << std::setprecision(1) << image_ms / nf << " ms once per frame\n\n";
     if (b.draws > 0)
-        std::cout << "| method | perturbation | success | median error [cm] | median error [deg] | mean time [ms] | max time "
-                     "[ms] |\n|---|---|---|---|---|---|---|\n";
+        std::cout
+            << "| method | perturbation | success | median error [cm] | median error [deg] | mean time [ms] | max time "
+               "[ms] |\n|---|---|---|---|---|---|---|\n";
     for (size_t mi = 0; mi < methods.size() && b.draws > 0; ++mi)
         for (int li = 0; li < 3; ++li)
         {
             const Cell& c = cells[{int(mi), li}];
             double mean_ms = 0, max_ms = 0;
             for (double t : c.ms) mean_ms += t / double(c.ms.size()), max_ms = std::max(max_ms, t);
-            std::cout << "| " << estimation::toString(methods[mi]) << " | " << kLevels[li].name << " | " << std::setprecision(1)
-                      << 100.0 * c.ok / std::max(1, c.n) << " % (" << c.ok << "/" << c.n << ") | " << 100 * median(c.err_m)
-                      << " | " << std::setprecision(2) << median(c.err_deg) << " | " << std::setprecision(1) << mean_ms
-                      << " | " << max_ms << " |\n";
+            std::cout << "| " << estimation::toString(methods[mi]) << " | " << kLevels[li].name << " | "
+                      << std::setprecision(1) << 100.0 * c.ok / std::max(1, c.n) << " % (" << c.ok << "/" << c.n
+                      << ") | " << 100 * median(c.err_m) << " | " << std::setprecision(2) << median(c.err_deg) << " | "
+                      << std::setprecision(1) << mean_ms << " | " << max_ms << " |\n";
         }
     if (b.from_truth)
     {
         std::cout << "\nStarted at the true pose (window of level (a), no prediction prior: the direct term's own "
                      "optimum): where each method ends, E = T_true^-1 * "
                      "T_refined in the camera frame (x right, y down, z forward), mean ± standard deviation over the "
-                     "frames that produced a pose (success: of all frames)\n\n| method | produced a pose | success | translation x / y / z [cm] | rotation about x / y / z [deg] |\n"
+                     "frames that produced a pose (success: of all frames)\n\n| method | produced a pose | success | "
+                     "translation x / y / z [cm] | rotation about x / y / z [deg] |\n"
                      "|---|---|---|---|---|\n";
         for (size_t mi = 0; mi < methods.size(); ++mi)
         {
@@ -363,7 +376,8 @@ int run(const core::CommandLine& cmd_in)
         kq.max_depth_m = b.kitti_max_depth_m;
         runSequence(bench::loadKittiSequence(b.kitti_dir, b.kitti_frames, b.kitti_map), b, kq, fo, ro);
     }
-    if (b.sim_frames > 0) runSequence(bench::loadSimSequence(b.sim_dir, b.sim_world, 10.0, 2.0, b.sim_frames), b, qo, fo, ro);
+    if (b.sim_frames > 0)
+        runSequence(bench::loadSimSequence(b.sim_dir, b.sim_world, 10.0, 2.0, b.sim_frames), b, qo, fo, ro);
     return 0;
 }
 }  // namespace

@@ -48,7 +48,8 @@ CrossModalSequence loadSimSequence(const std::string& dir, const std::string& wo
     dataset::StereoFrame f;
     while (src->next(f))
         if (f.T_world_cam0)
-            all.push_back(QueryFrame{"sim " + std::to_string(f.index), f.left.clone(), core::toIsometry(*f.T_world_cam0)});
+            all.push_back(
+                QueryFrame{"sim " + std::to_string(f.index), f.left.clone(), core::toIsometry(*f.T_world_cam0)});
     core::require(!all.empty(), dir, "no frame with ground truth");
     const size_t n = max_frames > 0 ? std::min(all.size(), size_t(max_frames)) : all.size();
     for (size_t i = 0; i < n; ++i) s.frames.push_back(all[i * all.size() / n]);

@@ -131,8 +131,8 @@ Eigen::Vector2d CameraModel::undistort(const Eigen::Vector2d& xd) const
     return x;
 }
 
-bool CameraModel::project(const Eigen::Vector3d& p_cam, Eigen::Vector2d& px,
-                          Eigen::Matrix<double, 2, 3>* J_px_p, double min_depth) const
+bool CameraModel::project(const Eigen::Vector3d& p_cam, Eigen::Vector2d& px, Eigen::Matrix<double, 2, 3>* J_px_p,
+                          double min_depth) const
 {
     const double z = p_cam.z();
     if (!(z > min_depth)) return false;
@@ -160,10 +160,7 @@ Eigen::Vector3d CameraModel::unproject(const Eigen::Vector2d& px) const
     return {xn.x(), xn.y(), 1.0};
 }
 
-Eigen::Vector3d CameraModel::unprojectBearing(const Eigen::Vector2d& px) const
-{
-    return unproject(px).normalized();
-}
+Eigen::Vector3d CameraModel::unprojectBearing(const Eigen::Vector2d& px) const { return unproject(px).normalized(); }
 
 cv::Matx33d CameraModel::K() const { return cv::Matx33d(fx, 0, cx, 0, fy, cy, 0, 0, 1); }
 

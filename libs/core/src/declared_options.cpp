@@ -87,8 +87,7 @@ std::string Range::text() const
 OptionTable::OptionTable(Action action, const mrpt::config::CConfigFileBase* in, mrpt::config::CConfigFileBase* out,
                          const std::string& section, const std::string& input)
     : action_(action), in_(in), out_(out), section_(section), input_(input)
-{
-}
+{}
 
 std::string OptionTable::where(const std::string& key) const
 {
@@ -115,8 +114,8 @@ void OptionTable::emit(const std::string& key, const std::string& type, const st
     if (action_ == Action::Describe) descriptions_.push_back({key, type, unit, range, value, doc});
 }
 
-void OptionTable::addNumber(const std::string& key, double current, bool integer, const std::string& unit,
-                            Range range, const std::string& doc, const std::function<void(double)>& set)
+void OptionTable::addNumber(const std::string& key, double current, bool integer, const std::string& unit, Range range,
+                            const std::string& doc, const std::function<void(double)>& set)
 {
     if (action_ == Action::Load)
     {
@@ -210,7 +209,8 @@ void OptionTable::add(const std::string& key, Eigen::Vector3d& value, const std:
 {
     std::vector<double> v{value.x(), value.y(), value.z()};
     add(key, v, unit, range, doc);
-    require(v.size() == 3, iniKeyName(section_, key), "expected 3 numbers like [0 0 0], got " + std::to_string(v.size()));
+    require(v.size() == 3, iniKeyName(section_, key),
+            "expected 3 numbers like [0 0 0], got " + std::to_string(v.size()));
     value = Eigen::Vector3d(v[0], v[1], v[2]);
 }
 

@@ -72,9 +72,9 @@ TEST(DeclaredOptions, LoadsEveryDeclaredTypeAndKeepsDefaultsOfAbsentKeys)
 
 TEST(DeclaredOptions, RejectsOutOfRangeWrongTypeUnknownEnumAndUnknownKeyNamingTheKey)
 {
-    EXPECT_NE(loadError("[Demo]\nmax_depth_m = 0\n")
-                  .find("demo.ini [Demo] max_depth_m: '0' is out of range (must be > 0)"),
-              std::string::npos);
+    EXPECT_NE(
+        loadError("[Demo]\nmax_depth_m = 0\n").find("demo.ini [Demo] max_depth_m: '0' is out of range (must be > 0)"),
+        std::string::npos);
     EXPECT_NE(loadError("[Demo]\nkeyframe_every = 1.5\n").find("is not an integer"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nbudget = quick\n").find("'quick' is not one of fast, full"), std::string::npos);
     EXPECT_NE(loadError("[Demo]\nheights_m = 1 -2\n").find("each value must be >= 0"), std::string::npos);
@@ -160,8 +160,7 @@ TEST(DeclaredOptions, EmptyTextSeedsAbove2To53FullPrecisionVectorsAndAliasesLoad
     EXPECT_EQ(b.budget, Budget::Full);
     EXPECT_THROW(loadOptionsChecked(b, ini("[S]\ngyro = [1 2]\n"), "S", "t"), InputError);
     for (const char* bad : {"-1", "1.5", "x", "18446744073709551616"})
-        EXPECT_THROW(loadOptionsChecked(b, ini(std::string("[S]\nseed = ") + bad + "\n"), "S", "t"), InputError)
-            << bad;
+        EXPECT_THROW(loadOptionsChecked(b, ini(std::string("[S]\nseed = ") + bad + "\n"), "S", "t"), InputError) << bad;
 }
 
 TEST(DeclaredOptions, CheckDeclaredRangesNamesTheKeyOfAValueSetInCode)
@@ -179,7 +178,6 @@ TEST(DeclaredOptions, CheckDeclaredRangesNamesTheKeyOfAValueSetInCode)
         EXPECT_NE(std::string(e.what()).find("test [S] bias: 2 is out of range (must be [-1, 1])"), std::string::npos)
             << e.what();
     }
-
 }
 
 TEST(DeclaredOptions, NameListsLoadAndSaveBack)

@@ -66,8 +66,7 @@ mrpt::config::CConfigFileMemory loadConfig(const CommandLine& cmd)
     mrpt::config::CConfigFileMemory cfg;
     if (!cmd.config_path.empty())
     {
-        require(std::filesystem::is_regular_file(cmd.config_path), cmd.config_path,
-                "configuration file not found");
+        require(std::filesystem::is_regular_file(cmd.config_path), cmd.config_path, "configuration file not found");
         std::ifstream in(cmd.config_path);
         require(in.good(), cmd.config_path, "configuration file cannot be read");
         std::stringstream ss;
@@ -167,8 +166,7 @@ int runProgram(int argc, char** argv, const std::string& usage, const std::funct
     {
         // Our own errors carry a complete message; anything else (MRPT, OpenCV) gets MRPT's formatting.
         const bool ours = dynamic_cast<const InputError*>(&e) != nullptr;
-        std::cerr << program << ": error: " << (ours ? std::string(e.what()) : mrpt::exception_to_str(e))
-                  << std::endl;
+        std::cerr << program << ": error: " << (ours ? std::string(e.what()) : mrpt::exception_to_str(e)) << std::endl;
         if (argc < 2) std::cerr << usage << std::endl;
         return 1;
     }

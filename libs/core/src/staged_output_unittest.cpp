@@ -30,15 +30,18 @@ long deadPid()
     return long(child);
 }
 
-size_t entries(const std::string& dir) { return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator())); }
+size_t entries(const std::string& dir)
+{
+    return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
 }  // namespace
 
 TEST(StagedOutputsAfterAKill, LeftoversOfADeadProcessAreRemovedByTheNextRun)
 {
     const std::string dir = freshDir("staged_leftovers");
     const std::string dead = std::to_string(deadPid());
-    std::ofstream(dir + "/.result.txt.tmp-" + dead + "-0badf00d") << "half";                  // a file
-    fs::create_directories(dir + "/.result.txt.tmp-" + dead + "-1badf00d");                   // a folder
+    std::ofstream(dir + "/.result.txt.tmp-" + dead + "-0badf00d") << "half";                   // a file
+    fs::create_directories(dir + "/.result.txt.tmp-" + dead + "-1badf00d");                    // a folder
     std::ofstream(dir + "/..result.txt.tmp-" + dead + "-2badf00d.tmp-" + dead + "-3") << "x";  // nested staging
     const std::string live = std::to_string(::getppid());
     std::ofstream(dir + "/.result.txt.tmp-" + live + "-4badf00d") << "being written";

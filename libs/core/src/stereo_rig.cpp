@@ -82,8 +82,7 @@ StereoRectification StereoRig::rectify(double alpha) const
         cv::stereoRectify(K1, left.distCoeffs(), K2, right.distCoeffs(), size, R, T, R1, R2, P1, P2, Q,
                           cv::CALIB_ZERO_DISPARITY, alpha, size);
         cv::initUndistortRectifyMap(K1, left.distCoeffs(), R1, P1, size, CV_32FC1, out.map_left_x, out.map_left_y);
-        cv::initUndistortRectifyMap(K2, right.distCoeffs(), R2, P2, size, CV_32FC1, out.map_right_x,
-                                    out.map_right_y);
+        cv::initUndistortRectifyMap(K2, right.distCoeffs(), R2, P2, size, CV_32FC1, out.map_right_x, out.map_right_y);
     }
     cv::convertMaps(out.map_left_x, out.map_left_y, out.fixed_left_xy, out.fixed_left_frac, CV_16SC2);
     cv::convertMaps(out.map_right_x, out.map_right_y, out.fixed_right_xy, out.fixed_right_frac, CV_16SC2);

@@ -36,8 +36,8 @@ TEST(StereoRig, EurocExtrinsicsGiveTheKnownBaseline)
     EXPECT_GT(rig.T_left_right.x(), 0.10);
     EXPECT_NEAR(rig.T_body_left.x(), -0.0216401454975, 1e-12);
     // T_body_right composed from the parts equals cam1's T_BS.
-    const auto T_body_right = quasiloc::core::readEurocSensorPose(std::string(QUASILOC_SHARED_DIR) +
-                                                                  "/data/euroc/calib/cam1_sensor.yaml");
+    const auto T_body_right =
+        quasiloc::core::readEurocSensorPose(std::string(QUASILOC_SHARED_DIR) + "/data/euroc/calib/cam1_sensor.yaml");
     EXPECT_LT(quasiloc::core::translationDistance(rig.T_body_right(), T_body_right), 1e-9);
     EXPECT_LT(quasiloc::core::rotationDistanceRad(rig.T_body_right(), T_body_right), 1e-9);
 }

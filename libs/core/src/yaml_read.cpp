@@ -55,8 +55,8 @@ int yamlInteger(const YAML::Node& node, const std::string& where, int min_value,
 {
     const double v = yamlNumber(node, where);
     require(v == std::floor(v) && v >= min_value && v <= max_value, where,
-            "must be a whole number in [" + std::to_string(min_value) + ", " + std::to_string(max_value) +
-                "], got '" + node.Scalar() + "'");
+            "must be a whole number in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "], got '" +
+                node.Scalar() + "'");
     return int(v);
 }
 

@@ -38,8 +38,9 @@ void Bag2RawlogOptions::declare(core::OptionTable& t)
           "Kalibr camchain YAML (cam0 = left, cam1 = right); empty = the cameras from the bag's CameraInfo and "
           "static transforms");
     t.add("kalibr_imu", kalibr_imu, "Kalibr IMU YAML (noise densities and update_rate); or imu_ini");
-    t.add("imu_ini", imu_ini, "instead of kalibr_imu: an INI file whose [imu] section is the noise model "
-                              "(docs/calibration.md keys)");
+    t.add("imu_ini", imu_ini,
+          "instead of kalibr_imu: an INI file whose [imu] section is the noise model "
+          "(docs/calibration.md keys)");
     t.add("calibration_ini", calibration_ini,
           "instead of the Kalibr files: a quasiloc calibration INI (docs/calibration.md)");
     t.add("left_camera_info_topic", left_camera_info_topic,
@@ -126,8 +127,9 @@ void Rawlog2BagOptions::declare(core::OptionTable& t)
     t.add("groundtruth", groundtruth, "optional: TUM file of T_world_cam0, written as PoseStamped of the body frame");
     t.add("output_bag", output_bag,
           "the bag to write: a ROS 1 .bag file, or with format=mcap a rosbag2 folder (metadata.yaml + <name>_0.mcap)");
-    t.addEnum("format", format, {{"ros1", BagFormat::Ros1}, {"mcap", BagFormat::Mcap}},
-              "ros1 (rosbag) or mcap (ROS 2: CDR messages, also CameraInfo per image and the extrinsics on /tf_static)");
+    t.addEnum(
+        "format", format, {{"ros1", BagFormat::Ros1}, {"mcap", BagFormat::Mcap}},
+        "ros1 (rosbag) or mcap (ROS 2: CDR messages, also CameraInfo per image and the extrinsics on /tf_static)");
     t.add("left_topic", left_topic, "topic of the left images");
     t.add("right_topic", right_topic, "topic of the right images");
     t.add("imu_topic", imu_topic, "topic of the IMU (sensor_msgs/Imu)");
@@ -154,7 +156,8 @@ void Rawlog2BagOptions::check() const
 {
     checkRanges("Rawlog2Bag");
     require(!input_rawlog.empty(), key("Rawlog2Bag", "input_rawlog"), "is empty: give the rawlog to read");
-    require(!calibration_ini.empty(), key("Rawlog2Bag", "calibration_ini"), "is empty: give the rawlog's calibration INI");
+    require(!calibration_ini.empty(), key("Rawlog2Bag", "calibration_ini"),
+            "is empty: give the rawlog's calibration INI");
     require(!output_bag.empty(), key("Rawlog2Bag", "output_bag"), "is empty: give the bag to write");
     if (format == BagFormat::Ros1)
         require(!fs::is_directory(output_bag), key("Rawlog2Bag", "output_bag"), "'" + output_bag + "' is a folder");

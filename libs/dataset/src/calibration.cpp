@@ -50,14 +50,19 @@ std::optional<Eigen::Vector3d> optionalVector3(const mrpt::config::CConfigFileBa
 
 ImuCalibration readImu(const mrpt::config::CConfigFileBase& cfg)
 {
-    static const std::set<std::string> known = {
-        "rate_hz", "gyroscope_noise_density", "gyroscope_random_walk", "accelerometer_noise_density",
-        "accelerometer_random_walk", "gravity_m_s2", "gyroscope_bias", "accelerometer_bias", "gyroscope_bias_sigma",
-        "accelerometer_bias_sigma"};
+    static const std::set<std::string> known = {"rate_hz",
+                                                "gyroscope_noise_density",
+                                                "gyroscope_random_walk",
+                                                "accelerometer_noise_density",
+                                                "accelerometer_random_walk",
+                                                "gravity_m_s2",
+                                                "gyroscope_bias",
+                                                "accelerometer_bias",
+                                                "gyroscope_bias_sigma",
+                                                "accelerometer_bias_sigma"};
     std::vector<std::string> keys;
     cfg.getAllKeys(kImu, keys);
-    for (const std::string& k : keys)
-        core::require(known.count(k) > 0, keyName(k), "unknown key (typo?)");
+    for (const std::string& k : keys) core::require(known.count(k) > 0, keyName(k), "unknown key (typo?)");
     ImuCalibration imu;
     imu.rate_hz = requiredDouble(cfg, "rate_hz");
     imu.gyroscope_noise_density = requiredDouble(cfg, "gyroscope_noise_density");
@@ -77,15 +82,14 @@ ImuCalibration readImu(const mrpt::config::CConfigFileBase& cfg)
 
 void ImuCalibration::check(const std::string& input) const
 {
-    const std::pair<const char*, double> positive[] = {
-        {"rate_hz", rate_hz},
-        {"gyroscope_noise_density", gyroscope_noise_density},
-        {"gyroscope_random_walk", gyroscope_random_walk},
-        {"accelerometer_noise_density", accelerometer_noise_density},
-        {"accelerometer_random_walk", accelerometer_random_walk},
-        {"gravity_m_s2", gravity_m_s2},
-        {"gyroscope_bias_sigma", gyroscope_bias_sigma},
-        {"accelerometer_bias_sigma", accelerometer_bias_sigma}};
+    const std::pair<const char*, double> positive[] = {{"rate_hz", rate_hz},
+                                                       {"gyroscope_noise_density", gyroscope_noise_density},
+                                                       {"gyroscope_random_walk", gyroscope_random_walk},
+                                                       {"accelerometer_noise_density", accelerometer_noise_density},
+                                                       {"accelerometer_random_walk", accelerometer_random_walk},
+                                                       {"gravity_m_s2", gravity_m_s2},
+                                                       {"gyroscope_bias_sigma", gyroscope_bias_sigma},
+                                                       {"accelerometer_bias_sigma", accelerometer_bias_sigma}};
     for (const auto& [key, value] : positive)
         core::require(std::isfinite(value) && value > 0, input + " " + key,
                       "must be a finite number > 0 (got " + fullPrecision(value) + ")");
@@ -95,7 +99,8 @@ void ImuCalibration::check(const std::string& input) const
 
 const ImuCalibration& SensorCalibration::requireImu(const std::string& input) const
 {
-    core::require(imu.has_value(), input, "no [imu] section (the IMU noise model: rate_hz, noise densities, random walks)");
+    core::require(imu.has_value(), input,
+                  "no [imu] section (the IMU noise model: rate_hz, noise densities, random walks)");
     return *imu;
 }
 

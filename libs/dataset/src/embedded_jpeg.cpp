@@ -41,8 +41,10 @@ cv::Mat decodeEmbeddedJpeg(const std::vector<std::uint8_t>& jpeg, const std::str
     using core::require;
     const JpegFrameSize s = readJpegFrameSize(jpeg, input);
     const std::string size = std::to_string(s.width) + "x" + std::to_string(s.height);
-    require(s.width > 0 && s.height > 0, input, "embedded JPEG of size " + size + " (corrupt, or its height in a DNL "
-                                                "marker, which this reader does not support)");
+    require(s.width > 0 && s.height > 0, input,
+            "embedded JPEG of size " + size +
+                " (corrupt, or its height in a DNL "
+                "marker, which this reader does not support)");
     require(std::uint64_t(s.width) * std::uint64_t(s.height) <= max_pixels, input,
             "embedded JPEG of " + size + " pixels is beyond this reader's " + std::to_string(max_pixels));
     require(s.components == 1 || s.components == 3, input,
@@ -58,8 +60,8 @@ cv::Mat decodeEmbeddedJpeg(const std::vector<std::uint8_t>& jpeg, const std::str
     }
     require(!img.empty(), input, "cannot decode the embedded JPEG (corrupt data)");
     require(img.cols == s.width && img.rows == s.height && img.channels() == s.components, input,
-            "the embedded JPEG decodes to " + std::to_string(img.cols) + "x" + std::to_string(img.rows) +
-                " with " + std::to_string(img.channels()) + " channels, its frame header says " + size);
+            "the embedded JPEG decodes to " + std::to_string(img.cols) + "x" + std::to_string(img.rows) + " with " +
+                std::to_string(img.channels()) + " channels, its frame header says " + size);
     return img;
 }
 

@@ -176,8 +176,9 @@ Euroc2RawlogResult convertEurocToRawlog(const Euroc2RawlogOptions& o, mrpt::syst
     stage.emplace(timer, "write calibration and ground truth");
     r.calib_path = o.calibOutPath();
     saveCalibration(calibration, r.calib_path,
-                    "Stereo rig of " + seq.mav0_folder + " (cam0 = left, cam1 = right; body = IMU frame)\nIMU noise model of " +
-                        r.imu_yaml + "; the biases were not measured (zero, with the sigmas of real MEMS biases)");
+                    "Stereo rig of " + seq.mav0_folder +
+                        " (cam0 = left, cam1 = right; body = IMU frame)\nIMU noise model of " + r.imu_yaml +
+                        "; the biases were not measured (zero, with the sigmas of real MEMS biases)");
     if (gt)
     {
         r.gt_path = o.gtOutPath();

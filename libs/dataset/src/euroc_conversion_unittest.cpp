@@ -222,13 +222,11 @@ TEST(RawlogSource, CorruptRawlogOrImagesNameTheFile)
     test::expectInputErrorMentioning([&] { openRawlog(dir / "garbage.rawlog"); }, "garbage.rawlog");
 
     // Truncated rawlogs, plain (level 0: the cut falls inside an observation) and gzipped.
-    const auto readAll = [](const std::string& path)
-    {
+    const auto readAll = [](const std::string& path) {
         auto src = openRawlog(path);
         StereoFrame f;
         while (src->next(f))
-        {
-        }
+        {}
     };
     for (int level : {0, 1})
     {

@@ -31,14 +31,16 @@ void readTimedRows(const std::string& path, size_t columns, const std::string& l
         const std::int64_t t = csv::parseTimestampNs(l.fields[0], where);
         if (prev_t >= 0)
         {
-            core::require(t != prev_t, where, "duplicated timestamp " + std::to_string(t) + " (same as the previous row)");
+            core::require(t != prev_t, where,
+                          "duplicated timestamp " + std::to_string(t) + " (same as the previous row)");
             core::require(t > prev_t, where,
                           "timestamps not increasing: " + std::to_string(t) + " is " + std::to_string(prev_t - t) +
                               " ns before the previous row's");
             if (static_cast<double>(t - prev_t) > max_gap_ns)
             {
                 char msg[160];
-                std::snprintf(msg, sizeof(msg), "gap of %.3f ms before this row (the bound is %.1f periods = %.3f ms at %g Hz)",
+                std::snprintf(msg, sizeof(msg),
+                              "gap of %.3f ms before this row (the bound is %.1f periods = %.3f ms at %g Hz)",
                               (t - prev_t) * 1e-6, kMaxImuGapPeriods, max_gap_ns * 1e-6, nominal_rate_hz);
                 throw core::InputError(where, msg);
             }

@@ -39,9 +39,8 @@ TEST(EurocImuCsv, ReadsTheWholeRealFileExactly)
     EXPECT_NEAR(imu.samples.back().t, 1403715418.857143040, 1e-6);
     std::int64_t max_dt = 0;
     for (size_t i = 1; i < imu.t_ns.size(); ++i) max_dt = std::max(max_dt, imu.t_ns[i] - imu.t_ns[i - 1]);
-    std::printf("[ real imu ] %zu samples over %.3f s, largest interval %.6f ms (gap bound %.1f ms)\n",
-                imu.t_ns.size(), (imu.t_ns.back() - imu.t_ns.front()) * 1e-9, max_dt * 1e-6,
-                kMaxImuGapPeriods * 1e3 / kEurocImuRateHz);
+    std::printf("[ real imu ] %zu samples over %.3f s, largest interval %.6f ms (gap bound %.1f ms)\n", imu.t_ns.size(),
+                (imu.t_ns.back() - imu.t_ns.front()) * 1e-9, max_dt * 1e-6, kMaxImuGapPeriods * 1e3 / kEurocImuRateHz);
     EXPECT_LT(max_dt, 5.001e6);
 }
 

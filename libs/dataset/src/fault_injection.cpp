@@ -60,9 +60,8 @@ std::vector<std::string> FaultInjectionOptions::describe() const
         lines.push_back(std::string(image_fault == ImageFault::Black ? "black" : "saturated") + " images at " +
                         window(image_from_s, image_duration_s));
     if (desync_from_s >= 0)
-        lines.push_back("left/right desync: the right image turned as " +
-                        std::to_string(int(std::lround(desync_ms))) + " ms later at " +
-                        window(desync_from_s, desync_duration_s));
+        lines.push_back("left/right desync: the right image turned as " + std::to_string(int(std::lround(desync_ms))) +
+                        " ms later at " + window(desync_from_s, desync_duration_s));
     if (duplicate_at_s >= 0) lines.push_back("duplicated timestamp at " + std::to_string(duplicate_at_s) + " s");
     if (reorder_at_s >= 0) lines.push_back("out-of-order frame at " + std::to_string(reorder_at_s) + " s");
     return lines;
@@ -88,8 +87,8 @@ std::vector<std::string> FaultInjectingSource::warnings() const
     for (const auto& [fault, t] : touched_)
     {
         std::ostringstream s;
-        s << std::fixed << std::setprecision(3) << "injected fault: " << fault << ": " << t.frames
-          << " frame(s), t " << t.first_s << " .. " << t.last_s << " s after the first frame";
+        s << std::fixed << std::setprecision(3) << "injected fault: " << fault << ": " << t.frames << " frame(s), t "
+          << t.first_s << " .. " << t.last_s << " s after the first frame";
         w.push_back(s.str());
     }
     return w;
@@ -127,11 +126,10 @@ void FaultInjectingSource::record(const std::string& fault, const StereoFrame& f
 void FaultInjectingSource::removeImuGap(StereoFrame& f)
 {
     const size_t before = f.imu.size();
-    f.imu.erase(std::remove_if(f.imu.begin(), f.imu.end(),
-                               [this](const ImuSample& s) {
-                                   return within(s.t, o_.imu_gap_from_s, o_.imu_gap_duration_s);
-                               }),
-                f.imu.end());
+    f.imu.erase(
+        std::remove_if(f.imu.begin(), f.imu.end(),
+                       [this](const ImuSample& s) { return within(s.t, o_.imu_gap_from_s, o_.imu_gap_duration_s); }),
+        f.imu.end());
     if (f.imu.size() != before) record("IMU samples removed", f);
 }
 
@@ -180,8 +178,7 @@ cv::Mat FaultInjectingSource::desyncedRight(const StereoFrame& f)
         for (int u = 0; u < camera.width; ++u)
         {
             Eigen::Vector2d px(-1, -1);
-            if (!camera.project(dR * right_bearings_[size_t(v) * size_t(camera.width) + size_t(u)], px))
-                px = {-1, -1};
+            if (!camera.project(dR * right_bearings_[size_t(v) * size_t(camera.width) + size_t(u)], px)) px = {-1, -1};
             map_x.at<float>(v, u) = float(px.x());
             map_y.at<float>(v, u) = float(px.y());
         }

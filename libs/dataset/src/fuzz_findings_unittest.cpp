@@ -30,8 +30,8 @@
 
 using namespace quasiloc;
 using namespace quasiloc::dataset;
-using quasiloc::dataset::test::TempDir;
 using quasiloc::dataset::test::odometryActions;
+using quasiloc::dataset::test::TempDir;
 
 // fuzz_rawlog: MRPT reads CObservationIMU::dataIsPresent as raw bytes, so a corrupt rawlog can hold a flag byte
 // that is no valid bool (177 here); CObservationIMU::has() loading it is undefined behaviour (UBSan: "load of value
@@ -235,8 +235,7 @@ void expectRawlogInputError(const std::string& path, const std::vector<std::stri
         auto source = openRawlog(path);
         StereoFrame frame;
         while (source->next(frame))
-        {
-        }
+        {}
         ADD_FAILURE() << "no error reading " << path;
     }
     catch (const core::InputError& e)
@@ -277,8 +276,10 @@ TEST(FuzzFindings, RawlogCameraNameLongerThanTheFileIsTruncated)
     const std::string path = dir / "camera.rawlog";
     writeSmallRawlog(path, Images::EmbeddedGray);
     const std::string bytes = fileBytes(path);
-    expectLengthFieldError(path, bytes, "cam_name", 60'000, {"entry 1", "leftCamera", "cameraName", "truncated", "60000"});
-    expectLengthFieldError(path, bytes, "cam_name", 0x7FFFFFFF, {"entry 1", "cameraName", "2147483647 bytes, more than"});
+    expectLengthFieldError(path, bytes, "cam_name", 60'000,
+                           {"entry 1", "leftCamera", "cameraName", "truncated", "60000"});
+    expectLengthFieldError(path, bytes, "cam_name", 0x7FFFFFFF,
+                           {"entry 1", "cameraName", "2147483647 bytes, more than"});
 }
 
 // The external image file name's length.
@@ -384,8 +385,7 @@ TEST(FuzzFindings, RawlogTruncatedAnywhereIsAnInputErrorOrACleanEnd)
             auto source = openRawlog(path);  // needs a stereo frame: only the whole file opens
             StereoFrame frame;
             while (source->next(frame))
-            {
-            }
+            {}
             ADD_FAILURE() << "a rawlog cut at " << cut << " of " << bytes.size() << " bytes read without error";
         }
         catch (const core::InputError& e)
@@ -570,8 +570,7 @@ TEST(FuzzFindings, RawlogTruncatedInsideAnUnparsedObjectIsAnInputError)
             auto source = openRawlog(path);
             StereoFrame frame;
             while (source->next(frame))
-            {
-            }
+            {}
             ++clean_ends;  // cut after the sensory frame, before the last odometry
         }
         catch (const core::InputError& e)

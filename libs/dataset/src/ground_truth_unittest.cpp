@@ -19,8 +19,8 @@ TEST(GroundTruth, PoseAtInterpolatesOnlyNearSamples)
     const double dt = 0.005;
     ASSERT_TRUE(poseAt(traj, 10.004, dt));
     EXPECT_NEAR(poseAt(traj, 10.004, dt)->x(), 0.08, 1e-9);  // interpolated, not the nearest sample
-    EXPECT_FALSE(poseAt(traj, 10.025, dt));                   // 25 ms from both samples
-    EXPECT_FALSE(poseAt(traj, 9.99, dt));                     // before the start: no extrapolation
+    EXPECT_FALSE(poseAt(traj, 10.025, dt));                  // 25 ms from both samples
+    EXPECT_FALSE(poseAt(traj, 9.99, dt));                    // before the start: no extrapolation
     ASSERT_TRUE(poseAt(traj, 9.996, dt));
     EXPECT_NEAR(poseAt(traj, 9.996, dt)->x(), 0.0, 1e-12);  // the first sample, within max_dt_s
     EXPECT_FALSE(poseAt(traj, 15.0, dt));                   // inside a gap of the trajectory

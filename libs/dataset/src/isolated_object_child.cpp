@@ -218,8 +218,9 @@ void sanitizerDied()
 #ifndef QUASILOC_SANITIZED
 /** What MRPT's readers may still do in the child: compute, allocate (no executable memory), talk on the socket it
  *  inherited, end. Every other system call (open, exec, socket, connect, fork, unlink, ...) fails with EPERM: a reader
- *  that a crafted file turned against the system can neither reach files nor the network. EPERM rather than death, so that an unexpected call
- *  on a valid file costs that call, not the read. Without seccomp in the kernel the child goes on unfiltered. */
+ *  that a crafted file turned against the system can neither reach files nor the network. EPERM rather than death, so
+ * that an unexpected call on a valid file costs that call, not the read. Without seccomp in the kernel the child goes
+ * on unfiltered. */
 void restrictSystemCalls()
 {
     scmp_filter_ctx filter = seccomp_init(SCMP_ACT_ERRNO(EPERM));
@@ -235,8 +236,8 @@ void restrictSystemCalls()
         SCMP_SYS(clock_nanosleep), SCMP_SYS(nanosleep), SCMP_SYS(pause), SCMP_SYS(ppoll), SCMP_SYS(poll),
         SCMP_SYS(getrandom),
         // ending: _exit, abort() and crashes (which raise their signal with tgkill)
-        SCMP_SYS(exit), SCMP_SYS(exit_group), SCMP_SYS(rt_sigreturn), SCMP_SYS(rt_sigprocmask),
-        SCMP_SYS(rt_sigaction), SCMP_SYS(sigaltstack), SCMP_SYS(getpid), SCMP_SYS(gettid), SCMP_SYS(tgkill)};
+        SCMP_SYS(exit), SCMP_SYS(exit_group), SCMP_SYS(rt_sigreturn), SCMP_SYS(rt_sigprocmask), SCMP_SYS(rt_sigaction),
+        SCMP_SYS(sigaltstack), SCMP_SYS(getpid), SCMP_SYS(gettid), SCMP_SYS(tgkill)};
     bool ok = true;
     for (const int call : allowed) ok = ok && seccomp_rule_add(filter, SCMP_ACT_ALLOW, call, 0) == 0;
     // Memory may be mapped and re-protected, but never executable: code that a crafted file smuggled into the

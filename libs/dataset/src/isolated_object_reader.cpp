@@ -114,8 +114,7 @@ std::string reap(pid_t pid, bool kill_first)
     ::kill(pid, SIGKILL);
     pid_t r;
     while ((r = ::waitpid(pid, &status, 0)) < 0 && errno == EINTR)
-    {
-    }
+    {}
     if (r != pid) return "(its status is unknown: " + std::string(std::strerror(errno)) + ")";
     return describeStatus(status);
 }

@@ -103,8 +103,7 @@ void CObservationMisbehaving::serializeFrom(mrpt::serialization::CArchive& in, u
     in >> timestamp;
 }
 
-const bool kRegistered = []
-{
+const bool kRegistered = [] {
     mrpt::rtti::registerClass(CLASS_ID(CObservationMisbehaving));
     return true;
 }();
@@ -346,8 +345,7 @@ std::string rawlogError(const std::string& path, const FrameSourceOptions& optio
         auto source = openRawlog(path, options);
         StereoFrame f;
         while (source->next(f))
-        {
-        }
+        {}
         return "";
     }
     catch (const core::InputError& e)

@@ -136,7 +136,8 @@ TEST(Kalibr, BadFilesAreErrorsNamingTheFileAndTheKey)
     text.replace(text.find("radtan"), 6, "fov");
     const std::string fov = write(dir, "fov.yaml", text);
     EXPECT_NE(errorOf([&] { stereoRigFromKalibr(fov); }).find("fov.yaml: cam0.distortion_model"), std::string::npos);
-    const std::string mono = write(dir, "mono.yaml", std::string(kEurocCamchain).substr(0, std::string(kEurocCamchain).find("cam1:")));
+    const std::string mono =
+        write(dir, "mono.yaml", std::string(kEurocCamchain).substr(0, std::string(kEurocCamchain).find("cam1:")));
     EXPECT_NE(errorOf([&] { stereoRigFromKalibr(mono); }).find("mono.yaml: cam1"), std::string::npos);
     EXPECT_NE(errorOf([&] { stereoRigFromKalibr(dir.path() + "/none.yaml"); }).find("none.yaml"), std::string::npos);
     const std::string imu = write(dir, "imu.yaml", "update_rate: 200\ngyroscope_noise_density: 0.1\n");

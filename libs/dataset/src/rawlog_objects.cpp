@@ -133,9 +133,9 @@ StoredImage readGrayPixels(FieldReader& r, std::uint8_t version)
     if (std::int64_t(image_size) != std::int64_t(width) * height * elem)
         r.fail("image size field " + std::to_string(image_size) + " does not match " + std::to_string(width) + "x" +
                std::to_string(height) + " pixels of " + std::to_string(elem) + " bytes");
-    bool zip = version >= 3;                                // version 3: always zip
+    bool zip = version >= 3;                                   // version 3: always zip
     if (version == 4 && image_size <= 16 * 1024) zip = false;  // version 4: zip above 16 KB
-    if (version >= 5) zip = r.flag("zip flag");             // version 5: stored
+    if (version >= 5) zip = r.flag("zip flag");                // version 5: stored
     if (zip) r.fail("ZIP-compressed image (MRPT 2.5 cannot read it either)");
     img.kind = StoredImage::Kind::Raw;
     img.width = width;
@@ -219,8 +219,9 @@ StoredObservation readImuData(FieldReader& r, const ObjectHeader& h)
     auto count = [&](const char* field) {
         const auto n = r.pod<std::uint32_t>(field);
         // MRPT copies the vector into a fixed array with at(): more than kFields elements is an exception.
-        if (n > kFields) r.fail(std::string(field) + " is " + std::to_string(n) + ", more than the " +
-                                std::to_string(kFields) + " IMU fields");
+        if (n > kFields)
+            r.fail(std::string(field) + " is " + std::to_string(n) + ", more than the " + std::to_string(kFields) +
+                   " IMU fields");
         return n;
     };
     const size_t n_flags = h.version == 4 ? kFields : count("dataIsPresent length");
@@ -255,8 +256,10 @@ std::optional<ObjectHeader> readObjectHeader(FieldReader& r, bool end_allowed)
     h.class_name.assign(name.begin(), name.end());
     if (h.class_name == "nullptr") r.fail("a null object where an object is expected");
     h.id = mrpt::rtti::findRegisteredClass(h.class_name);
-    if (!h.id) r.fail("class '" + h.class_name + "' is not registered in MRPT (a corrupt file, or a class of an MRPT library this "
-                                             "program does not load)");
+    if (!h.id)
+        r.fail("class '" + h.class_name +
+               "' is not registered in MRPT (a corrupt file, or a class of an MRPT library this "
+               "program does not load)");
     h.version = r.pod<std::uint8_t>("serialization version");
     h.raw.push_back(h.version);
     return h;
@@ -273,7 +276,8 @@ void readEndFlag(FieldReader& r)
 {
     const auto flag = r.pod<std::uint8_t>("end flag");
     if (flag != 0x88)
-        r.fail("end flag is " + std::to_string(flag) + ", not 0x88: the object's data has another length than its "
+        r.fail("end flag is " + std::to_string(flag) +
+               ", not 0x88: the object's data has another length than its "
                "class reads (corrupt file)");
 }
 

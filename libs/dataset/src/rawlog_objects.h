@@ -21,9 +21,9 @@
 namespace quasiloc::dataset::detail
 {
 /** Bounds of this reader (no valid rawlog of ours or of MRPT comes near them). */
-constexpr size_t kMaxRawlogText = 64 * 1024;              ///< class-free strings: labels, camera and file names
-constexpr std::uint64_t kMaxImagePixels = 1ULL << 26;     ///< 67 Mpixel (8192 x 8192)
-constexpr std::uint64_t kMaxImageBytes = 256ULL << 20;    ///< pixels or JPEG bytes of one image
+constexpr size_t kMaxRawlogText = 64 * 1024;            ///< class-free strings: labels, camera and file names
+constexpr std::uint64_t kMaxImagePixels = 1ULL << 26;   ///< 67 Mpixel (8192 x 8192)
+constexpr std::uint64_t kMaxImageBytes = 256ULL << 20;  ///< pixels or JPEG bytes of one image
 
 /** An object header: class name (resolved through MRPT's class registry, as MRPT resolves it, with or without
  *  its namespace) and the serialization version; `raw` holds the header bytes as read. */

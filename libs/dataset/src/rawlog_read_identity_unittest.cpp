@@ -128,7 +128,6 @@ void expectDigest(const std::string& path, size_t frames, size_t imu_samples, st
     EXPECT_EQ(d.hash, hash) << "digest 0x" << std::hex << d.hash << " of:\n" << d.text;
 }
 
-
 mrpt::obs::CObservationStereoImages::Ptr stereoObs(const core::StereoRig& rig, std::int64_t t_ns)
 {
     auto s = mrpt::obs::CObservationStereoImages::Create();
@@ -171,9 +170,9 @@ TEST(RawlogReadIdentity, EurocMicroConvertedByOurWriter)
 // A rawlog written by MRPT's own serialization in every layout and image storage the reader meets: a
 // top-level object that is no observation, action collections (with an action of a class the reader does not
 // read) followed by sensory frames, observation-only entries, embedded gray images, a colour image stored as
-// JPEG, a colour image stored raw (MRPT's default since CImage::DISABLE_JPEG_COMPRESSION is true by default), a disparity image, a stereo observation without
-// its right image, external PNG images, an observation class the reader ignores, an incomplete and a late IMU
-// sample. The images are real (EuRoC micro frames 0-3). gz-compressed.
+// JPEG, a colour image stored raw (MRPT's default since CImage::DISABLE_JPEG_COMPRESSION is true by default), a
+// disparity image, a stereo observation without its right image, external PNG images, an observation class the reader
+// ignores, an incomplete and a late IMU sample. The images are real (EuRoC micro frames 0-3). gz-compressed.
 TEST(RawlogReadIdentity, MrptWrittenLayoutsWithEmbeddedImages)
 {
     using namespace mrpt::obs;

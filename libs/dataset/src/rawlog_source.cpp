@@ -221,8 +221,9 @@ std::vector<std::string> RawlogSource::warnings() const
     for (const auto& [name, n] : ignored_classes_)
         w.push_back(std::to_string(n) + " observations of class " + name + " (ignored)");
     if (entries_->endedAfterAction())
-        w.push_back("the file ends after an action collection without its sensory frame (the action is dropped, as "
-                    "MRPT's CRawlog does)");
+        w.push_back(
+            "the file ends after an action collection without its sensory frame (the action is dropped, as "
+            "MRPT's CRawlog does)");
     if (frames_without_gt_)
         w.push_back(std::to_string(frames_without_gt_) + " frames without a ground-truth pose within " +
                     std::to_string(max_gt_dt_s_) + " s");

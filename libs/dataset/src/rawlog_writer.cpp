@@ -78,8 +78,7 @@ struct RawlogWriter::Impl
 
 RawlogWriter::RawlogWriter(const std::string& rawlog_path, const core::StereoRig& rig)
     : RawlogWriter(rawlog_path, rig, Options())
-{
-}
+{}
 
 RawlogWriter::RawlogWriter(const std::string& rawlog_path, const core::StereoRig& rig, const Options& options)
     : impl_(std::make_unique<Impl>())
@@ -205,13 +204,7 @@ void RawlogWriter::close()
     m.staged.commit();
 }
 
-const std::string& RawlogWriter::rawlogPath() const
-{
-    return impl_->rawlog_path;
-}
-const std::string& RawlogWriter::imagesFolder() const
-{
-    return impl_->images_folder;
-}
+const std::string& RawlogWriter::rawlogPath() const { return impl_->rawlog_path; }
+const std::string& RawlogWriter::imagesFolder() const { return impl_->images_folder; }
 
 }  // namespace quasiloc::dataset

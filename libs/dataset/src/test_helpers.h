@@ -12,10 +12,7 @@
 
 namespace quasiloc::dataset::test
 {
-inline std::string microEurocFolder()
-{
-    return std::string(QUASILOC_SHARED_DIR) + "/data/euroc/V1_01_easy_micro";
-}
+inline std::string microEurocFolder() { return std::string(QUASILOC_SHARED_DIR) + "/data/euroc/V1_01_easy_micro"; }
 inline std::string eurocCam0Groundtruth()
 {
     return std::string(QUASILOC_SHARED_DIR) + "/data/euroc/groundtruth/cam0/V1_01_easy.txt";

@@ -58,9 +58,6 @@ std::int64_t mrptTimeToNs(mrpt::Clock::time_point t)
     return *t_ns;
 }
 
-double mrptTimeToSeconds(mrpt::Clock::time_point t)
-{
-    return nsToSeconds(mrptTimeToNs(t));
-}
+double mrptTimeToSeconds(mrpt::Clock::time_point t) { return nsToSeconds(mrptTimeToNs(t)); }
 
 }  // namespace quasiloc::dataset

@@ -34,13 +34,12 @@ struct Config
     ReweightingMode mode;
     Primitives primitives;
 };
-const std::vector<Config> kConfigs = {
-    {"uniform     P+L+plane", ReweightingMode::Uniform, Primitives::PLPlane},
-    {"observabil. P+L+plane", ReweightingMode::Observability, Primitives::PLPlane},
-    {"full        P+L+plane", ReweightingMode::Full, Primitives::PLPlane},
-    {"full        P", ReweightingMode::Full, Primitives::P},
-    {"full        L", ReweightingMode::Full, Primitives::L},
-    {"full        P+L", ReweightingMode::Full, Primitives::PL}};
+const std::vector<Config> kConfigs = {{"uniform     P+L+plane", ReweightingMode::Uniform, Primitives::PLPlane},
+                                      {"observabil. P+L+plane", ReweightingMode::Observability, Primitives::PLPlane},
+                                      {"full        P+L+plane", ReweightingMode::Full, Primitives::PLPlane},
+                                      {"full        P", ReweightingMode::Full, Primitives::P},
+                                      {"full        L", ReweightingMode::Full, Primitives::L},
+                                      {"full        P+L", ReweightingMode::Full, Primitives::PL}};
 
 /** The INI name of the present value of `key` (e.g. an enum's). */
 std::string valueText(const core::DeclaredOptions& options, const std::string& key)
@@ -84,9 +83,11 @@ void addError(Errors& e, const Eigen::Isometry3d& T_est, const Eigen::Isometry3d
 void runAccuracy(int trials, unsigned seed, const EstimatorOptions& est_base, const ReweightingOptions& rw_base,
                  bool misspecified)
 {
-    std::printf("\n## Pose error over %d random frames per layout (camera position error [cm], rotation [deg])\n", trials);
-    std::printf("## noise model: %s\n", misspecified ? "MISSPECIFIED (prior sigma 3x too small, map-point noise 3x its sigma)"
-                                                     : "as stated (every sigma is the true one)");
+    std::printf("\n## Pose error over %d random frames per layout (camera position error [cm], rotation [deg])\n",
+                trials);
+    std::printf("## noise model: %s\n", misspecified
+                                            ? "MISSPECIFIED (prior sigma 3x too small, map-point noise 3x its sigma)"
+                                            : "as stated (every sigma is the true one)");
     std::printf("%-11s %-22s %8s %8s %8s %8s %8s %6s\n", "layout", "configuration", "mean_cm", "med_cm", "rmse_cm",
                 "mean_deg", "med_deg", "fail");
     for (SceneLayout layout : {SceneLayout::Room, SceneLayout::Corridor, SceneLayout::SingleWall})
@@ -131,8 +132,9 @@ void runAccuracy(int trials, unsigned seed, const EstimatorOptions& est_base, co
             }
         }
         const std::string ln = toString(layout);
-        std::printf("%-11s %-22s %8.2f %8.2f %8.2f %8.3f %8.3f %6s\n", ln.c_str(), "(initial guess)", mean(initial.t_cm),
-                    median(initial.t_cm), rmse(initial.t_cm), mean(initial.r_deg), median(initial.r_deg), "-");
+        std::printf("%-11s %-22s %8.2f %8.2f %8.2f %8.3f %8.3f %6s\n", ln.c_str(), "(initial guess)",
+                    mean(initial.t_cm), median(initial.t_cm), rmse(initial.t_cm), mean(initial.r_deg),
+                    median(initial.r_deg), "-");
         for (const Config& c : kConfigs)
         {
             const Errors& e = errors[c.name];
@@ -181,14 +183,16 @@ ReweightCase makeReweightCase(unsigned seed)
     for (const auto& l : f.lines)
     {
         StructuralCandidates sc;
-        for (const auto& c : l.candidates) add(PointToLineFactor(f.stereo.left, l.line_px, c.support_map, l.sigma_px), c.probability, sc);
+        for (const auto& c : l.candidates)
+            add(PointToLineFactor(f.stereo.left, l.line_px, c.support_map, l.sigma_px), c.probability, sc);
         sc.nominal = nominalCandidate(l.candidates);
         rc.factors.push_back(std::move(sc));
     }
     for (const auto& pl : f.planes)
     {
         StructuralCandidates sc;
-        for (const auto& c : pl.candidates) add(PointToPlaneFactor(f.stereo.left, pl.points_cam, c.n_map, c.d, pl.sigma_m), c.probability, sc);
+        for (const auto& c : pl.candidates)
+            add(PointToPlaneFactor(f.stereo.left, pl.points_cam, c.n_map, c.d, pl.sigma_m), c.probability, sc);
         sc.nominal = nominalCandidate(pl.candidates);
         rc.factors.push_back(std::move(sc));
     }
@@ -242,8 +246,10 @@ int run(int argc, char** argv)
     for (int i = 1; i < argc; ++i)
     {
         const std::string a = argv[i];
-        if (a == "--trials" && i + 1 < argc) trials = std::stoi(argv[++i]);
-        else if (a == "--seed" && i + 1 < argc) seed = static_cast<unsigned>(std::stoul(argv[++i]));
+        if (a == "--trials" && i + 1 < argc)
+            trials = std::stoi(argv[++i]);
+        else if (a == "--seed" && i + 1 < argc)
+            seed = static_cast<unsigned>(std::stoul(argv[++i]));
         else if (a == "--set" && i + 1 < argc)
         {
             const std::string kv = argv[++i];
@@ -252,7 +258,8 @@ int run(int argc, char** argv)
                           "expected Section.key=value");
             cfg.write(kv.substr(0, dot), kv.substr(dot + 1, eq - dot - 1), kv.substr(eq + 1));
         }
-        else rest.push_back(argv[i]);
+        else
+            rest.push_back(argv[i]);
     }
     core::require(trials >= 1, "--trials", "must be >= 1");
     EstimatorOptions eo;

@@ -50,8 +50,7 @@ bool estimateAbsolutePose(const AbsolutePoseOptions& options, const std::vector<
                           Eigen::Isometry3d* T_cam_world, AbsolutePoseStats* stats)
 {
     options.check("AbsolutePoseOptions");
-    core::require(points2D.size() == points3D.size(), "estimateAbsolutePose",
-                  "points2D and points3D differ in size");
+    core::require(points2D.size() == points3D.size(), "estimateAbsolutePose", "points2D and points3D differ in size");
     AbsolutePoseStats local;
     AbsolutePoseStats& st = stats ? *stats : local;
     st = AbsolutePoseStats{};
@@ -68,7 +67,8 @@ bool estimateAbsolutePose(const AbsolutePoseOptions& options, const std::vector<
         core::require(points2D[i].allFinite() && points3D[i].allFinite(), "estimateAbsolutePose",
                       "correspondence " + std::to_string(i) + " is not finite");
         const Eigen::Vector3d xn = camera.unproject(points2D[i]);
-        img.emplace_back(static_cast<float>(camera.fx * xn.x() + camera.cx), static_cast<float>(camera.fy * xn.y() + camera.cy));
+        img.emplace_back(static_cast<float>(camera.fx * xn.x() + camera.cx),
+                         static_cast<float>(camera.fy * xn.y() + camera.cy));
         obj.emplace_back(static_cast<float>(points3D[i].x()), static_cast<float>(points3D[i].y()),
                          static_cast<float>(points3D[i].z()));
     }
@@ -82,8 +82,8 @@ bool estimateAbsolutePose(const AbsolutePoseOptions& options, const std::vector<
     bool ok = false;
     try
     {
-        ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false,
-                                options.max_iterations, static_cast<float>(thr), options.confidence, inliers, flags);
+        ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false, options.max_iterations,
+                                static_cast<float>(thr), options.confidence, inliers, flags);
     }
     catch (const cv::Exception&)
     {

@@ -59,8 +59,10 @@ uint8_t pixelCode(const int* m, const int* up, const int* down, int x, int xs, i
     const int ax = std::abs(xs), ay = std::abs(ys) << kShift;
     const int tg22x = ax * kTg22;
     bool peak;
-    if (ay < tg22x) peak = v > m[x - 1] && v >= m[x + 1];
-    else if (ay > tg22x + (ax << (kShift + 1))) peak = v > up[x] && v >= down[x];
+    if (ay < tg22x)
+        peak = v > m[x - 1] && v >= m[x + 1];
+    else if (ay > tg22x + (ax << (kShift + 1)))
+        peak = v > up[x] && v >= down[x];
     else
     {
         const int s = (xs ^ ys) < 0 ? -1 : 1;
@@ -98,7 +100,7 @@ template <int N>
         L::load(down + x + 1, down_right);
         const Int ax = xs < 0 ? -xs : xs, ay = (ys < 0 ? -ys : ys) << kShift;
         const Int tg22x = ax * tg22;
-        const Int horizontal = ay < tg22x, vertical = ay > tg22x + (ax << (kShift + 1));
+        const Int horizontal = ay<tg22x, vertical = ay> tg22x + (ax << (kShift + 1));
         // Diagonal: the neighbours at (x - s, y - 1) and (x + s, y + 1), s = -1 when dx and dy differ in sign.
         const Int opposite = (xs ^ ys) < 0;
         const Int diag_up = opposite ? up_right : up_left;
@@ -129,9 +131,9 @@ void suppressRowSse2(const int16_t* gx, const int16_t* gy, const int* m, const i
     suppressRowLanes<4>(gx, gy, m, up, down, width, low, high, row, row_index, top);
 }
 
-__attribute__((target("avx2"))) void suppressRowAvx2(const int16_t* gx, const int16_t* gy, const int* m,
-                                                     const int* up, const int* down, int width, int low, int high,
-                                                     uint8_t* row, int row_index, int*& top)
+__attribute__((target("avx2"))) void suppressRowAvx2(const int16_t* gx, const int16_t* gy, const int* m, const int* up,
+                                                     const int* down, int width, int low, int high, uint8_t* row,
+                                                     int row_index, int*& top)
 {
     suppressRowLanes<8>(gx, gy, m, up, down, width, low, high, row, row_index, top);
 }
@@ -195,8 +197,8 @@ void cannyL2(const cv::Mat& dx, const cv::Mat& dy, double low_threshold, double 
     while (top > bottom)
     {
         const int i = *--top;
-        for (const int k : {i - 1, i + 1, i - stride - 1, i - stride, i - stride + 1, i + stride - 1, i + stride,
-                            i + stride + 1})
+        for (const int k :
+             {i - 1, i + 1, i - stride - 1, i - stride, i - stride + 1, i + stride - 1, i + stride, i + stride + 1})
             if (codes[k] == kCandidate)
             {
                 codes[k] = kEdge;

@@ -47,34 +47,35 @@ LevelEval evaluateLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& 
     const Eigen::Isometry3d T_cam_world = T_world_cam.inverse();
     const double trunc_cost = huberCost(o.truncation_px, o.huber_px);
     const double flat = o.truncation_px - 1e-3;
-    LevelEval sum = detail::sumInStripes(model.edge_points_world.size(), LevelEval{}, [&](size_t begin, size_t end, LevelEval& part) {
-        for (size_t i = begin; i < end; ++i)
-        {
-            Eigen::Vector3d p_cam;
-            Eigen::Vector2d u;
-            Eigen::Matrix<double, 2, 3> J_u_p;
-            if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u,
-                                normal_equations ? &J_u_p : nullptr))
+    LevelEval sum = detail::sumInStripes(
+        model.edge_points_world.size(), LevelEval{}, [&](size_t begin, size_t end, LevelEval& part) {
+            for (size_t i = begin; i < end; ++i)
             {
-                part.cost += trunc_cost;
-                continue;
+                Eigen::Vector3d p_cam;
+                Eigen::Vector2d u;
+                Eigen::Matrix<double, 2, 3> J_u_p;
+                if (!projectToLevel(camera, L, T_cam_world, model.edge_points_world[i], p_cam, u,
+                                    normal_equations ? &J_u_p : nullptr))
+                {
+                    part.cost += trunc_cost;
+                    continue;
+                }
+                const float x = float(u.x()), y = float(u.y());
+                const cv::Mat& D = L.distance[model.edge_bin[i]];
+                const double r_field = bilinear(D, x, y);
+                const double r = std::min<double>(r_field, o.truncation_px);
+                part.cost += huberCost(r, o.huber_px);
+                part.inliers += r < o.huber_px;
+                if (!normal_equations || r_field >= flat) continue;
+                const Eigen::RowVector2d g(0.5 * (bilinear(D, x + 1, y) - bilinear(D, x - 1, y)),
+                                           0.5 * (bilinear(D, x, y + 1) - bilinear(D, x, y - 1)));
+                // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
+                const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
+                const double w = huberWeight(r_field, o.huber_px);
+                part.H.noalias() += w * J.transpose() * J;
+                part.b.noalias() += w * r_field * J.transpose();
             }
-            const float x = float(u.x()), y = float(u.y());
-            const cv::Mat& D = L.distance[model.edge_bin[i]];
-            const double r_field = bilinear(D, x, y);
-            const double r = std::min<double>(r_field, o.truncation_px);
-            part.cost += huberCost(r, o.huber_px);
-            part.inliers += r < o.huber_px;
-            if (!normal_equations || r_field >= flat) continue;
-            const Eigen::RowVector2d g(0.5 * (bilinear(D, x + 1, y) - bilinear(D, x - 1, y)),
-                                       0.5 * (bilinear(D, x, y + 1) - bilinear(D, x, y - 1)));
-            // p_cam = R^T (P - t) with the right perturbation: d p_cam / d delta = [hat(p_cam), -I].
-            const Eigen::Matrix<double, 1, 6> J = g * J_u_p * pointInBodyJacobian(p_cam);
-            const double w = huberWeight(r_field, o.huber_px);
-            part.H.noalias() += w * J.transpose() * J;
-            part.b.noalias() += w * r_field * J.transpose();
-        }
-    });
+        });
     const double n = double(std::max<size_t>(1, model.edge_points_world.size()));
     sum.cost /= n, sum.H /= n, sum.b /= n;  // means
     sum.inlier_ratio = double(sum.inliers) / n;
@@ -96,8 +97,8 @@ double priorCost(const DirectPrior* prior, const Eigen::Isometry3d& T, Matrix6d*
 
 /** Levenberg-Marquardt at one level. Returns the iterations taken; `last` is the evaluation at the final pose. */
 int alignLevel(const DirectAlignmentOptions& o, const CameraEdgeLevel& L, const core::CameraModel& camera,
-               const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam, bool& any_step,
-               LevelEval& last)
+               const DirectAlignmentModel& model, const DirectPrior* prior, Eigen::Isometry3d& T_world_cam,
+               bool& any_step, LevelEval& last)
 {
     last = evaluateLevel(o, L, camera, model, T_world_cam, true);
     double cost = last.cost + priorCost(prior, T_world_cam, nullptr, nullptr);
@@ -208,7 +209,8 @@ bool alignDirect(const DirectAlignmentOptions& o, const CameraEdgeField& field, 
     // The finest level's last evaluation is at the final pose.
     st.final_edge_cost = last.cost;
     st.final_inlier_ratio = last.inlier_ratio;
-    st.hessian = last.has_normal_equations ? last.H : evaluateLevel(o, field.levels[0], camera, model, T_world_cam, true).H;
+    st.hessian =
+        last.has_normal_equations ? last.H : evaluateLevel(o, field.levels[0], camera, model, T_world_cam, true).H;
     st.ms = tic.Tac() * 1e3;
     if (stats) *stats = st;
     return any_step;

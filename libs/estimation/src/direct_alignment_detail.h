@@ -34,9 +34,9 @@ inline bool insideForBilinear(const cv::Mat& m, float x, float y)
 }
 
 /** Projection of a world point into level `L` of the field: false when behind the camera or outside. */
-inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLevel& L, const Eigen::Isometry3d& T_cam_world,
-                           const Eigen::Vector3d& p_world, Eigen::Vector3d& p_cam, Eigen::Vector2d& u_level,
-                           Eigen::Matrix<double, 2, 3>* J_level)
+inline bool projectToLevel(const core::CameraModel& camera, const CameraEdgeLevel& L,
+                           const Eigen::Isometry3d& T_cam_world, const Eigen::Vector3d& p_world, Eigen::Vector3d& p_cam,
+                           Eigen::Vector2d& u_level, Eigen::Matrix<double, 2, 3>* J_level)
 {
     p_cam = T_cam_world * p_world;
     Eigen::Vector2d u;

@@ -113,8 +113,8 @@ void depthEdgePixels(const cv::Mat& depth, const cv::Mat& valid, double rel, cv:
  *  mean over the block's pixels on that surface (within rel of the minimum). On a sparse map (a 64-beam scan
  *  seen from a camera) the full-resolution planes are speckled with holes, and every hole would make depth
  *  and reflectivity "edges"; blocks are dense. */
-void reduceToBlocks(const cv::Mat& depth, const cv::Mat& refl, const cv::Mat& valid, int block, double rel, cv::Mat& d_out,
-                    cv::Mat& r_out, cv::Mat& v_out)
+void reduceToBlocks(const cv::Mat& depth, const cv::Mat& refl, const cv::Mat& valid, int block, double rel,
+                    cv::Mat& d_out, cv::Mat& r_out, cv::Mat& v_out)
 {
     const int W = depth.cols / block, H = depth.rows / block;
     d_out = cv::Mat::zeros(H, W, CV_32FC1);
@@ -148,7 +148,6 @@ void reduceToBlocks(const cv::Mat& depth, const cv::Mat& refl, const cv::Mat& va
             v_out.at<uint8_t>(by, bx) = 255;
         }
 }
-
 
 Eigen::Vector3d liftPixel(const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam, const cv::Point& p,
                           float depth)
@@ -204,9 +203,9 @@ void forEachNonZero(const uint8_t* row, int width, F&& f)
 }  // namespace
 
 DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, const cv::Mat& depth,
-                                               const cv::Mat& reflectivity, const cv::Mat& valid,
-                                               const cv::Mat& sparse, const core::CameraModel& camera,
-                                               const Eigen::Isometry3d& T_world_cam, int downscale)
+                                               const cv::Mat& reflectivity, const cv::Mat& valid, const cv::Mat& sparse,
+                                               const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam,
+                                               int downscale)
 {
     const std::string in = "direct alignment model";
     core::require(downscale >= 1 && o.model_block_px % downscale == 0, in,
@@ -215,7 +214,8 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, 
     core::require(!depth.empty() && depth.type() == CV_32FC1, in, "depth must be a non-empty CV_32FC1 image");
     core::require(reflectivity.size() == depth.size() && reflectivity.type() == CV_32FC1, in,
                   "reflectivity must be CV_32FC1 of the depth's size");
-    core::require(valid.size() == depth.size() && valid.type() == CV_8UC1, in, "valid must be CV_8UC1 of the depth's size");
+    core::require(valid.size() == depth.size() && valid.type() == CV_8UC1, in,
+                  "valid must be CV_8UC1 of the depth's size");
     core::require(sparse.size() == depth.size() && sparse.type() == CV_8UC1, in,
                   "sparse must be CV_8UC1 of the depth's size");
     core::require(camera.width == depth.cols && camera.height == depth.rows, in,
@@ -232,8 +232,9 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, 
         for (int x = 0; x < d_b.cols; ++x)
             if (v_b.at<uint8_t>(y, x)) inv_depth.at<float>(y, x) = 1.0f / d_b.at<float>(y, x);
     if (o.model_close_px > 0)
-        cv::morphologyEx(inv_depth, inv_depth, cv::MORPH_CLOSE,
-                         cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * o.model_close_px + 1, 2 * o.model_close_px + 1)));
+        cv::morphologyEx(
+            inv_depth, inv_depth, cv::MORPH_CLOSE,
+            cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * o.model_close_px + 1, 2 * o.model_close_px + 1)));
     closed_valid = inv_depth > 0;
     cv::divide(1.0, inv_depth, closed_depth);
     closed_depth.setTo(0, closed_valid == 0);
@@ -270,8 +271,9 @@ DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& o, 
     for (const cv::Point& b : edge_blocks)
     {
         const bool is_depth = depth_mark.at<uint8_t>(b) != 0;
-        model.edge_bin.push_back(uint8_t(orientation.classOf(is_depth ? n_depth_x.at<float>(b) : n_refl_x.at<float>(b),
-                                                             is_depth ? n_depth_y.at<float>(b) : n_refl_y.at<float>(b))));
+        model.edge_bin.push_back(
+            uint8_t(orientation.classOf(is_depth ? n_depth_x.at<float>(b) : n_refl_x.at<float>(b),
+                                        is_depth ? n_depth_y.at<float>(b) : n_refl_y.at<float>(b))));
         const Eigen::Vector2d u((b.x + 0.5) * B - 0.5, (b.y + 0.5) * B - 0.5);  // block centre, full pixels
         model.edge_points_world.push_back(T_world_cam * (double(d_b.at<float>(b)) * camera.unproject(u)));
     }
@@ -444,7 +446,8 @@ void storeEightPixels(const Lanes* px, int classes, float inv_s, float truncatio
 }
 }  // namespace
 
-void classDistanceTransforms(const cv::Mat& class_bits, int classes, double truncation_px, std::vector<cv::Mat>& distance)
+void classDistanceTransforms(const cv::Mat& class_bits, int classes, double truncation_px,
+                             std::vector<cv::Mat>& distance)
 {
     core::require(!class_bits.empty() && class_bits.type() == CV_8UC1, "classDistanceTransforms",
                   "class_bits must be a non-empty CV_8UC1 image");
@@ -465,7 +468,7 @@ void classDistanceTransforms(const cv::Mat& class_bits, int classes, double trun
     // a page-faulting allocation of several MB per image. Every element used below is written before it is read.
     thread_local std::vector<Lanes> buf;
     detail::growScratch(buf, size_t(stride) * size_t(H + 2));
-    std::fill_n(buf.begin(), stride, far_v);                             // top border
+    std::fill_n(buf.begin(), stride, far_v);                              // top border
     std::fill_n(buf.begin() + ptrdiff_t(H + 1) * stride, stride, far_v);  // bottom border
     // Each row is initialised just before the forward pass reaches it, and converted to distances as soon as the
     // backward pass has finished it: two sweeps over the buffer instead of four.

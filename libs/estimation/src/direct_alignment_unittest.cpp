@@ -33,10 +33,7 @@ struct Scene
     Eigen::Isometry3d T_world_cam_true = estimation::test::syntheticRoomCameraPose();
     quasi::QuasiOptions qo;
     std::unique_ptr<quasi::QuasiRenderer> renderer;
-    Scene()
-    {
-        renderer = std::make_unique<quasi::QuasiRenderer>(map, qo);
-    }
+    Scene() { renderer = std::make_unique<quasi::QuasiRenderer>(map, qo); }
     quasi::QuasiImage render(const Eigen::Isometry3d& T)
     {
         quasi::QuasiImage q;
@@ -93,7 +90,8 @@ TEST(DirectAlignment, EdgeAndNmiTermsAreBestAtTheTruePose)
             estimation::Vector6d d = estimation::Vector6d::Zero();
             d[k] = f * (k < 3 ? M_PI / 180 : 0.05);
             const Eigen::Isometry3d T = estimation::boxPlus(s.T_world_cam_true, d);
-            EXPECT_GT(estimation::edgeCost(o, field, 0, s.camera, model, T), cost0) << "direction " << k << " step " << f;
+            EXPECT_GT(estimation::edgeCost(o, field, 0, s.camera, model, T), cost0)
+                << "direction " << k << " step " << f;
             EXPECT_LT(estimation::normalizedMutualInformation(o, field, s.camera, nmi, T), nmi0)
                 << "direction " << k << " step " << f;
         }
@@ -132,7 +130,8 @@ TEST(DirectAlignment, FusedClassDistancesMatchOpenCvDistanceTransform)
     // Random sparse pixels in 6 classes (a pixel may be in several), one class empty.
     cv::Mat bits = cv::Mat::zeros(97, 131, CV_8UC1);
     cv::RNG rng(7);
-    for (int i = 0; i < 300; ++i) bits.at<uint8_t>(rng.uniform(0, bits.rows), rng.uniform(0, bits.cols)) |= uint8_t(rng.uniform(1, 32));
+    for (int i = 0; i < 300; ++i)
+        bits.at<uint8_t>(rng.uniform(0, bits.rows), rng.uniform(0, bits.cols)) |= uint8_t(rng.uniform(1, 32));
     for (double truncation : {3.0, 12.0, 40.0})
     {
         std::vector<cv::Mat> fused;
@@ -210,8 +209,8 @@ TEST(DirectEdgeFactor, AnalyticJacobianMatchesNumeric)
     ASSERT_GT(rel.size(), 1000u);
     std::sort(rel.begin(), rel.end());
     const double median = rel[rel.size() / 2], p90 = rel[rel.size() * 9 / 10];
-    std::printf("compared %zu derivatives, relative difference median %.3f, 90th percentile %.3f\n", rel.size(),
-                median, p90);
+    std::printf("compared %zu derivatives, relative difference median %.3f, 90th percentile %.3f\n", rel.size(), median,
+                p90);
     // The analytic Jacobian takes the field's slope by central differences over +-1 px, the numeric one the local
     // bilinear slope: equal on average (slope ~1 per direction), not point by point at the distance field's kinks.
     EXPECT_LT(median, 0.25);
@@ -299,7 +298,8 @@ TEST(DirectAlignment, OrientationClassesEqualTheAngleDefinitionAwayFromSectorBor
             const int expected = int(std::lround(t)) % bins;
             const int expected_second = (expected + (t - std::round(t) >= 0 ? 1 : bins - 1)) % bins;
             int second = -1;
-            ASSERT_EQ(classes.classOf(gx, gy, &second), expected) << "bins " << bins << " g (" << gx << ", " << gy << ")";
+            ASSERT_EQ(classes.classOf(gx, gy, &second), expected)
+                << "bins " << bins << " g (" << gx << ", " << gy << ")";
             ASSERT_EQ(second, expected_second) << "bins " << bins << " g (" << gx << ", " << gy << ")";
             ++tested;
         }
@@ -316,8 +316,7 @@ TEST(DirectAlignment, KthSmallestIsTheValueNthElementGives)
     {
         const size_t n = 1 + rng() % 3000;
         std::vector<int32_t> v(n);
-        for (int32_t& x : v)
-            switch (trial % 4)
+        for (int32_t& x : v) switch (trial % 4)
             {
                 case 0: x = int32_t(rng() % (1u << 22)); break;
                 case 1: x = int32_t(2048 * 7 + rng() % 2048); break;

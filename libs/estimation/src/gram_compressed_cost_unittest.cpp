@@ -87,8 +87,7 @@ TEST(GramCompressedCost, SameCostAndNormalEquationsOnTheManifold)
     full.AddParameterBlock(pose, kPoseSize, &manifold);
     compressed.AddParameterBlock(pose_c, kPoseSize, &manifold);
     const auto id_full = full.AddResidualBlock(manyRows(s).release(), nullptr, pose);
-    const auto id_c =
-        compressed.AddResidualBlock(new detail::GramCompressedCost(manyRows(s)), nullptr, pose_c);
+    const auto id_c = compressed.AddResidualBlock(new detail::GramCompressedCost(manyRows(s)), nullptr, pose_c);
     EXPECT_EQ(compressed.GetCostFunctionForResidualBlock(id_c)->num_residuals(), kPoseSize + 1);
 
     std::vector<double> r_full(500), J_full(500 * 6), r_c(8), J_c(8 * 6);

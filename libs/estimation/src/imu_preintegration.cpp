@@ -130,8 +130,7 @@ ImuFactor::ImuFactor(const ImuPreintegration& preintegration) : pre_(&preintegra
 }
 
 void ImuFactor::linearize(const Eigen::Isometry3d& T_i, const Vector9d& sb_i, const Eigen::Isometry3d& T_j,
-                          const Vector9d& sb_j, Vector9d& r, Jac96* J_Ti, Jac99* J_sbi, Jac96* J_Tj,
-                          Jac99* J_sbj) const
+                          const Vector9d& sb_j, Vector9d& r, Jac96* J_Ti, Jac99* J_sbi, Jac96* J_Tj, Jac99* J_sbj) const
 {
     const double dt = pre_->dt();
     const Eigen::Vector3d g = pre_->noise().gravity();
@@ -165,7 +164,8 @@ void ImuFactor::linearize(const Eigen::Isometry3d& T_i, const Vector9d& sb_i, co
     if (J_sbi)
     {
         Jac99 J = Jac99::Zero();
-        J.block<3, 3>(0, 3) = -JrInv * expSO3(r_R).transpose() * rightJacobianSO3(pre_->dR_dbg() * dbg) * pre_->dR_dbg();
+        J.block<3, 3>(0, 3) =
+            -JrInv * expSO3(r_R).transpose() * rightJacobianSO3(pre_->dR_dbg() * dbg) * pre_->dR_dbg();
         J.block<3, 3>(3, 0) = -R_i.transpose();
         J.block<3, 3>(3, 3) = -pre_->dv_dbg();
         J.block<3, 3>(3, 6) = -pre_->dv_dba();

@@ -24,7 +24,8 @@ ImuPreintegration constantMotion(const Eigen::Vector3d& w, const Eigen::Vector3d
 {
     ImuPreintegration pre(ImuNoise{}, bg, ba);
     for (int k = 0; k < n; ++k)
-        pre.integrate(f + 0.3 * Eigen::Vector3d(std::sin(0.1 * k), std::cos(0.07 * k), 0.5), w + Eigen::Vector3d(0, 0.2 * std::sin(0.05 * k), 0), kDt);
+        pre.integrate(f + 0.3 * Eigen::Vector3d(std::sin(0.1 * k), std::cos(0.07 * k), 0.5),
+                      w + Eigen::Vector3d(0, 0.2 * std::sin(0.05 * k), 0), kDt);
     return pre;
 }
 }  // namespace
@@ -85,14 +86,15 @@ TEST(ImuPreintegration, CovarianceMatchesMonteCarlo)
         ImuPreintegration p(noise, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
         const double sg = noise.gyro_noise_density / std::sqrt(kDt), sa = noise.acc_noise_density / std::sqrt(kDt);
         for (int k = 0; k < n; ++k)
-            p.integrate(f + sa * Eigen::Vector3d(N(rng), N(rng), N(rng)), w + sg * Eigen::Vector3d(N(rng), N(rng), N(rng)), kDt);
+            p.integrate(f + sa * Eigen::Vector3d(N(rng), N(rng), N(rng)),
+                        w + sg * Eigen::Vector3d(N(rng), N(rng), N(rng)), kDt);
         Vector9d e;
-        e << logSO3(nominal.deltaR().transpose() * p.deltaR()), p.deltaV() - nominal.deltaV(), p.deltaP() - nominal.deltaP();
+        e << logSO3(nominal.deltaR().transpose() * p.deltaR()), p.deltaV() - nominal.deltaV(),
+            p.deltaP() - nominal.deltaP();
         cov += e * e.transpose() / trials;
     }
     // Diagonal within 15 % (Monte Carlo with 1500 trials: ~4 % standard error on a variance).
-    for (int i = 0; i < 9; ++i)
-        EXPECT_NEAR(cov(i, i) / nominal.covariance()(i, i), 1.0, 0.15) << "component " << i;
+    for (int i = 0; i < 9; ++i) EXPECT_NEAR(cov(i, i) / nominal.covariance()(i, i), 1.0, 0.15) << "component " << i;
 }
 
 TEST(ImuPreintegration, GapStepCarriesTheUnmeasuredMotionsVariance)
@@ -113,7 +115,8 @@ TEST(ImuPreintegration, GapStepCarriesTheUnmeasuredMotionsVariance)
     a.integrate(f, w, gap);
     b.integrate(f, w, gap);
     const Matrix9d extra = a.covariance() - b.covariance();
-    const double acc_var = std::pow(with_gap.gap_acc_sigma * gap, 2), gyro_var = std::pow(with_gap.gap_gyro_sigma * gap, 2);
+    const double acc_var = std::pow(with_gap.gap_acc_sigma * gap, 2),
+                 gyro_var = std::pow(with_gap.gap_gyro_sigma * gap, 2);
     EXPECT_NEAR((extra.block<3, 3>(3, 3).trace()), 3 * acc_var, 1e-9) << "velocity";
     EXPECT_NEAR((extra.block<3, 3>(0, 0).trace()), 3 * gyro_var, 0.02 * 3 * gyro_var) << "rotation (J_r of 0.1 s)";
     EXPECT_NEAR((extra.block<3, 3>(6, 6).trace()), 3 * std::pow(0.5 * with_gap.gap_acc_sigma * gap * gap, 2), 1e-9)
@@ -203,7 +206,7 @@ TEST(BiasRandomWalkFactor, ResidualAndJacobians)
     ASSERT_TRUE(f.Evaluate(params, r, jac));
     EXPECT_NEAR(r[0], 0.001 / (noise.gyro_random_walk * 0.5), 1e-6);
     EXPECT_NEAR(r[5], 0.05 / (noise.acc_random_walk * 0.5), 1e-6);
-    EXPECT_EQ(Ji[0], 0.0);                                      // velocity does not enter
+    EXPECT_EQ(Ji[0], 0.0);                                           // velocity does not enter
     EXPECT_NEAR(Jj[3], 1.0 / (noise.gyro_random_walk * 0.5), 1e-6);  // row 0, column 3 (b_g x)
     EXPECT_NEAR(Ji[3], -Jj[3], 1e-12);
 }

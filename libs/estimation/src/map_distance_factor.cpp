@@ -33,9 +33,8 @@ bool MapDistanceCostFunction::Evaluate(double const* const* parameters, double* 
 {
     const Eigen::Isometry3d T_map_body = paramsToPose(parameters[0]);
     double* J = jacobians ? jacobians[0] : nullptr;
-    detail::forPointStripes(p_body_.size(), [&](size_t begin, size_t end) {
-        evaluatePoints(begin, end, T_map_body, residuals, J);
-    });
+    detail::forPointStripes(p_body_.size(),
+                            [&](size_t begin, size_t end) { evaluatePoints(begin, end, T_map_body, residuals, J); });
     return true;
 }
 

@@ -107,8 +107,8 @@ TEST(MapDistanceFactor, AloneItReturnsACornerViewToItsPose)
         poseToParams(T0, params);
         ceres::Problem problem;
         problem.AddParameterBlock(params, kPoseSize, new PoseManifold);
-        problem.AddResidualBlock(new MapDistanceCostFunction(s.field, s.p_cam, s.sigma, s.T_body_cam, 0.3, 2.0), nullptr,
-                                 params);
+        problem.AddResidualBlock(new MapDistanceCostFunction(s.field, s.p_cam, s.sigma, s.T_body_cam, 0.3, 2.0),
+                                 nullptr, params);
         ceres::Solver::Options o;
         o.max_num_iterations = 50;
         ceres::Solver::Summary summary;

@@ -27,13 +27,14 @@ std::string toString(RefinementMethod m)
 
 RefinementMethod refinementMethodFromString(const std::string& name, const std::string& input)
 {
-    for (RefinementMethod m : {RefinementMethod::Features, RefinementMethod::Guided, RefinementMethod::Direct,
-                               RefinementMethod::Combined})
+    for (RefinementMethod m :
+         {RefinementMethod::Features, RefinementMethod::Guided, RefinementMethod::Direct, RefinementMethod::Combined})
         if (toString(m) == name) return m;
     throw core::InputError(input, "'" + name + "' is not one of features, guided, direct, combined");
 }
 
-MapRefiner::MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer& renderer, frontend::Frontend& frontend)
+MapRefiner::MapRefiner(const MapRefinementOptions& options, quasi::QuasiRenderer& renderer,
+                       frontend::Frontend& frontend)
     : options_(options), renderer_(renderer), frontend_(frontend)
 {
     options_.check("MapRefiner");
@@ -43,8 +44,9 @@ void MapRefiner::setImage(const cv::Mat& image, const core::CameraModel& camera,
 {
     core::require(!image.empty() && image.depth() == CV_8U && (image.channels() == 1 || image.channels() == 3),
                   "camera image", "must be a non-empty 8-bit gray or BGR image");
-    core::require(image.cols == camera.width && image.rows == camera.height, "camera image",
-                  "size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + " differs from the camera model's");
+    core::require(
+        image.cols == camera.width && image.rows == camera.height, "camera image",
+        "size " + std::to_string(image.cols) + "x" + std::to_string(image.rows) + " differs from the camera model's");
     mrpt::system::CTicTac tic;
     camera_ = camera;
     if (image.channels() == 3)
@@ -112,7 +114,8 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
     {
         frontend::PointMatchingOptions pm = frontend_.options().point_matching;
         pm.window_px = 0;
-        for (const frontend::PointMatch& m : frontend::matchPoints(cam, fq.points, pm)) pairs.emplace_back(m.query, m.train);
+        for (const frontend::PointMatch& m : frontend::matchPoints(cam, fq.points, pm))
+            pairs.emplace_back(m.query, m.train);
     }
     else
     {
@@ -130,8 +133,10 @@ MapRefinementResult MapRefiner::featurePose(const Eigen::Isometry3d& T_world_cam
     {
         auto it = lifted.find(j);
         if (it == lifted.end())
-            it = lifted.emplace(j, frontend::liftPixel(q_, renderer_.map(), fq.points.keypoints[size_t(j)].pt,
-                                                       options_.lift_radius_px)).first;
+            it = lifted
+                     .emplace(j, frontend::liftPixel(q_, renderer_.map(), fq.points.keypoints[size_t(j)].pt,
+                                                     options_.lift_radius_px))
+                     .first;
         if (!it->second) continue;
         const cv::Point2f& u = cam.keypoints[size_t(i)].pt;
         pts2d.emplace_back(u.x, u.y);
@@ -190,8 +195,8 @@ MapRefinementResult MapRefiner::alignPrepared(std::shared_ptr<const DirectAlignm
     MapRefinementResult res;
     Eigen::Isometry3d T = T_world_cam_pred;
     DirectPrior prior{T_world_cam_pred, sigma_m, sigma_rad, prior_weight};
-    res.success = alignDirect(options_.direct, edge_field_, camera_, *model, T, &res.direct,
-                              prior_weight > 0 ? &prior : nullptr);
+    res.success =
+        alignDirect(options_.direct, edge_field_, camera_, *model, T, &res.direct, prior_weight > 0 ? &prior : nullptr);
     res.T_world_cam = T;
     res.direct_model = std::move(model);
     res.ms_render = prepare_ms_;
@@ -200,8 +205,8 @@ MapRefinementResult MapRefiner::alignPrepared(std::shared_ptr<const DirectAlignm
     return res;
 }
 
-MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred, double sigma_m,
-                                       double sigma_rad, std::optional<double> direct_prior_weight)
+MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Isometry3d& T_world_cam_pred,
+                                       double sigma_m, double sigma_rad, std::optional<double> direct_prior_weight)
 {
     core::require(!gray_.empty(), "MapRefiner::refine", "setImage() must be called first");
     core::require(has_features_ || method == RefinementMethod::Direct, "MapRefiner::refine",
@@ -222,18 +227,17 @@ MapRefinementResult MapRefiner::refine(RefinementMethod method, const Eigen::Iso
     }
     else
     {
-        const MapRefinementResult direct =
-            alignPrepared(prepareDirect(camera_, T_world_cam_pred), T_world_cam_pred, sigma_m, sigma_rad,
-                          direct_prior_weight);
+        const MapRefinementResult direct = alignPrepared(prepareDirect(camera_, T_world_cam_pred), T_world_cam_pred,
+                                                         sigma_m, sigma_rad, direct_prior_weight);
         if (method == RefinementMethod::Direct)
             res = direct;
         else
         {
             res = featurePose(direct.T_world_cam, true, options_.combined_sigma_m,
                               options_.combined_sigma_deg * M_PI / 180.0);
-            const bool agree = res.success && res.inliers >= options_.min_inliers &&
-                               withinGate(res.T_world_cam, direct.T_world_cam, options_.agree_m,
-                                          options_.agree_deg * M_PI / 180.0);
+            const bool agree =
+                res.success && res.inliers >= options_.min_inliers &&
+                withinGate(res.T_world_cam, direct.T_world_cam, options_.agree_m, options_.agree_deg * M_PI / 180.0);
             if (!agree)
             {
                 res.T_world_cam = direct.T_world_cam;

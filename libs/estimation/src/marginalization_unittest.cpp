@@ -165,8 +165,8 @@ TEST(Marginalization, RefusesAResidualOnTwoPointsOrAnUnnamedBlock)
     Problem p;
     const std::vector<double*> marg = {p.pose[0], p.sb[0]}, keep = {p.pose[1], p.sb[1]};
     std::vector<ceres::ResidualBlockId> subset = p.subset;
-    subset.push_back(p.problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<TwoPoints, 3, 3, 3>(new TwoPoints), nullptr, p.points[0], p.points[1]));
+    subset.push_back(p.problem.AddResidualBlock(new ceres::AutoDiffCostFunction<TwoPoints, 3, 3, 3>(new TwoPoints),
+                                                nullptr, p.points[0], p.points[1]));
     EXPECT_THROW(detail::marginalInformation(p.problem, marg, pointBlocks(p), keep, subset, 1e-6), std::logic_error);
     EXPECT_THROW(detail::marginalInformation(p.problem, marg, {}, keep, p.subset, 1e-6), std::logic_error);
 }

@@ -25,15 +25,17 @@ void forPointStripes(size_t n, const Body& body)
     cv::parallel_for_(
         cv::Range(0, stripes),
         [&](const cv::Range& r) {
-            for (int s = r.start; s < r.end; ++s) body(n * size_t(s) / size_t(stripes), n * size_t(s + 1) / size_t(stripes));
+            for (int s = r.start; s < r.end; ++s)
+                body(n * size_t(s) / size_t(stripes), n * size_t(s + 1) / size_t(stripes));
         },
         stripes);
 }
 
 /** The sum of body(begin, end, part) over [0, n) in kStripes fixed stripes, each summed in order and then added in
- *  stripe order: the same bits whichever thread runs which stripe, and whether the pool runs them at all. forPointStripes'
- *  twin for sums (the direct alignment's cost and normal equations): each stripe adds into its own part. The LM runs on the tracking thread while the worker has often finished
- *  its tasks: the second core takes stripes. */
+ *  stripe order: the same bits whichever thread runs which stripe, and whether the pool runs them at all.
+ * forPointStripes' twin for sums (the direct alignment's cost and normal equations): each stripe adds into its own
+ * part. The LM runs on the tracking thread while the worker has often finished its tasks: the second core takes
+ * stripes. */
 constexpr int kStripes = 4;
 template <class Part, class Body>
 Part sumInStripes(size_t n, const Part& zero, const Body& body)
@@ -44,9 +46,12 @@ Part sumInStripes(size_t n, const Part& zero, const Body& body)
     if (n < 1024)
         for (int s = 0; s < kStripes; ++s) run(s);
     else
-        cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& r) {
-            for (int s = r.start; s < r.end; ++s) run(s);
-        }, kStripes);
+        cv::parallel_for_(
+            cv::Range(0, kStripes),
+            [&](const cv::Range& r) {
+                for (int s = r.start; s < r.end; ++s) run(s);
+            },
+            kStripes);
     Part total = parts[0];
     for (int s = 1; s < kStripes; ++s) total += parts[size_t(s)];
     return total;

@@ -35,7 +35,8 @@ Eigen::Matrix3d rightJacobianSO3(const Eigen::Vector3d& phi)
     const Eigen::Matrix3d W = hat(phi);
     if (theta < 1e-5) return Eigen::Matrix3d::Identity() - 0.5 * W + W * W / 6.0;
     const double t2 = theta * theta;
-    return Eigen::Matrix3d::Identity() - (1 - std::cos(theta)) / t2 * W + (theta - std::sin(theta)) / (t2 * theta) * W * W;
+    return Eigen::Matrix3d::Identity() - (1 - std::cos(theta)) / t2 * W +
+           (theta - std::sin(theta)) / (t2 * theta) * W * W;
 }
 
 Eigen::Matrix3d rightJacobianInvSO3(const Eigen::Vector3d& phi)

@@ -30,8 +30,7 @@ Vector6d poseError(const Eigen::Isometry3d& T0, const Eigen::Isometry3d& T, Matr
 
 PosePriorFactor::PosePriorFactor(const Eigen::Isometry3d& T0, const Matrix6d& information)
     : T0_(T0), sqrt_info_(informationSqrt(information))
-{
-}
+{}
 
 void PosePriorFactor::linearize(const Eigen::Isometry3d& T, Vector6d& r, Matrix6d* J) const
 {

@@ -107,7 +107,9 @@ TEST(WeakDirections, PointOnLineOnPlaneHasNoTranslationalNullDirection)
     const Matrix6d Hp = pointInformation(cam, P);
     const Matrix6d Hl = information(PointToLineFactor(cam, imageLine(cam, A, B), sampleSegment(A, B, 6), 1.0));
     const Matrix6d Hs = information(PointToPlaneFactor(cam, wall, n, d, 0.02));
-    auto minEig3 = [](const Eigen::Matrix3d& M) { return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(M).eigenvalues()[0]; };
+    auto minEig3 = [](const Eigen::Matrix3d& M) {
+        return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(M).eigenvalues()[0];
+    };
     auto minTranslationalEig = [&](const Matrix6d& H) {
         // Translational information left after the rotations are free: Schur complement on the rotation block.
         const Eigen::Matrix3d S = H.bottomRightCorner<3, 3>() -
@@ -117,8 +119,7 @@ TEST(WeakDirections, PointOnLineOnPlaneHasNoTranslationalNullDirection)
         return minEig3(S);
     };
     // Each alone has a translational null direction (even with rotation fixed) ...
-    for (const Matrix6d* H : {&Hp, &Hl, &Hs})
-        EXPECT_LT(minEig3(H->bottomRightCorner<3, 3>()), 1e-9 * H->trace());
+    for (const Matrix6d* H : {&Hp, &Hl, &Hs}) EXPECT_LT(minEig3(H->bottomRightCorner<3, 3>()), 1e-9 * H->trace());
     // ... the three together have none, even with the rotation free.
     const Matrix6d H = Hp + Hl + Hs;
     const double trace_t = H.bottomRightCorner<3, 3>().trace();
@@ -241,9 +242,9 @@ TEST(Reweighting, WeakModeAnalysisDoesNotDependOnTheUnitOfLength)
         const Eigen::Vector3d A1 = Eigen::Vector3d(1.0, 0.5, 2) * s, B1 = Eigen::Vector3d(1.0, 0.5, 8) * s;
         const Eigen::Vector3d A2 = Eigen::Vector3d(-1, -0.5, 5) * s, B2 = Eigen::Vector3d(1, -0.5, 5) * s;
         auto line = [&](const Eigen::Vector3d& A, const Eigen::Vector3d& B) {
-            return information(PointToLineFactor(cam, imageLine(cam, T.inverse() * A, T.inverse() * B),
-                                                 sampleSegment(A, B, 6), 1.0),
-                               T);
+            return information(
+                PointToLineFactor(cam, imageLine(cam, T.inverse() * A, T.inverse() * B), sampleSegment(A, B, 6), 1.0),
+                T);
         };
         std::vector<StructuralCandidates> factors(3);
         factors[0].H = {information(plane, T)};

@@ -41,14 +41,18 @@ Layout makeLayout(const SceneOptions& o)
     switch (o.layout)
     {
         case SceneLayout::Room:
-            L.rects = {{V3(-2.5, -1.5, 0.5), V3(0, 3, 0), V3(0, 0, 7.5)}, {V3(2.5, -1.5, 0.5), V3(0, 3, 0), V3(0, 0, 7.5)},
-                       {V3(-2.5, 1.5, 0.5), V3(5, 0, 0), V3(0, 0, 7.5)},  {V3(-2.5, -1.5, 0.5), V3(5, 0, 0), V3(0, 0, 7.5)},
+            L.rects = {{V3(-2.5, -1.5, 0.5), V3(0, 3, 0), V3(0, 0, 7.5)},
+                       {V3(2.5, -1.5, 0.5), V3(0, 3, 0), V3(0, 0, 7.5)},
+                       {V3(-2.5, 1.5, 0.5), V3(5, 0, 0), V3(0, 0, 7.5)},
+                       {V3(-2.5, -1.5, 0.5), V3(5, 0, 0), V3(0, 0, 7.5)},
                        {V3(-2.5, -1.5, 8.0), V3(5, 0, 0), V3(0, 3, 0)}};
             L.num_points = o.num_points;
             break;
         case SceneLayout::Corridor:
-            L.rects = {{V3(-1.2, -1.2, 1), V3(0, 2.4, 0), V3(0, 0, 29)}, {V3(1.2, -1.2, 1), V3(0, 2.4, 0), V3(0, 0, 29)},
-                       {V3(-1.2, 1.2, 1), V3(2.4, 0, 0), V3(0, 0, 29)},  {V3(-1.2, -1.2, 1), V3(2.4, 0, 0), V3(0, 0, 29)}};
+            L.rects = {{V3(-1.2, -1.2, 1), V3(0, 2.4, 0), V3(0, 0, 29)},
+                       {V3(1.2, -1.2, 1), V3(0, 2.4, 0), V3(0, 0, 29)},
+                       {V3(-1.2, 1.2, 1), V3(2.4, 0, 0), V3(0, 0, 29)},
+                       {V3(-1.2, -1.2, 1), V3(2.4, 0, 0), V3(0, 0, 29)}};
             L.num_points = std::max(4, o.num_points / 5);
             L.min_point_depth = 15.0;
             L.along_v_share = 0.75;
@@ -215,7 +219,8 @@ SyntheticFrame makeSyntheticFrame(const SceneOptions& o, std::mt19937& rng)
         if (!g.samplePoint(cam, r, 0.5, centre)) continue;
         PlaneFactorInput pf;
         std::vector<double> depths;
-        for (int tries = 0; tries < 50 * o.plane_points && static_cast<int>(pf.points_cam.size()) < o.plane_points; ++tries)
+        for (int tries = 0; tries < 50 * o.plane_points && static_cast<int>(pf.points_cam.size()) < o.plane_points;
+             ++tries)
         {
             const Eigen::Vector3d p = centre + g.U(-1, 1) * R.U.normalized() + g.U(-1, 1) * R.V.normalized();
             const Eigen::Vector3d rel = p - R.o;
@@ -248,7 +253,8 @@ SyntheticFrame makeSyntheticFrame(const SceneOptions& o, std::mt19937& rng)
         f.planes.push_back(std::move(pf));
     }
 
-    f.guess.T_map_body = boxPlus(T, (Vector6d() << g.N3(o.init_sigma_deg * M_PI / 180), g.N3(o.init_sigma_m)).finished());
+    f.guess.T_map_body =
+        boxPlus(T, (Vector6d() << g.N3(o.init_sigma_deg * M_PI / 180), g.N3(o.init_sigma_m)).finished());
     f.prior.mean = f.guess;
     f.prior.information.setZero();
     const double k2 = o.prior_overconfidence * o.prior_overconfidence;

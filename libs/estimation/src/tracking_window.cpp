@@ -134,7 +134,8 @@ class Window
     void addStructural(Structural&& s)
     {
         s.loss = std::make_unique<ceres::LossFunctionWrapper>(robustLoss(opt_, s.residuals), ceres::TAKE_OWNERSHIP);
-        structural_blocks_.push_back(problem_->AddResidualBlock(s.candidates[s.nominal].get(), s.loss.get(), cur_.pose));
+        structural_blocks_.push_back(
+            problem_->AddResidualBlock(s.candidates[s.nominal].get(), s.loss.get(), cur_.pose));
         structural_.push_back(std::move(s));
     }
 };

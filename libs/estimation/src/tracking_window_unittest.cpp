@@ -97,7 +97,8 @@ TEST(TrackingWindow, TwoFramesWithImuAndLandmarks)
         Eigen::Vector3d::Constant(1e4), Eigen::Vector3d::Constant(1e6), Eigen::Vector3d::Constant(1e4);
     in.imu = &pre;
     pre.predict(T_i, v_i, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), in.current.T_map_body, in.current.v_map);
-    in.current.T_map_body = boxPlus(in.current.T_map_body, (Vector6d() << 0.01, -0.02, 0.01, 0.05, 0.03, -0.04).finished());
+    in.current.T_map_body =
+        boxPlus(in.current.T_map_body, (Vector6d() << 0.01, -0.02, 0.01, 0.05, 0.03, -0.04).finished());
     in.points = f.points;
     in.lines = f.lines;
     in.planes = f.planes;
@@ -155,7 +156,9 @@ TEST(PriorFactors, JacobiansMatchNumeric)
     EXPECT_LT(relativeError(J, num), 1e-6);
     // r^T r equals the Mahalanobis distance with the stated information.
     Vector15d e;
-    e << boxMinus(T, prior.mean.T_map_body), sb - (Eigen::Matrix<double, 9, 1>() << prior.mean.v_map, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()).finished();
+    e << boxMinus(T, prior.mean.T_map_body),
+        sb - (Eigen::Matrix<double, 9, 1>() << prior.mean.v_map, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero())
+                 .finished();
     EXPECT_NEAR(r.squaredNorm(), e.dot(prior.information * e), 1e-8 * e.dot(prior.information * e));
 }
 

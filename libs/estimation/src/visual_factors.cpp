@@ -49,8 +49,7 @@ bool evaluateStructural(const Factor& f, double const* const* parameters, double
 PointReprojectionFactor::PointReprojectionFactor(const CameraGeometry& camera, const Eigen::Vector2d& px,
                                                  const Eigen::Vector3d& p_map, double sigma_px)
     : camera_(&camera), px_(px), p_map_(p_map), sqrt_info_(sqrtInfo(sigma_px, "PointMatch.sigma_px"))
-{
-}
+{}
 
 bool PointReprojectionFactor::linearize(const Eigen::Isometry3d& T, Eigen::Vector2d& r, Matrix26d* J) const
 {
@@ -98,8 +97,7 @@ PointToLineFactor::PointToLineFactor(const CameraGeometry& camera, const Eigen::
     set_num_residuals(static_cast<int>(support_map_.size()));
 }
 
-void PointToLineFactor::linearize(const Eigen::Isometry3d& T, Eigen::VectorXd& r,
-                                  Eigen::Matrix<double, -1, 6>* J) const
+void PointToLineFactor::linearize(const Eigen::Isometry3d& T, Eigen::VectorXd& r, Eigen::Matrix<double, -1, 6>* J) const
 {
     const int n = static_cast<int>(support_map_.size());
     r.resize(n);
@@ -170,9 +168,11 @@ bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* resid
 // --------------------------------------------------------------------------------------------- stereo
 StereoLandmarkFactor::StereoLandmarkFactor(const StereoGeometry& stereo, const Eigen::Vector2d& left_px,
                                            const Eigen::Vector2d& right_px, double sigma_px)
-    : stereo_(&stereo), left_px_(left_px), right_px_(right_px), sqrt_info_(sqrtInfo(sigma_px, "TemporalLandmark.sigma_px"))
-{
-}
+    : stereo_(&stereo),
+      left_px_(left_px),
+      right_px_(right_px),
+      sqrt_info_(sqrtInfo(sigma_px, "TemporalLandmark.sigma_px"))
+{}
 
 bool StereoLandmarkFactor::linearize(const Eigen::Isometry3d& T, const Eigen::Vector3d& X, Eigen::Vector4d& r,
                                      Eigen::Matrix<double, 4, 6>* J_pose, Eigen::Matrix<double, 4, 3>* J_lm) const

@@ -163,7 +163,8 @@ TEST(VisualFactors, PoseSolveRecoversTruth)
         const Eigen::Vector3d p_cam(U(rng) * 2, U(rng) * 1.5, 4 + 2 * U(rng));
         Eigen::Vector2d px;
         ASSERT_TRUE(cam.model.project(p_cam, px));
-        problem.AddResidualBlock(new PointReprojectionFactor(cam, px, T_cam_map.inverse() * p_cam, 1.0), nullptr, params);
+        problem.AddResidualBlock(new PointReprojectionFactor(cam, px, T_cam_map.inverse() * p_cam, 1.0), nullptr,
+                                 params);
     }
     problem.SetManifold(params, new PoseManifold);
     ceres::Solver::Options opt;

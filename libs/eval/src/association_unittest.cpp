@@ -14,7 +14,7 @@ TEST(Association, JitteredTimestampsWithinMaxDt)
     std::uniform_real_distribution<double> jitter(-0.008, 0.008);
     for (int i = 0; i < 100; ++i) gt.push_back(1000.0 + 0.05 * i);
     for (int i = 0; i < 100; i += 2) est.push_back(gt[i] + jitter(rng));
-    est.push_back(999.0);   // before the ground truth
+    est.push_back(999.0);           // before the ground truth
     est.push_back(1002.0 + 0.025);  // half-way between two gt samples: |dt| = 25 ms > 20 ms
     const auto a = associateByTime(est, gt, 0.02);
     ASSERT_EQ(a.matches.size(), 50u);

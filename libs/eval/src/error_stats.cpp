@@ -5,10 +5,7 @@
 
 namespace quasiloc::eval
 {
-ErrorStats::ErrorStats()
-{
-    rmse = mean = median = max = min = std = std::numeric_limits<double>::quiet_NaN();
-}
+ErrorStats::ErrorStats() { rmse = mean = median = max = min = std = std::numeric_limits<double>::quiet_NaN(); }
 
 ErrorStats computeStats(std::vector<double> values)
 {

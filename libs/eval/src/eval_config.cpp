@@ -17,9 +17,8 @@ const std::string kSequencePrefix = "Eval.";
 
 bool validName(const std::string& n)
 {
-    return !n.empty() && std::all_of(n.begin(), n.end(), [](unsigned char c) {
-        return std::isalnum(c) || c == '_' || c == '-';
-    });
+    return !n.empty() &&
+           std::all_of(n.begin(), n.end(), [](unsigned char c) { return std::isalnum(c) || c == '_' || c == '-'; });
 }
 }  // namespace
 
@@ -92,7 +91,7 @@ std::vector<RecallThreshold> EvalOptions::recallThresholds() const
 namespace
 {
 const std::vector<std::pair<std::string, SequenceKind>> kSequenceKinds = {{"tracking", SequenceKind::Tracking},
-                                                                        {"localization", SequenceKind::Localization}};
+                                                                          {"localization", SequenceKind::Localization}};
 }  // namespace
 
 std::string toString(SequenceKind k)

@@ -28,11 +28,14 @@ class EvalConfigTest : public ::testing::Test
 
     std::string base() const
     {
-        return "[Eval]\noutput_dir = " + (dir_ / "out").string() + "\nsequence_names = [a b]\nalign = SE3\n"
+        return "[Eval]\noutput_dir = " + (dir_ / "out").string() +
+               "\nsequence_names = [a b]\nalign = SE3\n"
                "recall_thresholds_m = [0.25, 0.5]\nrecall_thresholds_deg = [2 5]\n\n"
-               "[Eval.a]\nkind = tracking\nestimate = " + est_ + "\ngroundtruth = " + gt_ + "\n\n"
-               "[Eval.b]\nkind = localization\nestimate = " + est_ + "\ngroundtruth = " + gt_ + "\nqueries = " +
-               est_ + "\n\n[OtherProgram]\nwhatever = 1\n";
+               "[Eval.a]\nkind = tracking\nestimate = " +
+               est_ + "\ngroundtruth = " + gt_ +
+               "\n\n"
+               "[Eval.b]\nkind = localization\nestimate = " +
+               est_ + "\ngroundtruth = " + gt_ + "\nqueries = " + est_ + "\n\n[OtherProgram]\nwhatever = 1\n";
     }
     using Overrides = std::vector<std::array<std::string, 3>>;  // section, key, value (as --set does)
     EvalConfig load(const Overrides& overrides = {}, const std::string& text = "") const
@@ -88,10 +91,8 @@ TEST_F(EvalConfigTest, RejectsBadConfigurations)
     EXPECT_NE(loadError({{"Eval", "max_dt", "0.1"}}).find("unknown key"), std::string::npos);
     EXPECT_NE(loadError({{"Eval.a", "estimat", "x"}}).find("unknown key"), std::string::npos);
     EXPECT_NE(loadError({{"Eval.c", "kind", "tracking"}}).find("not listed"), std::string::npos);
-    EXPECT_NE(loadError({{"Eval.a", "estimate", "/nonexistent/est.tum"}}).find("file not found"),
-              std::string::npos);
-    EXPECT_NE(loadError({{"Eval.a", "queries", est_}}).find("only a localization"),
-              std::string::npos);
+    EXPECT_NE(loadError({{"Eval.a", "estimate", "/nonexistent/est.tum"}}).find("file not found"), std::string::npos);
+    EXPECT_NE(loadError({{"Eval.a", "queries", est_}}).find("only a localization"), std::string::npos);
     EXPECT_NE(loadError({{"Eval.a", "kind", "slam"}}).find("'slam' is not one of tracking, localization"),
               std::string::npos);
     EXPECT_NE(loadError({{"Eval", "max_dt_s", "fast"}}).find("not a finite number"), std::string::npos);
@@ -103,10 +104,8 @@ TEST_F(EvalConfigTest, RejectsBadConfigurations)
               std::string::npos);
     EXPECT_NE(loadError({{"Eval", "association", "linear"}}).find("'linear' is not one of nearest, interpolated"),
               std::string::npos);
-    EXPECT_NE(loadError({{"Eval", "recall_thresholds_deg", "[1]"}}).find("one value per"),
-              std::string::npos);
-    EXPECT_NE(loadError({{"Eval", "sequence_names", "[a b c]"}}).find("section is missing"),
-              std::string::npos);
+    EXPECT_NE(loadError({{"Eval", "recall_thresholds_deg", "[1]"}}).find("one value per"), std::string::npos);
+    EXPECT_NE(loadError({{"Eval", "sequence_names", "[a b c]"}}).find("section is missing"), std::string::npos);
     EXPECT_NE(loadError({{"Eval", "sequence_names", "[a a]"}}).find("listed twice"), std::string::npos);
     EXPECT_NE(loadError({}, "[Other]\nx = 1\n").find("[Eval] is missing"), std::string::npos);
     // The deltas that are > 0, in the order metres, seconds, frames.

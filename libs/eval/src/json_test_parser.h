@@ -13,7 +13,15 @@ namespace quasiloc::eval::testing
 {
 struct JsonValue
 {
-    enum class Type { Null, Bool, Number, String, Array, Object } type = Type::Null;
+    enum class Type
+    {
+        Null,
+        Bool,
+        Number,
+        String,
+        Array,
+        Object
+    } type = Type::Null;
     bool boolean = false;
     double number = 0;
     std::string string;
@@ -97,8 +105,8 @@ class JsonParser
         if (i_ >= s_.size() || !std::isdigit(static_cast<unsigned char>(s_[i_]))) fail("bad value");
         if (s_[i_] == '0' && i_ + 1 < s_.size() && std::isdigit(static_cast<unsigned char>(s_[i_ + 1])))
             fail("leading zero");
-        while (i_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[i_])) || s_[i_] == '.' ||
-                                  s_[i_] == 'e' || s_[i_] == 'E' || s_[i_] == '+' || s_[i_] == '-'))
+        while (i_ < s_.size() && (std::isdigit(static_cast<unsigned char>(s_[i_])) || s_[i_] == '.' || s_[i_] == 'e' ||
+                                  s_[i_] == 'E' || s_[i_] == '+' || s_[i_] == '-'))
             ++i_;
         const std::string tok = s_.substr(start, i_ - start);
         char* end = nullptr;
@@ -159,7 +167,11 @@ class JsonParser
         {
             v.array.push_back(value());
             ws();
-            if (i_ < s_.size() && s_[i_] == ',') { ++i_; continue; }
+            if (i_ < s_.size() && s_[i_] == ',')
+            {
+                ++i_;
+                continue;
+            }
             expect(']');
             return v;
         }
@@ -179,7 +191,11 @@ class JsonParser
             expect(':');
             v.object[k] = value();
             ws();
-            if (i_ < s_.size() && s_[i_] == ',') { ++i_; continue; }
+            if (i_ < s_.size() && s_[i_] == ',')
+            {
+                ++i_;
+                continue;
+            }
             expect('}');
             return v;
         }

@@ -53,7 +53,7 @@ TEST(JsonWriter, MisuseThrows)
     JsonWriter a;
     a.beginObject();
     EXPECT_THROW(a.value(1), std::logic_error);  // value without a key
-    EXPECT_THROW(a.str(), std::logic_error);      // still open
+    EXPECT_THROW(a.str(), std::logic_error);     // still open
     JsonWriter b;
     b.beginArray();
     EXPECT_THROW(b.key("k"), std::logic_error);

@@ -25,7 +25,8 @@ quasiloc::core::Trajectory groundTruth()
  *  is also off by 5 deg in rotation. Queries 4, 6, 8, 9 are not localized. */
 quasiloc::core::Trajectory estimate(const quasiloc::core::Trajectory& gt)
 {
-    const std::vector<std::pair<int, double>> localized = {{0, 0.05}, {1, 0.2}, {2, 0.5}, {3, 2.0}, {5, 0.08}, {7, 0.25}};
+    const std::vector<std::pair<int, double>> localized = {{0, 0.05}, {1, 0.2},  {2, 0.5},
+                                                           {3, 2.0},  {5, 0.08}, {7, 0.25}};
     quasiloc::core::Trajectory est;
     for (const auto& [i, err] : localized)
     {
@@ -59,7 +60,7 @@ TEST(LocalizationMetrics, RecallAndMateCountNotLocalized)
     EXPECT_DOUBLE_EQ(r.recall[0].recall, 0.2);
     EXPECT_DOUBLE_EQ(r.recall[1].recall, 0.4);
     EXPECT_DOUBLE_EQ(r.recall[2].recall, 0.5);
-    EXPECT_NEAR(r.trans_m.mean, (0.05 + 0.2 + 0.5 + 2.0 + 0.08 + 0.25) / 6, 1e-12);  // mATE of all localized
+    EXPECT_NEAR(r.trans_m.mean, (0.05 + 0.2 + 0.5 + 2.0 + 0.08 + 0.25) / 6, 1e-12);      // mATE of all localized
     EXPECT_NEAR(r.recall[2].trans_m.mean, (0.05 + 0.2 + 0.5 + 0.08 + 0.25) / 5, 1e-12);  // within 1 m
     EXPECT_NEAR(r.rot_deg.max, 5.0, 1e-9);
     EXPECT_EQ(r.queries[4].status, QueryStatus::NotLocalized);
@@ -76,7 +77,7 @@ TEST(LocalizationMetrics, RotationThresholdsAndQueriesWithoutGroundTruth)
     const auto r = evaluateLocalization(estimate(gt), gt, queries, true, 0.02, thr, "est");
     EXPECT_EQ(r.num_queries, 11u);
     EXPECT_EQ(r.num_no_ground_truth, 1u);
-    EXPECT_EQ(r.num_evaluated, 10u);  // the denominator excludes the query without ground truth
+    EXPECT_EQ(r.num_evaluated, 10u);   // the denominator excludes the query without ground truth
     EXPECT_EQ(r.recall[0].count, 3u);  // the 0.2 m / 5 deg query fails the 2 deg bound
     EXPECT_EQ(r.recall[1].count, 4u);
     EXPECT_DOUBLE_EQ(r.recall[0].recall, 0.3);

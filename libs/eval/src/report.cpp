@@ -56,8 +56,8 @@ void ateTable(std::ostringstream& md, const std::vector<SequenceReport>& reports
         md << "| " << r.sequence.name << " | " << r.num_est << " | " << r.num_gt << " | "
            << t.association.matches.size() << " | " << t.association.unmatched_est.size() << " | " << cm(e.rmse)
            << " | " << cm(e.mean) << " | " << cm(e.median) << " | " << cm(e.std) << " | " << cm(e.min) << " | "
-           << cm(e.max) << " | " << deg(o.rmse) << " | " << deg(o.mean) << " | " << deg(o.median) << " | "
-           << deg(o.max) << " |\n";
+           << cm(e.max) << " | " << deg(o.rmse) << " | " << deg(o.mean) << " | " << deg(o.median) << " | " << deg(o.max)
+           << " |\n";
     }
 }
 
@@ -96,7 +96,8 @@ std::string deltaLabel(const RpeDelta& d)
     const std::string v = fmt(d.value, "%g");
     switch (d.unit)
     {
-        case RpeUnit::Metres: return deltaName(d) + " of path (evo_rpe --delta " + v + " --delta_unit m: consecutive pairs)";
+        case RpeUnit::Metres:
+            return deltaName(d) + " of path (evo_rpe --delta " + v + " --delta_unit m: consecutive pairs)";
         case RpeUnit::Seconds:
             return deltaName(d) + " (TUM evaluate_rpe.py --fixed_delta --delta " + v + " --delta_unit s: every pose)";
         case RpeUnit::Frames: return deltaName(d) + " (every pose)";
@@ -140,12 +141,12 @@ void localizationTable(std::ostringstream& md, const std::vector<SequenceReport>
     {
         if (r.kind != SequenceKind::Localization) continue;
         const LocalizationResult& l = r.localization;
-        md << "| " << r.sequence.name << " | " << l.num_queries << " | " << l.num_evaluated << " | "
-           << l.num_localized << " |";
+        md << "| " << r.sequence.name << " | " << l.num_queries << " | " << l.num_evaluated << " | " << l.num_localized
+           << " |";
         for (const auto& e : l.recall) md << " " << percent(e.recall) << " |";
         const double mate_within = l.recall.empty() ? NAN : l.recall.back().trans_m.mean;
-        md << " " << cm(l.trans_m.mean) << " | " << cm(mate_within) << " | "
-           << cm(l.trans_m.median) << " | " << deg(l.rot_deg.mean) << " |\n";
+        md << " " << cm(l.trans_m.mean) << " | " << cm(mate_within) << " | " << cm(l.trans_m.median) << " | "
+           << deg(l.rot_deg.mean) << " |\n";
     }
     md << "\nRecall = localized queries within the threshold / queries with ground truth (not-localized queries "
           "count as failures). mATE = mean translation error of the localized queries.\n";

@@ -112,9 +112,9 @@ TEST_F(ReportTest, JsonParsesAndHoldsTheFigures)
     EXPECT_EQ(loc["queries"]["not_localized"].number, 2);
     EXPECT_NEAR(loc["mate_m"].number, (0.05 + 0.2 + 0.8) / 3, 1e-6);
     ASSERT_EQ(loc["recall"].array.size(), 3u);
-    EXPECT_DOUBLE_EQ(loc["recall"][0]["recall"].number, 0.2);  // <= 0.1 m: 1 of 5
-    EXPECT_DOUBLE_EQ(loc["recall"][1]["recall"].number, 0.4);  // <= 0.3 m: 2 of 5
-    EXPECT_DOUBLE_EQ(loc["recall"][2]["recall"].number, 0.6);  // <= 1.0 m: 3 of 5
+    EXPECT_DOUBLE_EQ(loc["recall"][0]["recall"].number, 0.2);                  // <= 0.1 m: 1 of 5
+    EXPECT_DOUBLE_EQ(loc["recall"][1]["recall"].number, 0.4);                  // <= 0.3 m: 2 of 5
+    EXPECT_DOUBLE_EQ(loc["recall"][2]["recall"].number, 0.6);                  // <= 1.0 m: 3 of 5
     EXPECT_EQ(loc["recall"][0]["threshold_deg"].type, JsonValue::Type::Null);  // no rotation bound
 }
 
@@ -139,8 +139,9 @@ TEST_F(ReportTest, MarkdownShowsUnalignedFirstInCentimetres)
     // The per-pose table: header + one line per associated pose.
     const std::string csv = errorsCsv(reports[0]);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 39);
-    EXPECT_EQ(csv.substr(0, csv.find('\n')),
-              "t_est,t_gt,dt_s,trans_err_m,rot_err_deg,trans_err_se3_m,rot_err_se3_deg,trans_err_sim3_m,rot_err_sim3_deg");
+    EXPECT_EQ(
+        csv.substr(0, csv.find('\n')),
+        "t_est,t_gt,dt_s,trans_err_m,rot_err_deg,trans_err_se3_m,rot_err_se3_deg,trans_err_sim3_m,rot_err_sim3_deg");
     const std::string loc_csv = errorsCsv(reports[1]);
     EXPECT_NE(loc_csv.find("11.000000000,not_localized,,\n"), std::string::npos) << loc_csv;
 }
@@ -175,7 +176,7 @@ TEST_F(ReportTest, RealEurocGroundTruthAgainstARotatedCopy)
     EXPECT_NEAR(r.tracking.ate.rot_deg.max, 2.0, 1e-5);
     EXPECT_GT(r.tracking.ate.trans_m.mean, 0.05);
     EXPECT_LT(r.tracking.ate_se3->trans_m.rmse, 1e-6);  // TUM files hold translations to 0.1 um
-    ASSERT_EQ(r.tracking.rpe.size(), 2u);                // per metre and per second
+    ASSERT_EQ(r.tracking.rpe.size(), 2u);               // per metre and per second
     EXPECT_GT(r.tracking.rpe[0].trans_m.count, 20u);
     EXPECT_LT(r.tracking.rpe[0].trans_m.max, 1e-6);
     EXPECT_LT(r.tracking.rpe[1].trans_m.max, 1e-6);

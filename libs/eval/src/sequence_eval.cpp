@@ -64,8 +64,8 @@ SequenceReport evaluateSequence(const NamedSequence& seq, const EvalOptions& opt
                   "estimate has no pose and no query list is given: nothing to evaluate");
     const std::vector<double> queries =
         r.have_query_list ? readQueryTimestamps(seq.options.queries) : std::vector<double>{};
-    r.localization = evaluateLocalization(est, gt, queries, r.have_query_list, opts.max_dt_s,
-                                          opts.recallThresholds(), seq.options.estimate);
+    r.localization = evaluateLocalization(est, gt, queries, r.have_query_list, opts.max_dt_s, opts.recallThresholds(),
+                                          seq.options.estimate);
     return r;
 }
 

@@ -39,7 +39,8 @@ std::vector<PosePair> makePairs(const core::Trajectory& est, const core::Traject
         const auto& g = gt.poses.at(m.gt_index);
         pairs.push_back({e.t, g.t, e.pose, g.pose});
     }
-    std::stable_sort(pairs.begin(), pairs.end(), [](const PosePair& a, const PosePair& b) { return a.t_est < b.t_est; });
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const PosePair& a, const PosePair& b) { return a.t_est < b.t_est; });
     return pairs;
 }
 
@@ -55,12 +56,14 @@ std::vector<PosePair> makeInterpolatedPairs(const core::Trajectory& est, const c
     for (size_t i = 0; i < est.poses.size(); ++i)
     {
         const double t = est.poses[i].t;
-        const auto it = std::lower_bound(G.begin(), G.end(), t, [](const core::TimedPose& p, double tt) { return p.t < tt; });
+        const auto it =
+            std::lower_bound(G.begin(), G.end(), t, [](const core::TimedPose& p, double tt) { return p.t < tt; });
         // The nearer of the samples around t (the later one on a tie).
         size_t nearest = G.size();
         double gap = std::numeric_limits<double>::infinity();
         if (it != G.end()) nearest = static_cast<size_t>(it - G.begin()), gap = it->t - t;
-        if (it != G.begin() && t - (it - 1)->t < gap) nearest = static_cast<size_t>(it - G.begin()) - 1, gap = t - (it - 1)->t;
+        if (it != G.begin() && t - (it - 1)->t < gap)
+            nearest = static_cast<size_t>(it - G.begin()) - 1, gap = t - (it - 1)->t;
         mrpt::poses::CPose3D truth;
         if (!(gap <= max_dt_s) || !core::interpolatePose(gt, t, truth, max_dt_s))
         {
@@ -74,7 +77,8 @@ std::vector<PosePair> makeInterpolatedPairs(const core::Trajectory& est, const c
         pairs.push_back({t, t, est.poses[i].pose, truth});
     }
     assoc.unmatched_gt = static_cast<size_t>(std::count(gt_used.begin(), gt_used.end(), 0));
-    std::stable_sort(pairs.begin(), pairs.end(), [](const PosePair& a, const PosePair& b) { return a.t_est < b.t_est; });
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const PosePair& a, const PosePair& b) { return a.t_est < b.t_est; });
     return pairs;
 }
 

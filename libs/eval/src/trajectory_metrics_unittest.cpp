@@ -98,7 +98,8 @@ TEST(TrajectoryMetrics, RigidOffsetWithRotationKnownRotationError)
 TEST(TrajectoryMetrics, Sim3RemovesScale)
 {
     auto pairs = helixPairs(50);
-    for (auto& p : pairs) p.est = CPose3D(0.5 * p.gt.x(), 0.5 * p.gt.y(), 0.5 * p.gt.z(), p.gt.yaw(), p.gt.pitch(), p.gt.roll());
+    for (auto& p : pairs)
+        p.est = CPose3D(0.5 * p.gt.x(), 0.5 * p.gt.y(), 0.5 * p.gt.z(), p.gt.yaw(), p.gt.pitch(), p.gt.roll());
     const AteResult sim3 = computeAte(pairs, Alignment::Sim3);
     EXPECT_NEAR(sim3.transform.scale, 2.0, 1e-9);
     EXPECT_LT(sim3.trans_m.max, 1e-9);

@@ -86,8 +86,7 @@ TEST(Umeyama, DegenerateAndBadInput)
     EXPECT_TRUE(S.degenerate);
     EXPECT_LT((S.apply(line.col(4)) - moved.col(4)).norm(), 1e-9);  // still a minimiser
     EXPECT_THROW(umeyamaAlignment(line, moved.leftCols(3), false), quasiloc::core::InputError);
-    EXPECT_THROW(umeyamaAlignment(Eigen::Matrix3Xd(3, 0), Eigen::Matrix3Xd(3, 0), false),
-                 quasiloc::core::InputError);
+    EXPECT_THROW(umeyamaAlignment(Eigen::Matrix3Xd(3, 0), Eigen::Matrix3Xd(3, 0), false), quasiloc::core::InputError);
     Eigen::Matrix3Xd same(3, 4);
     same.setOnes();
     EXPECT_THROW(umeyamaAlignment(same, same, true), quasiloc::core::InputError);

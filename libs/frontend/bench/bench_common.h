@@ -32,9 +32,9 @@ struct BenchOptions : public core::DeclaredOptions
     double cross_modal_window_px = 40;  ///< search window of camera<->quasi point matching (covers the perturbation)
     std::string euroc_dir = std::string(QUASILOC_SHARED_DIR) + "/data/euroc/V1_01_easy_micro";
     int euroc_frames = 40;
-    double static_inlier_px = 2.0;     ///< EuRoC micro is static: a temporal match is an inlier if it moved less
-    double ransac_px = 1.0;            ///< fundamental-matrix RANSAC threshold (stereo, moving sim frames)
-    std::string report_path;           ///< optional Markdown copy of the tables (+ effective INI beside it)
+    double static_inlier_px = 2.0;  ///< EuRoC micro is static: a temporal match is an inlier if it moved less
+    double ransac_px = 1.0;         ///< fundamental-matrix RANSAC threshold (stereo, moving sim frames)
+    std::string report_path;        ///< optional Markdown copy of the tables (+ effective INI beside it)
 
     void declare(core::OptionTable& t) override;
     /** InputError naming `input` for an extractor list that names no or an unknown [Features] type. */

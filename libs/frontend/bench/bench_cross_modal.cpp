@@ -63,7 +63,8 @@ std::vector<std::string> simulatedDirs(const BenchOptions& b)
     {
         std::string stem = world.substr(world.find_last_of('/') + 1);
         stem = stem.substr(0, stem.find('.'));
-        const std::string out = b.sim_root + "/" + stem + "_" + fmt(b.sim_start_offset_s, 1) + "s_" + fmt(b.sim_duration_s, 1) + "s";
+        const std::string out =
+            b.sim_root + "/" + stem + "_" + fmt(b.sim_start_offset_s, 1) + "s_" + fmt(b.sim_duration_s, 1) + "s";
         if (!fileExists(out + "/gt.tum") || !fileExists(out + "/lidar_map.map"))
         {
             core::CommandLine cmd;
@@ -206,7 +207,8 @@ void evaluatePair(const FrameFeatures& fi, const quasi::QuasiImage& q, const Fra
     const auto pm = frontend::selectMatches(cands, best_q, o.point_matching);
     times.add(type + " match points (cross-modal)", sw_pm.ms());
     Stopwatch sw_lm;
-    const auto lm = frontend::matchLines(fi.line_descriptors, fi.lines, fq.line_descriptors, fq.lines, o.line_matching, true);
+    const auto lm =
+        frontend::matchLines(fi.line_descriptors, fi.lines, fq.line_descriptors, fq.lines, o.line_matching, true);
     times.add(type + " match lines (cross-modal)", sw_lm.ms());
 
     Stopwatch sw_as;
@@ -270,8 +272,8 @@ void evaluateLighterGlue(frontend::PointMatcher& lighterglue, const FrameFeature
     {
         const auto lifted = frontend::liftPixel(q, seq.map, fq.points.keypoints[size_t(m.train)].pt,
                                                 o.association.lift_search_radius_px);
-        const bool ok =
-            lifted && pointCorrect(lifted->p_world, fi.points.keypoints[size_t(m.query)].pt, T_gt, seq.rig.left, b.precision_px);
+        const bool ok = lifted && pointCorrect(lifted->p_world, fi.points.keypoints[size_t(m.query)].pt, T_gt,
+                                               seq.rig.left, b.precision_px);
         const cv::Point2f d = fq.points.keypoints[size_t(m.train)].pt - fi.points.keypoints[size_t(m.query)].pt;
         const bool in_window = std::hypot(d.x, d.y) <= b.cross_modal_window_px;  // the mutual NN search window
         for (MatchStats* st : {&whole, &windowed})
@@ -283,9 +285,12 @@ void evaluateLighterGlue(frontend::PointMatcher& lighterglue, const FrameFeature
 std::unique_ptr<frontend::PointMatcher> lighterGlueFor(const BenchOptions& b, const std::vector<std::string>& types,
                                                        std::string& why_not)
 {
-    if (std::find(types.begin(), types.end(), "xfeat") == types.end()) why_not = "xfeat is not measured";
-    else if (!frontend::lighterGlueAvailable()) why_not = "this build has no libtorch";
-    else if (!fileExists(b.lighterglue_model)) why_not = "no model file " + b.lighterglue_model;
+    if (std::find(types.begin(), types.end(), "xfeat") == types.end())
+        why_not = "xfeat is not measured";
+    else if (!frontend::lighterGlueAvailable())
+        why_not = "this build has no libtorch";
+    else if (!fileExists(b.lighterglue_model))
+        why_not = "no model file " + b.lighterglue_model;
     if (!why_not.empty()) return nullptr;
     frontend::PointMatchingOptions o;
     o.method = frontend::MatchingMethod::LighterGlue;
@@ -296,14 +301,17 @@ std::unique_ptr<frontend::PointMatcher> lighterGlueFor(const BenchOptions& b, co
 void reportLighterGlue(const std::map<std::string, CaseStats>& stats, const std::map<std::string, MatchStats>& lg,
                        const StageTimes& times, const BenchOptions& b, Report& report)
 {
-    report.line("XFeat + LighterGlue vs XFeat + mutual NN, camera <-> quasi-image (point matches per frame; correct "
-                "within " + fmt(b.precision_px, 1) + " px at the gt pose; time per pair):");
+    report.line(
+        "XFeat + LighterGlue vs XFeat + mutual NN, camera <-> quasi-image (point matches per frame; correct "
+        "within " +
+        fmt(b.precision_px, 1) + " px at the gt pose; time per pair):");
     report.line("");
     report.line("| matcher | Q pose | point matches | correct | precision | ms per pair (mean / max) |");
     report.line("|---|---|---|---|---|---|");
     auto timing = [&](const std::string& stage) {
         const auto it = times.stats().find(stage);
-        return it == times.stats().end() ? std::string("-") : fmt(it->second.mean(), 1) + " / " + fmt(it->second.max, 1);
+        return it == times.stats().end() ? std::string("-")
+                                         : fmt(it->second.mean(), 1) + " / " + fmt(it->second.max, 1);
     };
     for (const std::string which : {"gt pose", "perturbed"})
     {
@@ -313,15 +321,17 @@ void reportLighterGlue(const std::map<std::string, CaseStats>& stats, const std:
             const double n = std::max(1.0, nn->second.frames);
             report.line("| mutual NN, window " + fmt(b.cross_modal_window_px, 0) + " px | " + which + " | " +
                         fmt(nn->second.pm / n, 1) + " | " + fmt(nn->second.pm_ok / n, 1) + " | " +
-                        pct(nn->second.pm_ok, nn->second.pm) + " | " + timing("xfeat match points (cross-modal)") + " |");
+                        pct(nn->second.pm_ok, nn->second.pm) + " | " + timing("xfeat match points (cross-modal)") +
+                        " |");
         }
         for (const std::string gate : {"window", "whole image"})
         {
             const auto it = lg.find(gate + "|" + which);
             if (it == lg.end()) continue;
             const double n = std::max(1.0, it->second.frames);
-            const std::string label = gate == "window" ? "LighterGlue, window " + fmt(b.cross_modal_window_px, 0) + " px"
-                                                       : std::string("LighterGlue, whole image");
+            const std::string label = gate == "window"
+                                          ? "LighterGlue, window " + fmt(b.cross_modal_window_px, 0) + " px"
+                                          : std::string("LighterGlue, whole image");
             report.line("| " + label + " | " + which + " | " + fmt(it->second.pm / n, 1) + " | " +
                         fmt(it->second.pm_ok / n, 1) + " | " + pct(it->second.pm_ok, it->second.pm) + " | " +
                         timing("xfeat+lighterglue match points (cross-modal)") + " |");
@@ -338,8 +348,10 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
     std::map<std::string, CaseStats> stats;  // "<type>|<case>"
     std::vector<std::string> types, skipped;
     for (const auto& t : b.extractorList())
-        if (t != "xfeat" || fileExists(withExtractor(base, t, b).features.xfeat_model_path)) types.push_back(t);
-        else skipped.push_back(t);
+        if (t != "xfeat" || fileExists(withExtractor(base, t, b).features.xfeat_model_path))
+            types.push_back(t);
+        else
+            skipped.push_back(t);
     std::string lighterglue_skipped;
     const auto lighterglue = lighterGlueFor(b, types, lighterglue_skipped);
     std::map<std::string, MatchStats> lg_stats;  // "<gate>|<case>"
@@ -348,7 +360,8 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
     for (const auto& dir : simulatedDirs(b))
     {
         const Sequence seq = loadSequence(dir, b.frames_per_sequence);
-        seq_names.push_back(dir + " (" + std::to_string(seq.frames.size()) + " frames, " + std::to_string(seq.map.size()) + " map points)");
+        seq_names.push_back(dir + " (" + std::to_string(seq.frames.size()) + " frames, " +
+                            std::to_string(seq.map.size()) + " map points)");
         quasi::QuasiRenderer renderer(seq.map, qo);
         for (const auto& type : types)
         {
@@ -360,7 +373,9 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
                 fe.extract(fr.left, cv::Mat(), fi);
                 for (const std::string which : {"gt pose", "perturbed"})
                 {
-                    const CPose3D T_render = which == std::string("gt pose") ? fr.T_world_cam0 : perturb(fr.T_world_cam0, b, uint32_t(k + 1));
+                    const CPose3D T_render = which == std::string("gt pose")
+                                                 ? fr.T_world_cam0
+                                                 : perturb(fr.T_world_cam0, b, uint32_t(k + 1));
                     quasi::QuasiImage q;
                     renderer.render(T_render, seq.rig.left, q);
                     FrameFeatures fq;
@@ -373,7 +388,8 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
                     {
                         times.add(type + " extract camera image (points + lines)", fi.total_ms);
                     }
-                    evaluatePair(fi, q, fq, seq, fr.T_world_cam0, fe.options(), b, times, type, stats[type + "|" + which]);
+                    evaluatePair(fi, q, fq, seq, fr.T_world_cam0, fe.options(), b, times, type,
+                                 stats[type + "|" + which]);
                     if (type == "xfeat" && lighterglue)
                     {
                         // TorchScript optimises its graph during the first runs: keep them out of the timing.
@@ -392,38 +408,42 @@ void runCrossModal(const mrpt::config::CConfigFileBase&, const BenchOptions& b, 
     if (!skipped.empty()) report.line("- skipped (no XFeat model file): xfeat");
     if (!lighterglue_skipped.empty()) report.line("- XFeat + LighterGlue not measured: " + lighterglue_skipped);
     report.line("- window " + fmt(b.cross_modal_window_px, 0) + " px (points), line gate " +
-                fmt(base.line_matching.gate_max_distance_px, 0) + " px / " + fmt(base.line_matching.gate_max_angle_deg, 0) +
+                fmt(base.line_matching.gate_max_distance_px, 0) + " px / " +
+                fmt(base.line_matching.gate_max_angle_deg, 0) +
                 " deg; correct = lifted LiDAR point (line support) within " + fmt(b.precision_px, 1) +
-                " px of the camera keypoint (line) at the gt pose; perturbation " + fmt(100 * b.perturb_translation_m, 0) +
-                " cm / " + fmt(b.perturb_rotation_deg, 1) + " deg");
-    report.line("- per frame means; K = " + std::to_string(base.association.max_candidates) + " candidates, temperature " +
-                fmt(base.association.temperature, 3));
+                " px of the camera keypoint (line) at the gt pose; perturbation " +
+                fmt(100 * b.perturb_translation_m, 0) + " cm / " + fmt(b.perturb_rotation_deg, 1) + " deg");
+    report.line("- per frame means; K = " + std::to_string(base.association.max_candidates) +
+                " candidates, temperature " + fmt(base.association.temperature, 3));
     report.line("");
-    report.line("| extractor | Q pose | kp cam / Q | point matches | correct | precision | lines cam / Q | line matches | correct | precision | pt cand | pt any ok | p on ok | line cand | line any ok | planes / line hyp |");
+    report.line(
+        "| extractor | Q pose | kp cam / Q | point matches | correct | precision | lines cam / Q | line matches | "
+        "correct | precision | pt cand | pt any ok | p on ok | line cand | line any ok | planes / line hyp |");
     report.line("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (const auto& type : types)
         for (const std::string which : {"gt pose", "perturbed"})
         {
             const CaseStats& s = stats[type + "|" + which];
             const double n = std::max(1.0, s.frames);
-            report.line("| " + type + " | " + which + " | " + fmt(s.kp_cam / n, 0) + " / " + fmt(s.kp_q / n, 0) + " | " +
-                        fmt(s.pm / n, 1) + " | " + fmt(s.pm_ok / n, 1) + " | " + pct(s.pm_ok, s.pm) + " | " +
+            report.line("| " + type + " | " + which + " | " + fmt(s.kp_cam / n, 0) + " / " + fmt(s.kp_q / n, 0) +
+                        " | " + fmt(s.pm / n, 1) + " | " + fmt(s.pm_ok / n, 1) + " | " + pct(s.pm_ok, s.pm) + " | " +
                         fmt(s.lines_cam / n, 0) + " / " + fmt(s.lines_q / n, 0) + " | " + fmt(s.lm / n, 1) + " | " +
-                        fmt(s.lm_ok / n, 1) + " | " + pct(s.lm_ok, s.lm) + " | " + fmt(s.pa ? s.pa_cands / s.pa : 0, 2) +
-                        " | " + pct(s.pa_any, s.pa) + " | " + fmt(s.pa ? s.pa_pmass / s.pa : 0, 2) + " | " +
-                        fmt(s.la ? s.la_cands / s.la : 0, 2) + " | " + pct(s.la_any, s.la) + " | " +
-                        fmt(s.la_cands ? s.la_planes / s.la_cands : 0, 2) + " |");
+                        fmt(s.lm_ok / n, 1) + " | " + pct(s.lm_ok, s.lm) + " | " +
+                        fmt(s.pa ? s.pa_cands / s.pa : 0, 2) + " | " + pct(s.pa_any, s.pa) + " | " +
+                        fmt(s.pa ? s.pa_pmass / s.pa : 0, 2) + " | " + fmt(s.la ? s.la_cands / s.la : 0, 2) + " | " +
+                        pct(s.la_any, s.la) + " | " + fmt(s.la_cands ? s.la_planes / s.la_cands : 0, 2) + " |");
         }
     report.line("");
     if (lighterglue) reportLighterGlue(stats, lg_stats, times, b, report);
-    report.line("Timing per camera<->quasi pair (ms; budgets: points + lines <= 15 per image, matching <= 5 per pair, "
-                "associations <= 2; classical):");
+    report.line(
+        "Timing per camera<->quasi pair (ms; budgets: points + lines <= 15 per image, matching <= 5 per pair, "
+        "associations <= 2; classical):");
     report.line("");
     report.line("| stage | mean | max | n | budget |");
     report.line("|---|---|---|---|---|");
     for (const auto& [name, s] : times.stats())
-        report.line("| " + name + " | " + fmt(s.mean(), 2) + " | " + fmt(s.max, 2) + " | " + std::to_string(s.n) + " | " +
-                    budgetFor(name, s.mean()) + " |");
+        report.line("| " + name + " | " + fmt(s.mean(), 2) + " | " + fmt(s.max, 2) + " | " + std::to_string(s.n) +
+                    " | " + budgetFor(name, s.mean()) + " |");
     report.line("");
 }
 }  // namespace quasiloc::bench

@@ -40,7 +40,8 @@ void runEuroc(const BenchOptions& b, const frontend::FrontendOptions& base, mrpt
     for (const auto& t : b.extractorList())
     {
         struct stat st;
-        if (t != "xfeat" || ::stat(withExtractor(base, t, b).features.xfeat_model_path.c_str(), &st) == 0) types.push_back(t);
+        if (t != "xfeat" || ::stat(withExtractor(base, t, b).features.xfeat_model_path.c_str(), &st) == 0)
+            types.push_back(t);
     }
     for (const auto& type : types)
     {
@@ -82,15 +83,16 @@ void runEuroc(const BenchOptions& b, const frontend::FrontendOptions& base, mrpt
                 const auto pm = frontend::matchPoints(prev.points, left.points, o.point_matching);
                 times.add(type + " match points (temporal)", sw_m.ms());
                 Stopwatch sw_l;
-                const auto lm = frontend::matchLines(prev.line_descriptors, prev.lines, left.line_descriptors, left.lines,
-                                                     o.line_matching, false);
+                const auto lm = frontend::matchLines(prev.line_descriptors, prev.lines, left.line_descriptors,
+                                                     left.lines, o.line_matching, false);
                 times.add(type + " match lines (temporal)", sw_l.ms());
                 s.tm += double(pm.size()), s.tl += double(lm.matches.size());
                 for (const auto& m : pm)
-                    s.tm_in += cv::norm(prev.points.keypoints[size_t(m.query)].pt - left.points.keypoints[size_t(m.train)].pt) <
-                               b.static_inlier_px;
+                    s.tm_in += cv::norm(prev.points.keypoints[size_t(m.query)].pt -
+                                        left.points.keypoints[size_t(m.train)].pt) < b.static_inlier_px;
                 for (const auto& m : lm.matches)
-                    s.tl_in += frontend::lineGate(prev.lines[size_t(m.query)], left.lines[size_t(m.train)], static_gate);
+                    s.tl_in +=
+                        frontend::lineGate(prev.lines[size_t(m.query)], left.lines[size_t(m.train)], static_gate);
             }
             prev = std::move(left);
         }
@@ -102,25 +104,29 @@ void runEuroc(const BenchOptions& b, const frontend::FrontendOptions& base, mrpt
                 " px (static MAV). Stereo: epipolar search, inlier of a fundamental RANSAC at " + fmt(b.ransac_px, 1) +
                 " px on rectified keypoints. Per-frame means.");
     report.line("");
-    report.line("| extractor | kp / image | lines / image | temporal point matches | inliers | temporal line matches | inliers | stereo matches | inliers |");
+    report.line(
+        "| extractor | kp / image | lines / image | temporal point matches | inliers | temporal line matches | inliers "
+        "| stereo matches | inliers |");
     report.line("|---|---|---|---|---|---|---|---|---|");
     for (const auto& type : types)
     {
         const EurocStats& s = stats[type];
         const double n = double(frames.size()), p = std::max(1.0, s.pairs);
-        report.line("| " + type + " | " + fmt(s.kp / n, 0) + " | " + fmt(s.lines / n, 0) + " | " + fmt(s.tm / p, 1) + " | " +
-                    pct(s.tm_in, s.tm) + " | " + fmt(s.tl / p, 1) + " | " + pct(s.tl_in, s.tl) + " | " + fmt(s.sm / n, 1) +
-                    " | " + pct(s.sm_in, s.sm) + " |");
+        report.line("| " + type + " | " + fmt(s.kp / n, 0) + " | " + fmt(s.lines / n, 0) + " | " + fmt(s.tm / p, 1) +
+                    " | " + pct(s.tm_in, s.tm) + " | " + fmt(s.tl / p, 1) + " | " + pct(s.tl_in, s.tl) + " | " +
+                    fmt(s.sm / n, 1) + " | " + pct(s.sm_in, s.sm) + " |");
     }
     report.line("");
-    report.line("Timing on the real 752x480 frames (ms; budgets for classical extractors: points + lines <= 15 per image, "
-                "matching <= 5 per pair):");
+    report.line(
+        "Timing on the real 752x480 frames (ms; budgets for classical extractors: points + lines <= 15 per image, "
+        "matching <= 5 per pair):");
     report.line("");
     report.line("| stage | mean | max | n | budget |");
     report.line("|---|---|---|---|---|");
     for (const auto& [name, st] : times.stats())
     {
-        report.line("| " + name + " | " + fmt(st.mean(), 2) + " | " + fmt(st.max, 2) + " | " + std::to_string(st.n) + " | " + budgetFor(name, st.mean()) + " |");
+        report.line("| " + name + " | " + fmt(st.mean(), 2) + " | " + fmt(st.max, 2) + " | " + std::to_string(st.n) +
+                    " | " + budgetFor(name, st.mean()) + " |");
     }
     report.line("");
 }

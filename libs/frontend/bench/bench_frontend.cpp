@@ -107,9 +107,12 @@ std::string budgetFor(const std::string& stage, double mean_ms)
     if (stage.find("xfeat") != std::string::npos) return "-";  // budgets are for the classical front-end
     double bound = -1;
     // Per image, camera images and quasi-images alike ("points + lines per image", "extract ... (points + lines)").
-    if (stage.find("points + lines") != std::string::npos) bound = 15;
-    else if (stage.find("match points") != std::string::npos || stage.find("match lines") != std::string::npos) bound = 5;
-    else if (stage.find("associations") != std::string::npos) bound = 2;
+    if (stage.find("points + lines") != std::string::npos)
+        bound = 15;
+    else if (stage.find("match points") != std::string::npos || stage.find("match lines") != std::string::npos)
+        bound = 5;
+    else if (stage.find("associations") != std::string::npos)
+        bound = 2;
     if (bound < 0) return "-";
     return "<= " + fmt(bound, 0) + (mean_ms <= bound ? " (met)" : " (MISSED)");
 }
@@ -159,7 +162,8 @@ int run(const quasiloc::core::CommandLine& cmd_in)
         auto sections = fe.sections();
         sections.push_back({"Bench", &bench});
         sections.push_back({"QuasiImage", &qo});
-        core::writeEffectiveConfig(out.addFile(bench.report_path + ".ini"), sections, "bench_frontend effective configuration");
+        core::writeEffectiveConfig(out.addFile(bench.report_path + ".ini"), sections,
+                                   "bench_frontend effective configuration");
         out.commit();
         std::cout << "report written to " << bench.report_path << std::endl;
     }

@@ -21,8 +21,8 @@ class OpenCvExtractor : public FeatureExtractor
         switch (type_)
         {
             case FeatureType::Orb:
-                orb_ = cv::ORB::create(n, 1.2f, o.orb_levels, 19, 0, 2, cv::ORB::HARRIS_SCORE, 31,
-                                       o.orb_fast_threshold);
+                orb_ =
+                    cv::ORB::create(n, 1.2f, o.orb_levels, 19, 0, 2, cv::ORB::HARRIS_SCORE, 31, o.orb_fast_threshold);
                 f2d_ = orb_;
                 break;
             case FeatureType::Sift: f2d_ = cv::SIFT::create(n, 3, o.sift_contrast_threshold, 10, 1.6); break;

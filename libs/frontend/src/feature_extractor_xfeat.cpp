@@ -77,9 +77,12 @@ class XFeatExtractor : public FeatureExtractor
         for (auto& o : outs)
         {
             core::require(o.dims == 4, opt_.xfeat_model_path, "unexpected output rank");
-            if (o.size[1] == 64) feats = o;
-            else if (o.size[1] == 65) logits = o;
-            else if (o.size[1] == 1) reliability = o;
+            if (o.size[1] == 64)
+                feats = o;
+            else if (o.size[1] == 65)
+                logits = o;
+            else if (o.size[1] == 1)
+                reliability = o;
         }
         core::require(!feats.empty() && !logits.empty() && !reliability.empty(), opt_.xfeat_model_path,
                       "outputs are not feats (64 ch), keypoints (65 ch) and heatmap (1 ch)");

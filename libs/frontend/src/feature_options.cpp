@@ -7,11 +7,10 @@ namespace quasiloc::frontend
 {
 const std::vector<std::pair<std::string, FeatureType>>& featureTypeNames()
 {
-    static const std::vector<std::pair<std::string, FeatureType>> names = {
-        {"orb", FeatureType::Orb},
-        {"sift", FeatureType::Sift},
-        {"akaze", FeatureType::Akaze},
-        {"xfeat", FeatureType::XFeat}};
+    static const std::vector<std::pair<std::string, FeatureType>> names = {{"orb", FeatureType::Orb},
+                                                                           {"sift", FeatureType::Sift},
+                                                                           {"akaze", FeatureType::Akaze},
+                                                                           {"xfeat", FeatureType::XFeat}};
     return names;
 }
 

@@ -28,15 +28,15 @@ void FrontendOptions::check(const std::string& input) const
     association.checkRanges(input, "Association");
     stereo.check(input);
     if (point_matching.useLighterGlue())
-        core::require(features.type == FeatureType::XFeat, input + ": [PointMatching] method",
-                      "lighterglue matches XFeat descriptors: it needs [Features] type = xfeat, not " +
-                          toString(features.type));
+        core::require(
+            features.type == FeatureType::XFeat, input + ": [PointMatching] method",
+            "lighterglue matches XFeat descriptors: it needs [Features] type = xfeat, not " + toString(features.type));
 }
 
 std::vector<core::OptionsSection> FrontendOptions::sections() const
 {
-    return {{"Features", &features},           {"PointMatching", &point_matching}, {"Lines", &lines},
-            {"LineMatching", &line_matching}, {"Association", &association},     {"Stereo", &stereo}};
+    return {{"Features", &features},          {"PointMatching", &point_matching}, {"Lines", &lines},
+            {"LineMatching", &line_matching}, {"Association", &association},      {"Stereo", &stereo}};
 }
 
 namespace
@@ -44,10 +44,7 @@ namespace
 /** The classical dense map depends on the image alone and feeds only the hybrid line descriptors: the front-end
  *  computes it itself, in whichever branch of extract() finishes first, rather than in the point extractor. XFeat's
  *  dense map is an output of its network: it stays with the points. */
-bool denseMapWithLines(const FeatureOptions& f)
-{
-    return f.dense_map && f.type != FeatureType::XFeat;
-}
+bool denseMapWithLines(const FeatureOptions& f) { return f.dense_map && f.type != FeatureType::XFeat; }
 
 FeatureOptions pointExtractorOptions(FeatureOptions f)
 {
@@ -74,10 +71,10 @@ void Frontend::extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& 
         return std::chrono::duration<double, std::milli>(b - a).count();
     };
     const auto t0 = clock::now();
-    // Two independent branches: the points (keypoints, descriptors; XFeat's dense map) and the lines (detection). Neither
-    // keeps two cores busy for long (ORB, FAST, FLD and the dense map are mostly single-threaded), so with a second
-    // core the line branch runs on the worker thread meanwhile. A thread of our own, not a cv::parallel_for_ region,
-    // so that the extractors that use OpenCV's pool themselves (SIFT, AKAZE, the XFeat network) keep it. With
+    // Two independent branches: the points (keypoints, descriptors; XFeat's dense map) and the lines (detection).
+    // Neither keeps two cores busy for long (ORB, FAST, FLD and the dense map are mostly single-threaded), so with a
+    // second core the line branch runs on the worker thread meanwhile. A thread of our own, not a cv::parallel_for_
+    // region, so that the extractors that use OpenCV's pool themselves (SIFT, AKAZE, the XFeat network) keep it. With
     // cv::setNumThreads(1) (or 0) everything runs on the calling thread, points first.
     // The classical dense map (~2.5 ms per 752x480 image) is computed by whichever branch finishes first: a fixed
     // place would lengthen the longer branch whenever the two are close (ORB and FLD on a quasi-image take about
@@ -115,8 +112,10 @@ void Frontend::extract(const cv::Mat& gray, const cv::Mat& mask, FrameFeatures& 
         if (concurrent) worker_->waitForError();  // the line branch uses this frame's locals: let it finish first
         throw;
     }
-    if (!concurrent) line_branch();
-    else worker_->wait();
+    if (!concurrent)
+        line_branch();
+    else
+        worker_->wait();
     out.lines = std::move(lines);
     if (dense_with_lines_) out.points.dense = std::move(dense);
     // The hybrid descriptors sample the dense map: after both branches.

@@ -66,8 +66,7 @@ struct ThreadCount
 };
 
 class FrontendPerExtractor : public ::testing::TestWithParam<std::string>
-{
-};
+{};
 }  // namespace
 
 TEST_P(FrontendPerExtractor, ConcurrentExtractionEqualsTheSequentialOne)

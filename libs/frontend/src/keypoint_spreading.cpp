@@ -6,8 +6,8 @@
 
 namespace quasiloc::frontend
 {
-std::vector<int> spreadKeypointIndices(const std::vector<cv::KeyPoint>& kps, cv::Size size, int budget,
-                                      int grid_cols, int grid_rows)
+std::vector<int> spreadKeypointIndices(const std::vector<cv::KeyPoint>& kps, cv::Size size, int budget, int grid_cols,
+                                       int grid_rows)
 {
     if (budget <= 0 || kps.empty()) return {};
     std::vector<int> order(kps.size());

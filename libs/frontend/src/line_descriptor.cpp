@@ -83,7 +83,8 @@ cv::Mat describeLines(const cv::Mat& gray, const DenseMap& dense, std::vector<Li
                 const Eigen::Vector2f g = sampleGradient(gx, gy, q.x(), q.y());
                 const float gn = g.dot(left), gd = g.dot(d);
                 float* f = &line_sum[4 * b];
-                f[0] += std::max(gn, 0.f), f[1] += std::max(-gn, 0.f), f[2] += std::max(gd, 0.f), f[3] += std::max(-gd, 0.f);
+                f[0] += std::max(gn, 0.f), f[1] += std::max(-gn, 0.f), f[2] += std::max(gd, 0.f),
+                    f[3] += std::max(-gd, 0.f);
             }
             if (P) dense.sampleAdd(p.x(), p.y(), 1.f, point_sum.data());
         }

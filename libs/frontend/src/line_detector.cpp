@@ -64,7 +64,8 @@ struct LineDetector::Impl
 LineDetector::LineDetector(const LineOptions& options) : options_(options), impl_(new Impl)
 {
     options.check("line options");
-    if (options.detector == LineDetectorType::Lsd) impl_->lsd = cv::createLineSegmentDetector(cv::LSD_REFINE_STD);
+    if (options.detector == LineDetectorType::Lsd)
+        impl_->lsd = cv::createLineSegmentDetector(cv::LSD_REFINE_STD);
     else if (options.detector == LineDetectorType::Fld)
         impl_->fld = cv::ximgproc::createFastLineDetector(int(options.min_length_px), 1.414213562f, 50, 50, 3, false);
     else
@@ -83,8 +84,10 @@ std::vector<LineSegment> LineDetector::detect(const cv::Mat& gray, const cv::Mat
     core::require(!gray.empty() && gray.type() == CV_8UC1, "line detection input",
                   "expected a non-empty 8-bit grayscale image (CV_8UC1)");
     std::vector<cv::Vec4f> raw;
-    if (impl_->lsd) impl_->lsd->detect(gray, raw);
-    else if (impl_->fld) impl_->fld->detect(gray, raw);
+    if (impl_->lsd)
+        impl_->lsd->detect(gray, raw);
+    else if (impl_->fld)
+        impl_->fld->detect(gray, raw);
     else
     {
         impl_->ed->detectEdges(gray);
@@ -98,12 +101,14 @@ std::vector<LineSegment> LineDetector::detect(const cv::Mat& gray, const cv::Mat
         if (!mask.empty())
         {
             const Eigen::Vector2f m = s.midpoint();
-            const int x = std::clamp(int(m.x() + 0.5f), 0, mask.cols - 1), y = std::clamp(int(m.y() + 0.5f), 0, mask.rows - 1);
+            const int x = std::clamp(int(m.x() + 0.5f), 0, mask.cols - 1),
+                      y = std::clamp(int(m.y() + 0.5f), 0, mask.rows - 1);
             if (!mask.at<uchar>(y, x)) continue;
         }
         lines.push_back(s);
     }
-    std::stable_sort(lines.begin(), lines.end(), [](const LineSegment& a, const LineSegment& b) { return a.length() > b.length(); });
+    std::stable_sort(lines.begin(), lines.end(),
+                     [](const LineSegment& a, const LineSegment& b) { return a.length() > b.length(); });
     if (int(lines.size()) > options_.max_lines) lines.resize(options_.max_lines);
     return lines;
 }

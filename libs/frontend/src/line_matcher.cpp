@@ -35,9 +35,10 @@ LineMatchResult matchLines(const cv::Mat& query_desc, const std::vector<LineSegm
     const int M = query_desc.rows, N = train_desc.rows;
     core::require(M == int(query_lines.size()) && N == int(train_lines.size()), "line matching",
                   "one descriptor row per segment expected");
-    core::require(M == 0 || N == 0 || (query_desc.cols == train_desc.cols && query_desc.type() == CV_32F &&
-                                       train_desc.type() == CV_32F),
-                  "line matching", "descriptors must be CV_32F rows of the same length");
+    core::require(
+        M == 0 || N == 0 ||
+            (query_desc.cols == train_desc.cols && query_desc.type() == CV_32F && train_desc.type() == CV_32F),
+        "line matching", "descriptors must be CV_32F rows of the same length");
     LineMatchResult r;
     r.similarity.resize(M, N);
     r.allowed.setConstant(M, N, true);
@@ -53,8 +54,8 @@ LineMatchResult matchLines(const cv::Mat& query_desc, const std::vector<LineSegm
             }
     }
     const Eigen::MatrixXd cost = (1.0 - r.similarity.cast<double>().array()).matrix();
-    r.transport = sinkhorn(cost, options.dustbin_cost, options.epsilon, options.max_iterations, options.tolerance,
-                           &r.allowed);
+    r.transport =
+        sinkhorn(cost, options.dustbin_cost, options.epsilon, options.max_iterations, options.tolerance, &r.allowed);
     const auto P = r.transport.plan.topLeftCorner(M, N);
     for (int i = 0; i < M && N > 0; ++i)
     {

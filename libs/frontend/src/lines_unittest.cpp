@@ -14,8 +14,7 @@ using namespace quasiloc::frontend;
 namespace
 {
 class PerDetector : public ::testing::TestWithParam<std::string>
-{
-};
+{};
 
 LineOptions lineOptions(const std::string& detector)
 {
@@ -93,7 +92,8 @@ TEST(LineMatching, TranslatedImageAndGate)
     {
         LineSegment moved = l0[m.query];
         moved.p0 += Eigen::Vector2f(12, 5), moved.p1 += Eigen::Vector2f(12, 5);
-        right += l1[m.train].distanceToLine(moved.midpoint()) < 1.5f && std::abs(moved.direction().dot(l1[m.train].direction())) > 0.99f;
+        right += l1[m.train].distanceToLine(moved.midpoint()) < 1.5f &&
+                 std::abs(moved.direction().dot(l1[m.train].direction())) > 0.99f;
         EXPECT_TRUE(lineGate(l0[m.query], l1[m.train], mo));
     }
     EXPECT_GE(right, r.matches.size() * 9 / 10);

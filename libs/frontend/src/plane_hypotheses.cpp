@@ -30,9 +30,12 @@ PlaneFit fitPlane(const std::vector<Eigen::Vector3f>& points, const AssociationO
     f.d = -f.normal.dot(mean);
     f.rms_m = std::sqrt(lam(0));
     f.extent_ratio = lam(2) > 0 ? std::sqrt(lam(1) / lam(2)) : 0.0;
-    if (f.extent_ratio < o.plane_min_extent_ratio) why = PlaneRejection::LineLike;
-    else if (f.rms_m > o.plane_max_rms_m) why = PlaneRejection::NotFlat;
-    else why = PlaneRejection::None;
+    if (f.extent_ratio < o.plane_min_extent_ratio)
+        why = PlaneRejection::LineLike;
+    else if (f.rms_m > o.plane_max_rms_m)
+        why = PlaneRejection::NotFlat;
+    else
+        why = PlaneRejection::None;
     return f;
 }
 

@@ -113,8 +113,9 @@ float pairDistance(const cv::Mat& a, int i, const cv::Mat& b, int j)
 void insertCandidate(std::vector<PointCandidate>& list, int k, const PointCandidate& c)
 {
     if (int(list.size()) == k && c.distance >= list.back().distance) return;
-    auto it = std::upper_bound(list.begin(), list.end(), c,
-                               [](const PointCandidate& a, const PointCandidate& b) { return a.distance < b.distance; });
+    auto it = std::upper_bound(list.begin(), list.end(), c, [](const PointCandidate& a, const PointCandidate& b) {
+        return a.distance < b.distance;
+    });
     list.insert(it, c);
     if (int(list.size()) > k) list.pop_back();
 }
@@ -137,8 +138,10 @@ void forWindowPairs(const Features& train, const std::vector<cv::Point2f>& cente
     for (size_t i = 0; i < centers.size(); ++i)
     {
         const cv::Point2f c = centers[i];
-        const int x0 = std::max(0, int(std::floor((c.x - cell) / cell))), x1 = std::min(gw - 1, int((c.x + cell) / cell));
-        const int y0 = std::max(0, int(std::floor((c.y - cell) / cell))), y1 = std::min(gh - 1, int((c.y + cell) / cell));
+        const int x0 = std::max(0, int(std::floor((c.x - cell) / cell))),
+                  x1 = std::min(gw - 1, int((c.x + cell) / cell));
+        const int y0 = std::max(0, int(std::floor((c.y - cell) / cell))),
+                  y1 = std::min(gh - 1, int((c.y + cell) / cell));
         for (int gy = y0; gy <= y1; ++gy)
             for (int gx = x0; gx <= x1; ++gx)
                 for (int j : grid[size_t(gy) * gw + gx])
@@ -157,8 +160,9 @@ std::vector<std::vector<PointCandidate>> findCandidates(const Features& query, c
     std::vector<std::vector<PointCandidate>> out(query.size());
     if (best_query_per_train) best_query_per_train->assign(train.size(), PointCandidate{-1, 1e30f, 0});
     if (query.size() == 0 || train.size() == 0) return out;
-    core::require(query.descriptors.type() == train.descriptors.type() && query.descriptors.cols == train.descriptors.cols,
-                  "point matching", "the two images have different descriptor types");
+    core::require(
+        query.descriptors.type() == train.descriptors.type() && query.descriptors.cols == train.descriptors.cols,
+        "point matching", "the two images have different descriptor types");
     auto consider = [&](int i, int j, float d) {
         if (d > max_distance || (region.accept && !region.accept(i, j))) return;
         const PointCandidate c{j, d, descriptorSimilarity(d, train)};
@@ -172,7 +176,8 @@ std::vector<std::vector<PointCandidate>> findCandidates(const Features& query, c
         if (region.centers.empty())
             for (const auto& kp : query.keypoints) own.push_back(kp.pt);
         const auto& centers = region.centers.empty() ? own : region.centers;
-        core::require(centers.size() == query.size(), "point matching", "one search centre per query keypoint expected");
+        core::require(centers.size() == query.size(), "point matching",
+                      "one search centre per query keypoint expected");
         forWindowPairs(train, centers, region.radius_px,
                        [&](int i, int j) { consider(i, j, pairDistance(query.descriptors, i, train.descriptors, j)); });
     }

@@ -37,8 +37,8 @@ TEST(PointMatcherMethod, MutualBestAssignmentsKeepMutualPairsAboveTheThreshold)
 {
     // 3 x 3 inner block + dustbins (log probabilities).
     cv::Mat s(4, 4, CV_32F, cv::Scalar(std::log(1e-3f)));
-    s.at<float>(0, 1) = std::log(0.9f);  // 0 <-> 1, mutual
-    s.at<float>(1, 1) = std::log(0.5f);  // 1 -> 1, but 1's best row is 0
+    s.at<float>(0, 1) = std::log(0.9f);   // 0 <-> 1, mutual
+    s.at<float>(1, 1) = std::log(0.5f);   // 1 -> 1, but 1's best row is 0
     s.at<float>(2, 2) = std::log(0.05f);  // mutual but below 0.1
     const auto m = detail::mutualBestAssignments(s, 0.1);
     ASSERT_EQ(m.size(), 1u);

@@ -27,8 +27,7 @@ FeatureOptions optionsFor(const std::string& type)
 }
 
 class PerExtractor : public ::testing::TestWithParam<std::string>
-{
-};
+{};
 }  // namespace
 
 TEST_P(PerExtractor, SelfMatchingGivesIdentity)
@@ -98,7 +97,8 @@ TEST_P(PerExtractor, WindowGateAndMask)
     ex->extract(img, mask, f0);
     for (const auto& k : f0.keypoints) EXPECT_LT(k.pt.x, img.cols / 2 + 0.5f);
     // The same image shifted by 32 px: a 10 px window around the unshifted position finds nothing right,
-    // a 10 px window around the predicted position finds the shifted twins (within 2.5 px: ORB's coarse pyramid levels localise to ~2 px).
+    // a 10 px window around the predicted position finds the shifted twins (within 2.5 px: ORB's coarse pyramid levels
+    // localise to ~2 px).
     cv::Mat shifted;
     cv::warpAffine(img, shifted, cv::Matx23d(1, 0, 32, 0, 1, 0), img.size(), cv::INTER_NEAREST, cv::BORDER_REFLECT);
     ex->extract(shifted, cv::Mat(), f1);
@@ -112,7 +112,8 @@ TEST_P(PerExtractor, WindowGateAndMask)
     const auto matches = matchPoints(f0, f1, PointMatchingOptions{}, &predicted);
     ASSERT_GE(matches.size(), 50u);
     size_t right = 0;
-    for (const auto& m : matches) right += cv::norm(f1.keypoints[m.train].pt - (f0.keypoints[m.query].pt + cv::Point2f(32, 0))) < 2.5;
+    for (const auto& m : matches)
+        right += cv::norm(f1.keypoints[m.train].pt - (f0.keypoints[m.query].pt + cv::Point2f(32, 0))) < 2.5;
     EXPECT_GE(right, matches.size() * 9 / 10);
 }
 
@@ -123,7 +124,8 @@ TEST(Features, SpreadingKeepsTheBudgetAndCoversTheGrid)
     std::vector<cv::KeyPoint> kps;
     // 500 strong keypoints crowded in one corner, 100 weak ones spread everywhere.
     for (int i = 0; i < 500; ++i) kps.emplace_back(cv::Point2f(float(i % 25), float(i / 25)), 7.f, -1.f, 100.f + i);
-    for (int i = 0; i < 100; ++i) kps.emplace_back(cv::Point2f(float(i % 10) * 64 + 30, float(i / 10) * 48 + 20), 7.f, -1.f, 1.f);
+    for (int i = 0; i < 100; ++i)
+        kps.emplace_back(cv::Point2f(float(i % 10) * 64 + 30, float(i / 10) * 48 + 20), 7.f, -1.f, 1.f);
     const auto kept = spreadKeypoints(kps, cv::Size(640, 480), 200, 4, 4);
     ASSERT_EQ(kept.size(), 200u);
     std::vector<int> per_cell(16, 0);
@@ -163,9 +165,10 @@ TEST(GuidedCandidates, NeverOutsideTheWindow)
     {
         const cv::Point2f p(rng.uniform(50.f, 590.f), rng.uniform(50.f, 430.f));
         query.keypoints.emplace_back(p, 7.f);
-        const float a = rng.uniform(0.f, float(2 * M_PI)), r_far = rng.uniform(30.f, 60.f), r_near = rng.uniform(0.f, 12.f);
-        train.keypoints.emplace_back(p + r_far * cv::Point2f(std::cos(a), std::sin(a)), 7.f);       // twin, far
-        train.keypoints.emplace_back(p + r_near * cv::Point2f(std::sin(a), std::cos(a)), 7.f);      // near
+        const float a = rng.uniform(0.f, float(2 * M_PI)), r_far = rng.uniform(30.f, 60.f),
+                    r_near = rng.uniform(0.f, 12.f);
+        train.keypoints.emplace_back(p + r_far * cv::Point2f(std::cos(a), std::sin(a)), 7.f);           // twin, far
+        train.keypoints.emplace_back(p + r_near * cv::Point2f(std::sin(a), std::cos(a)), 7.f);          // near
         train.keypoints.emplace_back(p + 0.5f * r_near * cv::Point2f(std::cos(a), -std::sin(a)), 7.f);  // near
         query.descriptors.row(i).copyTo(train.descriptors.row(3 * i));
     }

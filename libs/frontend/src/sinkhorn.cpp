@@ -8,7 +8,8 @@ SinkhornResult sinkhorn(const Eigen::MatrixXd& cost, double dustbin_cost, double
                         double tolerance, const BoolMatrix* allowed)
 {
     core::require(epsilon >= 0.01 && std::isfinite(epsilon), "sinkhorn", "epsilon must be finite and >= 0.01");
-    core::require(cost.allFinite() && std::isfinite(dustbin_cost), "sinkhorn", "the cost matrix has a non-finite value");
+    core::require(cost.allFinite() && std::isfinite(dustbin_cost), "sinkhorn",
+                  "the cost matrix has a non-finite value");
     core::require(!allowed || (allowed->rows() == cost.rows() && allowed->cols() == cost.cols()), "sinkhorn",
                   "the allowed mask has another size than the cost matrix");
     const int M = int(cost.rows()), N = int(cost.cols());

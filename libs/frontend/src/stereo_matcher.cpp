@@ -66,7 +66,8 @@ std::vector<StereoPoint> StereoMatcher::match(const Features& left, const Featur
     }
     region.train_subsets.resize(L.size());
     for (size_t i = 0; i < L.size(); ++i)
-        for (int r = std::max(0, rowOf(L[i].y()) - band - 1); r <= rowOf(L[i].y()) + band + 1 && r < int(rows.size()); ++r)
+        for (int r = std::max(0, rowOf(L[i].y()) - band - 1); r <= rowOf(L[i].y()) + band + 1 && r < int(rows.size());
+             ++r)
             for (int j : rows[size_t(r)]) region.train_subsets[i].push_back(j);
     region.accept = [&](int i, int j) {
         const double disp = L[i].x() - R[j].x();

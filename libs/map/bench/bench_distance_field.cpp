@@ -36,7 +36,7 @@ int main(int argc, char** argv)
     {
         const std::string layout = argc > 2 ? argv[2] : "auto";
         map::DistanceFieldOptions o;
-        o.layout = layout == "dense" ? map::DistanceFieldLayout::Dense
+        o.layout = layout == "dense"    ? map::DistanceFieldLayout::Dense
                    : layout == "sparse" ? map::DistanceFieldLayout::Sparse
                                         : map::DistanceFieldLayout::Auto;
         if (argc > 3) o.voxel_m = std::stod(argv[3]);
@@ -61,8 +61,8 @@ int main(int argc, char** argv)
         const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t1).count() /
                           double(queries.size());
         const Eigen::Vector3i n = f.dimensions();
-        std::printf("| %s | %zu | %s | %d x %d x %d | %.2f s | %.0f MB | %.0f MB | %.0f MB | %.0f ns | %.3f |\n", argv[1],
-                    map.size(), f.sparse() ? "sparse" : "dense", n.x(), n.y(), n.z(), build_s,
+        std::printf("| %s | %zu | %s | %d x %d x %d | %.2f s | %.0f MB | %.0f MB | %.0f MB | %.0f ns | %.3f |\n",
+                    argv[1], map.size(), f.sparse() ? "sparse" : "dense", n.x(), n.y(), n.z(), build_s,
                     double(f.memoryBytes()) / 1048576.0, loaded_mb, peakResidentMb(), ns, sum / double(queries.size()));
         return 0;
     }

@@ -99,19 +99,25 @@ struct MapCloud
 {
     const map::LidarMap& map;
     size_t kdtree_get_point_count() const { return map.size(); }
-    float kdtree_get_pt(size_t i, size_t axis) const { return axis == 0 ? map.xs()[i] : axis == 1 ? map.ys()[i] : map.zs()[i]; }
+    float kdtree_get_pt(size_t i, size_t axis) const
+    {
+        return axis == 0 ? map.xs()[i] : axis == 1 ? map.ys()[i] : map.zs()[i];
+    }
     template <class Box>
-    bool kdtree_get_bbox(Box&) const { return false; }
+    bool kdtree_get_bbox(Box&) const
+    {
+        return false;
+    }
 };
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, MapCloud>, MapCloud, 3>;
 
 struct Settings
 {
     std::string map_file;
-    int band = 3;        ///< exact band's half-width [voxels]
-    int sweeps = 1;      ///< fast sweeping iterations (8 sweeps each)
-    int threads = 1;     ///< TBB threads for the build
-    bool u16 = false;    ///< store 16-bit fixed point (ours) instead of floats
+    int band = 3;      ///< exact band's half-width [voxels]
+    int sweeps = 1;    ///< fast sweeping iterations (8 sweeps each)
+    int threads = 1;   ///< TBB threads for the build
+    bool u16 = false;  ///< store 16-bit fixed point (ours) instead of floats
     double voxel_m = 0.04, max_distance_m = 0.5;
     std::string ours = "auto";
     bool check = true;
@@ -144,7 +150,7 @@ FloatGrid::Ptr buildVdbField(const map::LidarMap& map, const Eigen::Vector3f& or
     }
     // A point exactly on a voxel centre is "inside" its sphere: ParticlesToLevelSet turns that voxel off at
     // -background; its distance is 0.
-    openvdb::tree::LeafManager<FloatGrid::TreeType>(band->tree()).foreach([](LeafT& leaf, size_t) {
+    openvdb::tree::LeafManager<FloatGrid::TreeType>(band->tree()).foreach ([](LeafT& leaf, size_t) {
         for (auto v = leaf.beginValueOff(); v; ++v)
             if (*v < 0) v.setValue(0.f), v.setValueOn();
     });
@@ -178,7 +184,7 @@ FloatGrid::Ptr buildVdbField(const map::LidarMap& map, const Eigen::Vector3f& or
     {
         openvdb::tree::LeafManager<const FloatGrid::TreeType> leaves(swept->tree());
         std::vector<LeafT*> kept(leaves.leafCount(), nullptr);
-        leaves.foreach([&](const LeafT& in, size_t n) {
+        leaves.foreach ([&](const LeafT& in, size_t n) {
             auto out = std::make_unique<LeafT>(in.origin(), truncation, false);
             bool any = false;
             for (auto v = in.cbeginValueOn(); v; ++v)
@@ -202,7 +208,7 @@ U16Grid::Ptr toU16(const FloatGrid& field, const Decode& decode)
     out->setTransform(field.transform().copy());
     openvdb::tree::LeafManager<const FloatGrid::TreeType> leaves(field.tree());
     std::vector<LeafT*> kept(leaves.leafCount(), nullptr);
-    leaves.foreach([&](const FloatGrid::TreeType::LeafNodeType& in, size_t n) {
+    leaves.foreach ([&](const FloatGrid::TreeType::LeafNodeType& in, size_t n) {
         auto leaf = std::make_unique<LeafT>(in.origin(), uint16_t(65535), false);
         for (auto v = in.cbeginValueOn(); v; ++v) leaf->setValueOn(v.pos(), decode.quantize(*v));
         kept[n] = leaf.release();
@@ -272,7 +278,7 @@ void check(const map::LidarMap& map, const Settings& s, const Grid& vdb, const D
 {
     map::DistanceFieldOptions o;
     o.voxel_m = s.voxel_m, o.max_distance_m = s.max_distance_m, o.margin_m = std::max(1.0, s.max_distance_m);
-    o.layout = s.ours == "dense" ? map::DistanceFieldLayout::Dense
+    o.layout = s.ours == "dense"    ? map::DistanceFieldLayout::Dense
                : s.ours == "sparse" ? map::DistanceFieldLayout::Sparse
                                     : map::DistanceFieldLayout::Auto;
     const map::DistanceField ours = map::DistanceField::build(map, o, s.map_file);
@@ -307,11 +313,13 @@ void check(const map::LidarMap& map, const Settings& s, const Grid& vdb, const D
     {
         const Eigen::Vector3f gi = (p - ours.origin()) / voxel;
         const openvdb::Coord c(int(std::lround(gi.x())), int(std::lround(gi.y())), int(std::lround(gi.z())));
-        const Eigen::Vector3f centre = ours.origin() + voxel * Eigen::Vector3f(float(c.x()), float(c.y()), float(c.z()));
+        const Eigen::Vector3f centre =
+            ours.origin() + voxel * Eigen::Vector3f(float(c.x()), float(c.y()), float(c.z()));
         const float exact_c = std::min(truncation, (centre - nearest(centre)).norm());
         if (exact_c < truncation)
         {
-            of_ours.voxel.add(std::abs(oursVoxel(c) - exact_c)), of_vdb.voxel.add(std::abs(decode(acc.getValue(c)) - exact_c));
+            of_ours.voxel.add(std::abs(oursVoxel(c) - exact_c)),
+                of_vdb.voxel.add(std::abs(decode(acc.getValue(c)) - exact_c));
             if (exact_c <= 2 * voxel)
                 of_ours.voxel_near.add(std::abs(oursVoxel(c) - exact_c)),
                     of_vdb.voxel_near.add(std::abs(decode(acc.getValue(c)) - exact_c));
@@ -372,36 +380,41 @@ void check(const map::LidarMap& map, const Settings& s, const Grid& vdb, const D
     });
     timeBoth(ns_ours, ns_vdb);
 
-    std::printf("\n| map | OpenVDB field | band queries | value difference: max / mean | gradient angle: mean / "
-                "median / p99 / max |\n|---|---|---|---|---|\n");
+    std::printf(
+        "\n| map | OpenVDB field | band queries | value difference: max / mean | gradient angle: mean / "
+        "median / p99 / max |\n|---|---|---|---|---|\n");
     std::printf("| %s | %s | %zu | %.4f / %.5f m | %.2f / %.2f / %.1f / %.1f deg |\n", s.map_file.c_str(),
                 variant.c_str(), difference.n(), difference.max, difference.mean(), difference_angle.mean(),
                 difference_angle.quantile(0.5), difference_angle.quantile(0.99), difference_angle.max);
-    std::printf("\n| map | field | value error at the queries: max / mean | gradient to the exact direction: "
-                "mean / median / p99 | voxel error: max / mean | voxel error within 2 voxels: max / mean | query: "
-                "random / coherent order |\n|---|---|---|---|---|---|---|\n");
+    std::printf(
+        "\n| map | field | value error at the queries: max / mean | gradient to the exact direction: "
+        "mean / median / p99 | voxel error: max / mean | voxel error within 2 voxels: max / mean | query: "
+        "random / coherent order |\n|---|---|---|---|---|---|---|\n");
     for (const bool is_ours : {true, false})
     {
         FieldStats& f = is_ours ? of_ours : of_vdb;
-        std::printf("| %s | %s | %.4f / %.5f m | %.2f / %.2f / %.1f deg | %.4f / %.5f m | %.4f / %.5f m | %.0f / %.0f ns |\n",
-                    s.map_file.c_str(), is_ours ? (ours.sparse() ? "ours, sparse" : "ours, dense") : variant.c_str(),
-                    f.value.max, f.value.mean(), f.angle.mean(), f.angle.quantile(0.5), f.angle.quantile(0.99),
-                    f.voxel.max, f.voxel.mean(), f.voxel_near.max, f.voxel_near.mean(), is_ours ? random_ours : random_vdb,
-                    is_ours ? ns_ours : ns_vdb);
+        std::printf(
+            "| %s | %s | %.4f / %.5f m | %.2f / %.2f / %.1f deg | %.4f / %.5f m | %.4f / %.5f m | %.0f / %.0f ns |\n",
+            s.map_file.c_str(), is_ours ? (ours.sparse() ? "ours, sparse" : "ours, dense") : variant.c_str(),
+            f.value.max, f.value.mean(), f.angle.mean(), f.angle.quantile(0.5), f.angle.quantile(0.99), f.voxel.max,
+            f.voxel.mean(), f.voxel_near.max, f.voxel_near.mean(), is_ours ? random_ours : random_vdb,
+            is_ours ? ns_ours : ns_vdb);
     }
-    std::fprintf(stderr,
-                 "check: %zu band queries (%zu with a zero gradient), %zu query voxels below the truncation (%zu within "
-                 "2 voxels); all %.0f OpenVDB voxels against ours: max %.4f mean %.5f m; coherent means %.4f %.4f "
-                 "(gradient sum %.3g)\n",
-                 difference.n(), zero_gradient, of_ours.voxel.n(), of_ours.voxel_near.n(), active, all_voxels.max,
-                 all_voxels.sum / std::max(1.0, active), sum_ours / double(queries.size()),
-                 sum_vdb / double(queries.size()), gradient_sum);
+    std::fprintf(
+        stderr,
+        "check: %zu band queries (%zu with a zero gradient), %zu query voxels below the truncation (%zu within "
+        "2 voxels); all %.0f OpenVDB voxels against ours: max %.4f mean %.5f m; coherent means %.4f %.4f "
+        "(gradient sum %.3g)\n",
+        difference.n(), zero_gradient, of_ours.voxel.n(), of_ours.voxel_near.n(), active, all_voxels.max,
+        all_voxels.sum / std::max(1.0, active), sum_ours / double(queries.size()), sum_vdb / double(queries.size()),
+        gradient_sum);
 }
 
 int usage()
 {
-    std::cerr << "usage: bench_distance_field_openvdb <map file> [--band N] [--sweeps N] [--threads N] [--values float|u16]"
-                 " [--voxel M] [--max-distance M] [--ours dense|sparse|auto] [--no-check]\n";
+    std::cerr
+        << "usage: bench_distance_field_openvdb <map file> [--band N] [--sweeps N] [--threads N] [--values float|u16]"
+           " [--voxel M] [--max-distance M] [--ours dense|sparse|auto] [--no-check]\n";
     return 2;
 }
 
@@ -453,15 +466,17 @@ void report(const map::LidarMap& map, const Settings& s, const Grid& field, cons
                 s.map_file.c_str(), map.size(), variant.c_str(), dim.x(), dim.y(), dim.z(), build_s,
                 double(field.memUsage()) / 1048576.0, loaded_mb, peak_mb, ns, sum / double(queries.size()));
     std::fflush(stdout);
-    std::fprintf(stderr,
-                 "openvdb %s: rasterise %.2f s, sweep %.2f s (%zu voxels solved, %zu fixed), compact %.2f s; %zu leaves, "
-                 "%llu active voxels; gradient sum %.3g",
-                 OPENVDB_LIBRARY_VERSION_STRING, times.raster, times.sweep, times.swept_voxels, times.boundary_voxels,
-                 times.compact, size_t(field.tree().leafCount()),
-                 static_cast<unsigned long long>(field.activeVoxelCount()), gradient_sum);
+    std::fprintf(
+        stderr,
+        "openvdb %s: rasterise %.2f s, sweep %.2f s (%zu voxels solved, %zu fixed), compact %.2f s; %zu leaves, "
+        "%llu active voxels; gradient sum %.3g",
+        OPENVDB_LIBRARY_VERSION_STRING, times.raster, times.sweep, times.swept_voxels, times.boundary_voxels,
+        times.compact, size_t(field.tree().leafCount()), static_cast<unsigned long long>(field.activeVoxelCount()),
+        gradient_sum);
     if constexpr (std::is_same_v<Grid, FloatGrid>)
-        std::fprintf(stderr, "; GridSampler::wsSample (value) %.0f ns, BoxStencil (value + gradient) %.0f ns, means %.4f %.4f",
-                     ns_sampler, ns_stencil, sum_sampler / double(queries.size()), sum_stencil / double(queries.size()));
+        std::fprintf(
+            stderr, "; GridSampler::wsSample (value) %.0f ns, BoxStencil (value + gradient) %.0f ns, means %.4f %.4f",
+            ns_sampler, ns_stencil, sum_sampler / double(queries.size()), sum_stencil / double(queries.size()));
     std::fprintf(stderr, "\n");
     if (s.check) check(map, s, field, decode, std::move(queries), variant);
 }
@@ -475,19 +490,30 @@ int main(int argc, char** argv)
     {
         const std::string a = argv[i];
         const bool has_value = i + 1 < argc;
-        if (a == "--no-check") s.check = false;
-        else if (a == "--band" && has_value) s.band = std::stoi(argv[++i]);
-        else if (a == "--sweeps" && has_value) s.sweeps = std::stoi(argv[++i]);
-        else if (a == "--threads" && has_value) s.threads = std::stoi(argv[++i]);
-        else if (a == "--values" && has_value && (argv[i + 1] == std::string("float") || argv[i + 1] == std::string("u16")))
+        if (a == "--no-check")
+            s.check = false;
+        else if (a == "--band" && has_value)
+            s.band = std::stoi(argv[++i]);
+        else if (a == "--sweeps" && has_value)
+            s.sweeps = std::stoi(argv[++i]);
+        else if (a == "--threads" && has_value)
+            s.threads = std::stoi(argv[++i]);
+        else if (a == "--values" && has_value &&
+                 (argv[i + 1] == std::string("float") || argv[i + 1] == std::string("u16")))
             s.u16 = argv[++i] == std::string("u16");
-        else if (a == "--voxel" && has_value) s.voxel_m = std::stod(argv[++i]);
-        else if (a == "--max-distance" && has_value) s.max_distance_m = std::stod(argv[++i]);
-        else if (a == "--ours" && has_value) s.ours = argv[++i];
-        else if (a.rfind("--", 0) != 0 && s.map_file.empty()) s.map_file = a;
-        else return usage();
+        else if (a == "--voxel" && has_value)
+            s.voxel_m = std::stod(argv[++i]);
+        else if (a == "--max-distance" && has_value)
+            s.max_distance_m = std::stod(argv[++i]);
+        else if (a == "--ours" && has_value)
+            s.ours = argv[++i];
+        else if (a.rfind("--", 0) != 0 && s.map_file.empty())
+            s.map_file = a;
+        else
+            return usage();
     }
-    if (s.map_file.empty() || s.band < 1 || s.sweeps < 1 || s.threads < 1 || !(s.voxel_m > 0) || !(s.max_distance_m > 0))
+    if (s.map_file.empty() || s.band < 1 || s.sweeps < 1 || s.threads < 1 || !(s.voxel_m > 0) ||
+        !(s.max_distance_m > 0))
         return usage();
     try
     {
@@ -500,7 +526,9 @@ int main(int argc, char** argv)
         const float voxel = float(s.voxel_m), truncation = float(s.max_distance_m);
         const double margin = std::max(1.0, s.max_distance_m);
         const Eigen::Vector3f origin =
-            (((map.bounds().min.cast<double>().array() - margin) / s.voxel_m).floor() * s.voxel_m).matrix().cast<float>();
+            (((map.bounds().min.cast<double>().array() - margin) / s.voxel_m).floor() * s.voxel_m)
+                .matrix()
+                .cast<float>();
         const Decode decode{truncation, truncation / 65535.f};
 
         const auto t0 = Clock::now();
@@ -521,8 +549,10 @@ int main(int argc, char** argv)
                                     (swept ? " + sweep x" + std::to_string(s.sweeps) : std::string(" exact")) +
                                     (s.u16 ? ", 16-bit" : ", float") +
                                     (s.threads > 1 ? ", " + std::to_string(s.threads) + " threads" : std::string());
-        if (s.u16) report(map, s, *field_u16, decode, build_s, loaded_mb, times, variant);
-        else report(map, s, *field, decode, build_s, loaded_mb, times, variant);
+        if (s.u16)
+            report(map, s, *field_u16, decode, build_s, loaded_mb, times, variant);
+        else
+            report(map, s, *field, decode, build_s, loaded_mb, times, variant);
         return 0;
     }
     catch (const std::exception& e)

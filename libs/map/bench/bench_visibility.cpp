@@ -41,7 +41,8 @@ map::LidarMap syntheticRoom(size_t n)
     {
         const Eigen::Vector3f c(lo.x() + 1 + U(rng) * 6, lo.y() + 1 + U(rng) * 6.5f, 0.f);
         const Eigen::Vector3f half(0.2f + U(rng) * 0.5f, 0.2f + U(rng) * 0.5f, 0.3f + U(rng) * 0.8f);
-        boxes.push_back({c - Eigen::Vector3f(half.x(), half.y(), 0), c + Eigen::Vector3f(half.x(), half.y(), 2 * half.z())});
+        boxes.push_back(
+            {c - Eigen::Vector3f(half.x(), half.y(), 0), c + Eigen::Vector3f(half.x(), half.y(), 2 * half.z())});
     }
     map::LidarMap m;
     m.reserve(n);
@@ -62,9 +63,9 @@ std::vector<mrpt::poses::CPose3D> roomPoses()
     const mrpt::poses::CPose3D T_body_cam(0, 0, 0, -M_PI / 2, 0, -M_PI / 2);  // z forward, y down
     for (int h = 0; h < 2; ++h)
         for (int k = 0; k < 8; ++k)
-            poses.push_back(mrpt::poses::CPose3D(-0.5 + 0.3 * h, 0.4 - 0.2 * h, 1.2 + 0.5 * h, k * M_PI / 4,
-                                                 0.15 + 0.1 * h, 0.0) +
-                            T_body_cam);
+            poses.push_back(
+                mrpt::poses::CPose3D(-0.5 + 0.3 * h, 0.4 - 0.2 * h, 1.2 + 0.5 * h, k * M_PI / 4, 0.15 + 0.1 * h, 0.0) +
+                T_body_cam);
     return poses;
 }
 

@@ -46,7 +46,9 @@ std::string plyHeader(size_t n, CloudEncoding e)
 {
     std::ostringstream s;
     s << "ply\nformat "
-      << (e == CloudEncoding::Ascii ? "ascii" : e == CloudEncoding::Binary ? "binary_little_endian" : "binary_big_endian")
+      << (e == CloudEncoding::Ascii    ? "ascii"
+          : e == CloudEncoding::Binary ? "binary_little_endian"
+                                       : "binary_big_endian")
       << " 1.0\ncomment quasiloc LidarMap, intensity = reflectivity in [0, 1]\nelement vertex " << n
       << "\nproperty float x\nproperty float y\nproperty float z\nproperty float intensity\nend_header\n";
     return s.str();
@@ -58,7 +60,10 @@ std::string pcdHeader(size_t n, CloudEncoding e)
     s << "# .PCD v0.7 - Point Cloud Data file format (quasiloc LidarMap, intensity = reflectivity)\n"
       << "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH " << n
       << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << n << "\nDATA "
-      << (e == CloudEncoding::Ascii ? "ascii" : e == CloudEncoding::Binary ? "binary" : "binary_compressed") << "\n";
+      << (e == CloudEncoding::Ascii    ? "ascii"
+          : e == CloudEncoding::Binary ? "binary"
+                                       : "binary_compressed")
+      << "\n";
     return s.str();
 }
 
@@ -92,8 +97,8 @@ CloudEncoding cloudEncodingFromString(const std::string& name, const std::string
     if (n == "binary" || n == "binary_little_endian") return CloudEncoding::Binary;
     if (n == "binary_big_endian") return CloudEncoding::BinaryBigEndian;
     if (n == "binary_compressed") return CloudEncoding::BinaryCompressed;
-    throw core::InputError(input, "unknown encoding '" + name +
-                                      "' (expected ascii, binary, binary_big_endian or binary_compressed)");
+    throw core::InputError(
+        input, "unknown encoding '" + name + "' (expected ascii, binary, binary_big_endian or binary_compressed)");
 }
 
 std::string toString(CloudEncoding e)

@@ -68,12 +68,12 @@ double TokenCursor::number(const std::string& path, const char* element, size_t 
 {
     std::string_view token;
     if (!next(token))
-        throw core::InputError(path, "data ends early (truncated) while reading " + std::string(element) + " #" +
-                                         std::to_string(index));
+        throw core::InputError(
+            path, "data ends early (truncated) while reading " + std::string(element) + " #" + std::to_string(index));
     double v = 0;
     if (!parseNumber(token, v))
-        throw core::InputError(path, "'" + std::string(token) + "' is not a number (" + element + " #" +
-                                         std::to_string(index) + ")");
+        throw core::InputError(
+            path, "'" + std::string(token) + "' is not a number (" + element + " #" + std::to_string(index) + ")");
     return v;
 }
 
@@ -109,8 +109,7 @@ CloudFormat detectCloudFormat(const std::string& path)
     if (ext == ".ply") return CloudFormat::Ply;
     if (ext == ".pcd") return CloudFormat::Pcd;
     if (ext == ".bin") return CloudFormat::KittiBin;
-    if (ext == ".txt" || ext == ".xyz" || ext == ".xyzi" || ext == ".csv" || ext == ".asc")
-        return CloudFormat::Xyzi;
+    if (ext == ".txt" || ext == ".xyz" || ext == ".xyzi" || ext == ".csv" || ext == ".asc") return CloudFormat::Xyzi;
     throw core::InputError(path, "unknown point cloud format (extension '" + ext +
                                      "'; expected .ply, .pcd, .bin (KITTI), .txt/.xyz/.xyzi/.csv/.asc "
                                      "(x y z i text), or give the format explicitly)");
@@ -125,8 +124,7 @@ int intensityFieldRank(const std::string& name)
     if (n == "reflectance") return 3;
     if (n == "scalar_intensity") return 4;
     if (n == "scalar_reflectivity" || n == "scalar_reflectance") return 5;
-    if (n == "scalar_field" || n == "scalarfield" || n == "scalar_scalar_field" || n == "scalar_scalarfield")
-        return 6;
+    if (n == "scalar_field" || n == "scalarfield" || n == "scalar_scalar_field" || n == "scalar_scalarfield") return 6;
     if (n.rfind("scalar_", 0) == 0 && n.size() > 7) return 7;
     if (n == "i") return 8;
     return 0;

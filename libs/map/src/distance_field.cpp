@@ -12,7 +12,6 @@ namespace quasiloc::map
 {
 using detail::kFar;
 
-
 void DistanceFieldOptions::check(const std::string& input) const
 {
     core::require(voxel_m > 0 && std::isfinite(voxel_m), input, "distance field voxel_m must be > 0");
@@ -71,7 +70,8 @@ DistanceField DistanceField::buildDense(const LidarMap& map, DistanceField f, co
     for (size_t n = 0; n < map.size(); ++n)
         detail::nearestInNeighbourhood((map.point(n) - f.origin_) / f.voxel_, grid, near);
     f.d_.resize(d.size());
-    for (size_t v = 0; v < d.size(); ++v) f.d_[v] = f.quantize(detail::finalDistance(near[v], d[v], f.voxel_, f.max_distance_));
+    for (size_t v = 0; v < d.size(); ++v)
+        f.d_[v] = f.quantize(detail::finalDistance(near[v], d[v], f.voxel_, f.max_distance_));
     return f;
 }
 
@@ -112,8 +112,10 @@ float DistanceField::sample(const Eigen::Vector3f& p_world, Eigen::Vector3f* gra
     const float l1 = (1 - b) * ((1 - a) * d001 + a * d101) + b * ((1 - a) * d011 + a * d111);
     if (gradient)
     {
-        const float dx0 = (1 - b) * (d100 - d000) + b * (d110 - d010), dx1 = (1 - b) * (d101 - d001) + b * (d111 - d011);
-        const float dy0 = (1 - a) * (d010 - d000) + a * (d110 - d100), dy1 = (1 - a) * (d011 - d001) + a * (d111 - d101);
+        const float dx0 = (1 - b) * (d100 - d000) + b * (d110 - d010),
+                    dx1 = (1 - b) * (d101 - d001) + b * (d111 - d011);
+        const float dy0 = (1 - a) * (d010 - d000) + a * (d110 - d100),
+                    dy1 = (1 - a) * (d011 - d001) + a * (d111 - d101);
         *gradient = Eigen::Vector3f((1 - c) * dx0 + c * dx1, (1 - c) * dy0 + c * dy1, l1 - l0) / voxel_;
     }
     return (1 - c) * l0 + c * l1;

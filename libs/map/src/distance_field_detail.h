@@ -14,7 +14,8 @@ constexpr float kFar = 1e20f;  ///< "no occupied voxel": larger than any squared
 /** 1-D squared distance transform of f (n samples, stride apart) in place: f'(q) = min_p (q - p)^2 + f(p).
  *  The lower envelope of the parabolas rooted at every sample (Felzenszwalb & Huttenlocher, algorithm DT).
  *  v, z, tmp: scratch of size n, n + 1, n. */
-inline void squaredDistance1d(float* f, int n, size_t stride, std::vector<int>& v, std::vector<float>& z, std::vector<float>& tmp)
+inline void squaredDistance1d(float* f, int n, size_t stride, std::vector<int>& v, std::vector<float>& z,
+                              std::vector<float>& tmp)
 {
     for (int q = 0; q < n; ++q) tmp[q] = f[size_t(q) * stride];
     int k = 0;

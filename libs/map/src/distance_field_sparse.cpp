@@ -57,7 +57,8 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
     {
         const Eigen::Vector3i c(int(b % size_t(f.bx_)), int(b / size_t(f.bx_) % size_t(f.by_)),
                                 int(b / (size_t(f.bx_) * size_t(f.by_))));
-        const Eigen::Vector3i lo = (c.array() - brick_reach).max(0), hi = (c.array() + brick_reach).min(bricks.array() - 1);
+        const Eigen::Vector3i lo = (c.array() - brick_reach).max(0),
+                              hi = (c.array() + brick_reach).min(bricks.array() - 1);
         for (int z = lo.z(); z <= hi.z(); ++z)
             for (int y = lo.y(); y <= hi.y(); ++y)
                 for (int x = lo.x(); x <= hi.x(); ++x) needed[brickIndex({x, y, z})] = 1;
@@ -82,7 +83,8 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
                     for (uint32_t k = it->second.first; k < it->second.second; ++k)
                     {
                         const Eigen::Vector3f g = gridOf(order[k]);
-                        const Eigen::Vector3i v(int(std::lround(g.x())), int(std::lround(g.y())), int(std::lround(g.z())));
+                        const Eigen::Vector3i v(int(std::lround(g.x())), int(std::lround(g.y())),
+                                                int(std::lround(g.z())));
                         if (padded.contains(v.x(), v.y(), v.z())) t.buffer[padded.index(v.x(), v.y(), v.z())] = 0.f;
                         detail::nearestInNeighbourhood(g, core, t.near);
                     }
@@ -98,9 +100,9 @@ DistanceField DistanceField::buildSparse(const LidarMap& map, DistanceField f)
                 {
                     const Eigen::Vector3i v = b * kBrick + Eigen::Vector3i(i, j, k);
                     if (!core.contains(v.x(), v.y(), v.z())) continue;  // beyond the grid
-                    const float d = detail::finalDistance(t.near[core.index(v.x(), v.y(), v.z())],
-                                                          t.buffer[padded.index(v.x(), v.y(), v.z())], f.voxel_,
-                                                          f.max_distance_);
+                    const float d =
+                        detail::finalDistance(t.near[core.index(v.x(), v.y(), v.z())],
+                                              t.buffer[padded.index(v.x(), v.y(), v.z())], f.voxel_, f.max_distance_);
                     values[size_t((k * kBrick + j) * kBrick + i)] = f.quantize(d);
                     below = below || d < f.max_distance_;
                 }

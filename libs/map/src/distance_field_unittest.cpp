@@ -81,9 +81,9 @@ TEST(DistanceField, GradientIsTheInterpolantsDerivative)
         for (int n = 0; n < 200; ++n)
         {
             // Inside a cell: the trilinear interpolant is smooth there (its derivative jumps across cell faces).
-            const Eigen::Vector3f p = f.origin() + 0.05f * Eigen::Vector3f(float(cell(rng)) + inside(rng),
-                                                                           float(cell(rng)) + inside(rng),
-                                                                           float(cell(rng)) + inside(rng));
+            const Eigen::Vector3f p =
+                f.origin() + 0.05f * Eigen::Vector3f(float(cell(rng)) + inside(rng), float(cell(rng)) + inside(rng),
+                                                     float(cell(rng)) + inside(rng));
             Eigen::Vector3f g;
             f.distance(p, g);
             for (int a = 0; a < 3; ++a)
@@ -119,7 +119,8 @@ TEST(DistanceField, RejectsAGridAboveTheLimitAndAnEmptyMap)
         EXPECT_NE(std::string(e.what()).find("room.map"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("max_voxels"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(map::DistanceField::build(map::LidarMap(), map::DistanceFieldOptions(), "empty.map"), core::InputError);
+    EXPECT_THROW(map::DistanceField::build(map::LidarMap(), map::DistanceFieldOptions(), "empty.map"),
+                 core::InputError);
     o = map::DistanceFieldOptions();
     o.voxel_m = 0;
     EXPECT_THROW(map::DistanceField::build(testMap(), o), core::InputError);

@@ -18,8 +18,7 @@ inline uint64_t cellBit(const Eigen::Vector3f& q, float size)
 
 FreeSpaceCarver::FreeSpaceCarver(const CarvingOptions& options)
     : options_(options), inv_(float(1.0 / options.voxel_m)), grid_(1 << 14)
-{
-}
+{}
 
 void FreeSpaceCarver::addHits(const WorldScan& scan, int scan_id)
 {

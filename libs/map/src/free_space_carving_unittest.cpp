@@ -106,9 +106,12 @@ Counts carveScene(const CarvingOptions& options, int scans_with_box, int scans_w
         {
             const bool free = carver.isFree(p);
             if (inside(p, kMovingBox)) c.box += 1, c.box_free += free;
-            if (inside(p, kMovingBox) && p.z() > kCarvableHeightM) c.box_high += 1, c.box_high_free += free;
-            else if (inside(p, kWall)) c.wall += 1, c.wall_free += free;
-            else c.ground += 1, c.ground_free += free;
+            if (inside(p, kMovingBox) && p.z() > kCarvableHeightM)
+                c.box_high += 1, c.box_high_free += free;
+            else if (inside(p, kWall))
+                c.wall += 1, c.wall_free += free;
+            else
+                c.ground += 1, c.ground_free += free;
         }
     return c;
 }
@@ -164,8 +167,8 @@ TEST(FreeSpaceCarving, GrazingRaysWithoutClearanceCutTheGround)
 
 TEST(VoxelHash, PackUnpackAndGrowth)
 {
-    for (const Eigen::Vector3i& v : {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(-1, 2, -3),
-                                    Eigen::Vector3i((1 << 20) - 1, -(1 << 20), 17)})
+    for (const Eigen::Vector3i& v :
+         {Eigen::Vector3i(0, 0, 0), Eigen::Vector3i(-1, 2, -3), Eigen::Vector3i((1 << 20) - 1, -(1 << 20), 17)})
     {
         VoxelKey k = 0;
         ASSERT_TRUE(packVoxel(v, k));

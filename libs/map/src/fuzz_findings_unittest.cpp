@@ -46,10 +46,11 @@ TEST(FuzzFindings, PlyElementCountBeyondTheFileIsAnError)
 TEST(FuzzFindings, PlyListLengthThatIsNotACountIsAnError)
 {
     for (const float length : {1e30f, std::nanf(""), -1.f, 2.5f})
-        expectCloudError("ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                         "property float z\nproperty float i\nproperty list float uchar extra\nend_header\n" +
-                             raw(1.f) + raw(2.f) + raw(3.f) + raw(4.f) + raw(length) + "abc",
-                         CloudFormat::Ply, "bad list length");
+        expectCloudError(
+            "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+            "property float z\nproperty float i\nproperty list float uchar extra\nend_header\n" +
+                raw(1.f) + raw(2.f) + raw(3.f) + raw(4.f) + raw(length) + "abc",
+            CloudFormat::Ply, "bad list length");
 }
 
 // fuzz_pcd: "WIDTH 1e20" was cast to size_t (undefined behaviour, UBSan).
@@ -65,9 +66,11 @@ TEST(FuzzFindings, PcdCountProductsThatOverflowAreErrors)
 {
     expectCloudError(kPcdFields + "WIDTH 8589934592\nHEIGHT 8589934592\nDATA binary\n", CloudFormat::Pcd,
                      "WIDTH * HEIGHT overflows");
-    expectCloudError("FIELDS x y z intensity\nSIZE 8 4 4 4\nTYPE F F F F\nCOUNT 1099511627776 1 1 1\n"
-                     "WIDTH 1099511627776\nHEIGHT 1\nDATA binary\n" + std::string(64, '\0'),
-                     CloudFormat::Pcd, "truncated binary data");
+    expectCloudError(
+        "FIELDS x y z intensity\nSIZE 8 4 4 4\nTYPE F F F F\nCOUNT 1099511627776 1 1 1\n"
+        "WIDTH 1099511627776\nHEIGHT 1\nDATA binary\n" +
+            std::string(64, '\0'),
+        CloudFormat::Pcd, "truncated binary data");
 }
 
 // fuzz_pcd (in the 10-minute run): fields with COUNT 0 made a record of 0 bytes, so no data was needed, yet the first
@@ -75,9 +78,11 @@ TEST(FuzzFindings, PcdCountProductsThatOverflowAreErrors)
 TEST(FuzzFindings, PcdFieldWithCountZeroIsAnError)
 {
     for (const char* data : {"binary", "binary_compressed", "ascii"})
-        expectCloudError("FIELDS x y z intensity\nSIZE 8 4 4 4\nTYPE I F F F\nCOUNT 0 0 0 0\nWIDTH 37\nHEIGHT 1\n"
-                         "DATA " + std::string(data) + "\n\xf3\xf3",
-                         CloudFormat::Pcd, "has COUNT 0");
+        expectCloudError(
+            "FIELDS x y z intensity\nSIZE 8 4 4 4\nTYPE I F F F\nCOUNT 0 0 0 0\nWIDTH 37\nHEIGHT 1\n"
+            "DATA " +
+                std::string(data) + "\n\xf3\xf3",
+            CloudFormat::Pcd, "has COUNT 0");
 }
 
 // binary_compressed: the announced uncompressed size (up to 4 GB) was allocated before the 8 compressed bytes were
@@ -101,8 +106,8 @@ TEST(FuzzFindings, LidarMapPointCountBeyondTheFileIsAnError)
     // An uncompressed archive (gzip reads it as is): the object header (0x80 | name length, class name, version
     // byte), then the uint32 point count, here 4 G points in a 231-byte file.
     const std::string name = "mrpt::maps::CPointsMapXYZI";
-    const std::string archive = std::string(1, char(0x80 | name.size())) + name + '\0' +
-                                raw(uint32_t(0xF0000000u)) + std::string(200, '\0');
+    const std::string archive =
+        std::string(1, char(0x80 | name.size())) + name + '\0' + raw(uint32_t(0xF0000000u)) + std::string(200, '\0');
     std::ofstream(bad, std::ios::binary) << archive;
     expectInputError([&] { LidarMap::load(bad); }, bad, "points announced");
     EXPECT_EQ(LidarMap::load(good).size(), 5u);

@@ -14,10 +14,8 @@ namespace
 class WireReader
 {
    public:
-    WireReader(const uint8_t* begin, const uint8_t* end, const std::string& input)
-        : p_(begin), end_(end), input_(input)
-    {
-    }
+    WireReader(const uint8_t* begin, const uint8_t* end, const std::string& input) : p_(begin), end_(end), input_(input)
+    {}
     bool done() const { return p_ >= end_; }
     size_t offset(const uint8_t* base) const { return static_cast<size_t>(p_ - base); }
 
@@ -57,9 +55,15 @@ class WireReader
         switch (wire_type)
         {
             case 0: varint(); break;
-            case 1: need(8); p_ += 8; break;
+            case 1:
+                need(8);
+                p_ += 8;
+                break;
             case 2: sub(); break;
-            case 5: need(4); p_ += 4; break;
+            case 5:
+                need(4);
+                p_ += 4;
+                break;
             default: throw core::InputError(input_, "unsupported protobuf wire type " + std::to_string(wire_type));
         }
     }
@@ -129,9 +133,9 @@ std::vector<GmmComponent> decodeGmm(const std::vector<uint8_t>& bytes, const std
         const std::string where = input + " (component " + std::to_string(comps.size()) + ")";
         comps.push_back(decodeComponent(r.sub(), where));
     }
-    core::require(comps.size() == count, input,
-                  "header announces " + std::to_string(count) + " components, file holds " +
-                      std::to_string(comps.size()));
+    core::require(
+        comps.size() == count, input,
+        "header announces " + std::to_string(count) + " components, file holds " + std::to_string(comps.size()));
     return comps;
 }
 

@@ -75,9 +75,9 @@ TEST(GmmSurface, PointCountFollowsDensityTimesArea)
 TEST(GmmSurface, SkipsAndCountsComponentsThatAreNotFlat)
 {
     const Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    std::vector<GmmComponent> comps = {component({0, 0, 0}, {0.001, 0.1, 0.1}, R),   // flat
-                                       component({1, 0, 0}, {0.08, 0.1, 0.12}, R),   // blob: 0.8
-                                       component({2, 0, 0}, {0.0, 0.0, 0.1}, R)};    // a line: no surface
+    std::vector<GmmComponent> comps = {component({0, 0, 0}, {0.001, 0.1, 0.1}, R),  // flat
+                                       component({1, 0, 0}, {0.08, 0.1, 0.12}, R),  // blob: 0.8
+                                       component({2, 0, 0}, {0.0, 0.0, 0.1}, R)};   // a line: no surface
     comps[0].is_degenerated = true;
     GmmSurfaceOptions o;
     GmmSurfaceStats st;
@@ -104,7 +104,8 @@ TEST(GmmSurface, IsDeterministicForASeed)
     for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a.point(i), b.point(i));
     // A component's points do not depend on the components before it.
     const LidarMap second = sampleGmmSurfaces({comps[0], comps[1]}, o);
-    const LidarMap first_skipped = sampleGmmSurfaces({component({0, 0, 0}, {0.1, 0.1, 0.1}, Eigen::Matrix3d::Identity()), comps[1]}, o);
+    const LidarMap first_skipped =
+        sampleGmmSurfaces({component({0, 0, 0}, {0.1, 0.1, 0.1}, Eigen::Matrix3d::Identity()), comps[1]}, o);
     const size_t n0 = sampleGmmSurfaces({comps[0]}, o).size();
     ASSERT_EQ(second.size() - n0, first_skipped.size());
     for (size_t i = 0; i < first_skipped.size(); ++i) ASSERT_EQ(second.point(n0 + i), first_skipped.point(i));
@@ -122,7 +123,8 @@ TEST(GmmSurface, RejectsBadOptionsAndHugeComponents)
         return [o, &comps] { sampleGmmSurfaces(comps, o, nullptr, "room.gmm"); };
     };
     test::expectInputError(with([](GmmSurfaceOptions& o) { o.density_per_m2 = 0; }), "room.gmm", "density_per_m2");
-    test::expectInputError(with([](GmmSurfaceOptions& o) { o.truncation_sigma = NAN; }), "room.gmm", "truncation_sigma");
+    test::expectInputError(with([](GmmSurfaceOptions& o) { o.truncation_sigma = NAN; }), "room.gmm",
+                           "truncation_sigma");
     test::expectInputError(with([](GmmSurfaceOptions& o) { o.reflectivity = 1.5; }), "room.gmm", "reflectivity");
     test::expectInputError(with([](GmmSurfaceOptions& o) { o.max_flatness = -1; }), "room.gmm", "max_flatness");
     const std::vector<GmmComponent> huge = {component({0, 0, 0}, {0.001, 100, 100}, Eigen::Matrix3d::Identity())};

@@ -67,14 +67,10 @@ FolderScanSource::FolderScanSource(const std::string& folder, CloudFormat format
         format_ = detectCloudFormat(files_.front());
         for (const std::string& f : files_)
             core::require(detectCloudFormat(f) == format_, folder,
-                          "holds scans of more than one format (" + files_.front() + ", " + f +
-                              "): set scan_format");
+                          "holds scans of more than one format (" + files_.front() + ", " + f + "): set scan_format");
     }
 }
 
-LidarScan FolderScanSource::read(size_t i) const
-{
-    return scanFromCloud(readCloud(files_.at(i), format_), files_[i]);
-}
+LidarScan FolderScanSource::read(size_t i) const { return scanFromCloud(readCloud(files_.at(i), format_), files_[i]); }
 
 }  // namespace quasiloc::map

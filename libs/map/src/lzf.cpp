@@ -6,8 +6,8 @@ namespace quasiloc::map
 {
 namespace
 {
-constexpr size_t kMaxLiteral = 32;     // a literal run is 1..32 bytes
-constexpr size_t kMaxOffset = 8192;    // 13-bit offset (+1)
+constexpr size_t kMaxLiteral = 32;   // a literal run is 1..32 bytes
+constexpr size_t kMaxOffset = 8192;  // 13-bit offset (+1)
 constexpr size_t kMaxMatch = 7 + 255 + 2;
 constexpr int kHashBits = 15;
 

@@ -14,16 +14,20 @@ void MapBuildOptions::declare(core::OptionTable& t)
               "(not implemented yet)");
     t.add("scan_folder", scan_folder, "the folder of scans (KITTI .bin, .pcd or .ply), read in file-name order");
     t.addEnum("scan_format", scan_format,
-              {{"auto", CloudFormat::Auto}, {"kitti", CloudFormat::KittiBin}, {"pcd", CloudFormat::Pcd},
+              {{"auto", CloudFormat::Auto},
+               {"kitti", CloudFormat::KittiBin},
+               {"pcd", CloudFormat::Pcd},
                {"ply", CloudFormat::Ply}},
               "the scans' format; auto = from the extensions (one format per folder)");
     t.add("trajectory", trajectory, "the LiDAR-carrying body's poses T_world_body: a TUM file or KITTI poses");
-    t.addEnum("trajectory_format", trajectory_format, {{"tum", TrajectoryFormat::Tum}, {"kitti", TrajectoryFormat::Kitti}},
+    t.addEnum("trajectory_format", trajectory_format,
+              {{"tum", TrajectoryFormat::Tum}, {"kitti", TrajectoryFormat::Kitti}},
               "tum: t x y z qx qy qz qw per line; kitti: a 3x4 row-major matrix per line, line k = frame k");
-    t.addEnum("scan_times", scan_times,
-              {{"names", ScanTimeSource::FileNames}, {"file", ScanTimeSource::TimesFile}, {"order", ScanTimeSource::Order}},
-              "a scan's time (TUM) or frame (KITTI): the number its file name spells, scan_times_file's line, or "
-              "its index in file-name order");
+    t.addEnum(
+        "scan_times", scan_times,
+        {{"names", ScanTimeSource::FileNames}, {"file", ScanTimeSource::TimesFile}, {"order", ScanTimeSource::Order}},
+        "a scan's time (TUM) or frame (KITTI): the number its file name spells, scan_times_file's line, or "
+        "its index in file-name order");
     t.add("scan_times_file", scan_times_file, "scan_times = file: one time per line, in the scans' file-name order");
     t.add("scan_time_scale", scan_time_scale, "s", Range::above(0),
           "TUM: seconds per unit of the names' or times file's numbers (1e-9 for nanoseconds)");
@@ -46,8 +50,10 @@ void MapBuildOptions::declare(core::OptionTable& t)
               "ring numbers for the per-ring gain: the scans' ring field, estimated from azimuth wraps (scans stored "
               "laser by laser, as KITTI .bin), or none");
     t.addEnum("reflectivity_normalisation", reflectivity_normalisation,
-              {{"range_ring", ReflectivityNormalisation::RangeRing}, {"range", ReflectivityNormalisation::Range},
-               {"ring", ReflectivityNormalisation::Ring}, {"none", ReflectivityNormalisation::None}},
+              {{"range_ring", ReflectivityNormalisation::RangeRing},
+               {"range", ReflectivityNormalisation::Range},
+               {"ring", ReflectivityNormalisation::Ring},
+               {"none", ReflectivityNormalisation::None}},
               "gains fitted from the scans themselves (scan_fusion.h): per range bin and/or per ring; none = raw");
     t.add("range_bin_m", range_bin_m, "m", Range::above(0), "width of the range bins of the range gain");
     t.add("intensity_scale", intensity_scale, "", Range::atLeast(0),
@@ -67,7 +73,8 @@ void MapBuildOptions::declare(core::OptionTable& t)
     t.add("export_cloud", export_cloud, "optional: the map also as a cloud (.ply .pcd .bin .txt), to inspect");
     t.add("export_removed", export_removed, "optional: the carved-away points as a cloud, to inspect");
     t.addEnum("export_encoding", export_encoding,
-              {{"binary", CloudEncoding::Binary}, {"ascii", CloudEncoding::Ascii},
+              {{"binary", CloudEncoding::Binary},
+               {"ascii", CloudEncoding::Ascii},
                {"binary_big_endian", CloudEncoding::BinaryBigEndian},
                {"binary_compressed", CloudEncoding::BinaryCompressed}},
               "encoding of the exports (PLY: no binary_compressed; PCD: no binary_big_endian)");

@@ -13,10 +13,7 @@ namespace
 {
 void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
-std::string kittiLine(double x)
-{
-    return "1 0 0 " + std::to_string(x) + " 0 1 0 0 0 0 1 0\n";
-}
+std::string kittiLine(double x) { return "1 0 0 " + std::to_string(x) + " 0 1 0 0 0 0 1 0\n"; }
 
 /** Scans held in memory, one per name. */
 class MemorySource : public ScanSource
@@ -42,8 +39,11 @@ TEST(ScanPoses, KittiPosesByFileNumber)
     EXPECT_NEAR(poses.T_world_lidar(1).translation().z(), 2.0, 1e-12);
     // Half a frame later: half way to the next pose (per-point deskewing).
     EXPECT_NEAR(poses.T_world_lidar(1, 0.05).translation().x(), 2.5, 1e-9);
-    expectInputError([&] { ScanPoses(o, {"/d/0000000000.bin", "/d/0000000004.bin"}); }, "0000000004.bin",
-                     "needs pose line 5");
+    expectInputError(
+        [&] {
+            ScanPoses(o, {"/d/0000000000.bin", "/d/0000000004.bin"});
+        },
+        "0000000004.bin", "needs pose line 5");
     o.times = ScanTimeSource::Order;
     const ScanPoses by_order(o, {"a.bin", "b.bin", "c.bin"});
     EXPECT_NEAR(by_order.T_world_lidar(2).translation().x(), 2.0, 1e-12);
@@ -145,8 +145,9 @@ TEST(MapBuild, PerPointTimeAndRingFields)
     EXPECT_NEAR(ply.time[0], -0.02, 1e-7);
     EXPECT_EQ(ply.ring[0], 7);
     // A cloud without such fields has none (KITTI .bin never has).
-    writeText(dir.file("plain.pcd"), "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
-                                     "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3 4\n");
+    writeText(dir.file("plain.pcd"),
+              "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+              "WIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3 4\n");
     EXPECT_TRUE(readCloud(dir.file("plain.pcd")).time.empty());
 }
 
@@ -172,7 +173,8 @@ TEST(MapBuild, DeskewMovesEachPointWithItsOwnPose)
         scan.time_s.push_back(t);
     }
     ScanFilter filter;
-    const WorldScan skewed = toWorld(LidarScan(scan), poses, 0, ScanFilter{filter.min_range_m, filter.max_range_m, false});
+    const WorldScan skewed =
+        toWorld(LidarScan(scan), poses, 0, ScanFilter{filter.min_range_m, filter.max_range_m, false});
     const WorldScan deskewed = toWorld(LidarScan(scan), poses, 0, filter);
     ASSERT_TRUE(deskewed.deskewed);
     ASSERT_FALSE(skewed.deskewed);

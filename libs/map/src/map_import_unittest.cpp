@@ -29,12 +29,15 @@ TEST(MapImport, FormatDetectionAndNames)
     EXPECT_EQ(detectCloudFormat("a/b/c.PLY"), CloudFormat::Ply);
     EXPECT_EQ(detectCloudFormat("scan.pcd"), CloudFormat::Pcd);
     EXPECT_EQ(detectCloudFormat("000000.bin"), CloudFormat::KittiBin);
-    for (const char* f : {"a.txt", "a.xyz", "a.xyzi", "a.csv", "a.asc"}) EXPECT_EQ(detectCloudFormat(f), CloudFormat::Xyzi);
+    for (const char* f : {"a.txt", "a.xyz", "a.xyzi", "a.csv", "a.asc"})
+        EXPECT_EQ(detectCloudFormat(f), CloudFormat::Xyzi);
     expectInputError([] { detectCloudFormat("cloud.las"); }, "cloud.las", "unknown point cloud format");
     expectInputError([] { detectCloudFormat("noext"); }, "noext", "unknown point cloud format");
-    for (const CloudFormat f : {CloudFormat::Auto, CloudFormat::Ply, CloudFormat::Pcd, CloudFormat::KittiBin, CloudFormat::Xyzi})
+    for (const CloudFormat f :
+         {CloudFormat::Auto, CloudFormat::Ply, CloudFormat::Pcd, CloudFormat::KittiBin, CloudFormat::Xyzi})
         EXPECT_EQ(cloudFormatFromString(toString(f), "format"), f);
-    expectInputError([] { cloudFormatFromString("las", "[MapImport] format"); }, "[MapImport] format", "unknown cloud format");
+    expectInputError([] { cloudFormatFromString("las", "[MapImport] format"); }, "[MapImport] format",
+                     "unknown cloud format");
     EXPECT_EQ(intensityFieldRank("Intensity"), 1);
     EXPECT_EQ(intensityFieldRank("scalar field"), 6);
     EXPECT_EQ(intensityFieldRank("rgb"), 0);
@@ -49,10 +52,10 @@ TEST(MapImport, ExportThenReadRoundTripsEveryFormatAndEncoding)
     {
         const char* file;
         CloudEncoding enc;
-    } cases[] = {{"a.ply", CloudEncoding::Ascii},  {"b.ply", CloudEncoding::Binary},
+    } cases[] = {{"a.ply", CloudEncoding::Ascii},           {"b.ply", CloudEncoding::Binary},
                  {"c.ply", CloudEncoding::BinaryBigEndian}, {"d.pcd", CloudEncoding::Ascii},
-                 {"e.pcd", CloudEncoding::Binary}, {"f.pcd", CloudEncoding::BinaryCompressed},
-                 {"g.bin", CloudEncoding::Binary}, {"h.xyzi", CloudEncoding::Ascii}};
+                 {"e.pcd", CloudEncoding::Binary},          {"f.pcd", CloudEncoding::BinaryCompressed},
+                 {"g.bin", CloudEncoding::Binary},          {"h.xyzi", CloudEncoding::Ascii}};
     for (const auto& c : cases)
     {
         SCOPED_TRACE(c.file);
@@ -214,7 +217,8 @@ TEST(MapImport, ImportPipelineWith8BitIntensities)
     TempDir dir;
     std::mt19937 rng(2);
     std::vector<Column> cols;
-    for (const char* a : {"x", "y", "z"}) cols.push_back({a, ScalarType::Float32, randomValues(1000, ScalarType::Float32, 0, 10, rng)});
+    for (const char* a : {"x", "y", "z"})
+        cols.push_back({a, ScalarType::Float32, randomValues(1000, ScalarType::Float32, 0, 10, rng)});
     cols.push_back({"intensity", ScalarType::UInt8, randomValues(1000, ScalarType::UInt8, 0, 200, rng)});
     const std::string path = dir.file("eight_bit.pcd");
     writePcd(path, "binary_compressed", cols);

@@ -53,18 +53,25 @@ void parseHeaderLine(const std::vector<std::string>& w, PcdHeader& h, std::vecto
     if (key == "version" || key == "viewpoint") return;
     if (key == "fields" || key == "columns")
         for (size_t k = 1; k < w.size(); ++k) h.fields.push_back({w[k]});
-    else if (key == "size") sizes.assign(w.begin() + 1, w.end());
-    else if (key == "type") types.assign(w.begin() + 1, w.end());
-    else if (key == "count") counts.assign(w.begin() + 1, w.end());
-    else if (key == "width" && w.size() == 2) h.width = parseCount(w[1], path, "WIDTH");
-    else if (key == "height" && w.size() == 2) h.height = parseCount(w[1], path, "HEIGHT");
+    else if (key == "size")
+        sizes.assign(w.begin() + 1, w.end());
+    else if (key == "type")
+        types.assign(w.begin() + 1, w.end());
+    else if (key == "count")
+        counts.assign(w.begin() + 1, w.end());
+    else if (key == "width" && w.size() == 2)
+        h.width = parseCount(w[1], path, "WIDTH");
+    else if (key == "height" && w.size() == 2)
+        h.height = parseCount(w[1], path, "HEIGHT");
     else if (key == "points" && w.size() == 2)
     {
         h.points = parseCount(w[1], path, "POINTS");
         h.have_points = true;
     }
-    else if (key == "data" && w.size() == 2) h.data = detail::lowerCase(w[1]);
-    else throw core::InputError(path, "PCD header: unexpected line starting with '" + w[0] + "'");
+    else if (key == "data" && w.size() == 2)
+        h.data = detail::lowerCase(w[1]);
+    else
+        throw core::InputError(path, "PCD header: unexpected line starting with '" + w[0] + "'");
 }
 
 /** Checks and completes the field list (SIZE/TYPE/COUNT per field, offsets, record size). */
@@ -97,9 +104,9 @@ void finishFields(PcdHeader& h, const std::vector<std::string>& sizes, const std
     }
     h.record_size = offset;
     size_t width_x_height = 0;
-    core::require(detail::multiply(h.width, h.height, width_x_height), path,
-                  "PCD header: WIDTH * HEIGHT overflows (" + std::to_string(h.width) + " * " +
-                      std::to_string(h.height) + ")");
+    core::require(
+        detail::multiply(h.width, h.height, width_x_height), path,
+        "PCD header: WIDTH * HEIGHT overflows (" + std::to_string(h.width) + " * " + std::to_string(h.height) + ")");
     if (!h.have_points) h.points = width_x_height;
     core::require(h.points == width_x_height, path,
                   "PCD header: POINTS (" + std::to_string(h.points) + ") != WIDTH * HEIGHT (" +
@@ -164,12 +171,13 @@ FieldChoice chooseFields(const PcdHeader& h, const std::string& path, std::strin
     core::require(c.x >= 0 && c.y >= 0 && c.z >= 0, path, "PCD fields lack x, y or z (fields: " + names + ")");
     core::require(c.intensity >= 0, path,
                   "no intensity field: the PCD has no field named intensity, reflectivity, reflectance, i or "
-                  "scalar_* (fields: " + names + ")");
+                  "scalar_* (fields: " +
+                      names + ")");
     return c;
 }
 
-void readAscii(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c,
-               const std::string& path, RawCloud& cloud)
+void readAscii(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c, const std::string& path,
+               RawCloud& cloud)
 {
     detail::TokenCursor cur(bytes.data() + h.data_offset, bytes.data() + bytes.size());
     std::vector<double> first(h.fields.size(), 0.0);
@@ -222,8 +230,8 @@ void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c,
     }
 }
 
-void readBinary(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c,
-                const std::string& path, RawCloud& cloud)
+void readBinary(const std::vector<uint8_t>& bytes, const PcdHeader& h, const FieldChoice& c, const std::string& path,
+                RawCloud& cloud)
 {
     size_t need = 0;
     const size_t have = bytes.size() - h.data_offset;
@@ -253,8 +261,8 @@ void readCompressed(const std::vector<uint8_t>& bytes, const PcdHeader& h, const
             detail::decodeScalar(bytes.data() + h.data_offset + 4 * k, ScalarType::UInt32, detail::hostIsBigEndian()));
     size_t need = 0;
     core::require(detail::multiply(h.points, h.record_size, need) && sizes[1] == need, path,
-                  "binary_compressed: uncompressed size " + std::to_string(sizes[1]) + " != " +
-                      std::to_string(h.points) + " points * " + std::to_string(h.record_size) + " bytes");
+                  "binary_compressed: uncompressed size " + std::to_string(sizes[1]) +
+                      " != " + std::to_string(h.points) + " points * " + std::to_string(h.record_size) + " bytes");
     core::require(have - 8 >= sizes[0], path,
                   "truncated binary_compressed data: " + std::to_string(sizes[0]) + " compressed bytes announced, " +
                       std::to_string(have - 8) + " present");

@@ -12,12 +12,13 @@ namespace
 {
 const char* kDataEncodings[] = {"ascii", "binary", "binary_compressed"};
 
-std::vector<Column> makeColumns(size_t n, ScalarType coord_type, const std::string& iname, ScalarType itype,
-                                double ilo, double ihi, uint32_t seed)
+std::vector<Column> makeColumns(size_t n, ScalarType coord_type, const std::string& iname, ScalarType itype, double ilo,
+                                double ihi, uint32_t seed)
 {
     std::mt19937 rng(seed);
     std::vector<Column> cols;
-    for (const char* axis : {"x", "y", "z"}) cols.push_back({axis, coord_type, randomValues(n, coord_type, -80, 80, rng)});
+    for (const char* axis : {"x", "y", "z"})
+        cols.push_back({axis, coord_type, randomValues(n, coord_type, -80, 80, rng)});
     cols.push_back({iname, itype, randomValues(n, itype, ilo, ihi, rng)});
     return cols;
 }
@@ -51,9 +52,9 @@ TEST(PcdReader, RoundTripEveryEncodingAndType)
     {
         ScalarType type;
         double lo, hi;
-    } types[] = {{ScalarType::Int8, -128, 127},   {ScalarType::UInt8, 0, 255},    {ScalarType::Int16, -3e4, 3e4},
-                 {ScalarType::UInt16, 0, 65535},  {ScalarType::Int32, -1e9, 1e9}, {ScalarType::UInt32, 0, 4e9},
-                 {ScalarType::Int64, -1e12, 1e12}, {ScalarType::UInt64, 0, 1e12}, {ScalarType::Float32, 0, 1},
+    } types[] = {{ScalarType::Int8, -128, 127},    {ScalarType::UInt8, 0, 255},    {ScalarType::Int16, -3e4, 3e4},
+                 {ScalarType::UInt16, 0, 65535},   {ScalarType::Int32, -1e9, 1e9}, {ScalarType::UInt32, 0, 4e9},
+                 {ScalarType::Int64, -1e12, 1e12}, {ScalarType::UInt64, 0, 1e12},  {ScalarType::Float32, 0, 1},
                  {ScalarType::Float64, 0, 300}};
     uint32_t seed = 1;
     for (const char* data : kDataEncodings)
@@ -80,8 +81,8 @@ TEST(PcdReader, CountsPaddingAndOtherFieldsAreSkipped)
         auto cols = makeColumns(123, ScalarType::Float32, "i", ScalarType::UInt8, 0, 255, 4);
         // Fields in an unusual order, a padding field, a COUNT > 1 field (first element is the value).
         cols.insert(cols.begin(), Column{"_", ScalarType::UInt8, std::vector<double>(123, 0.0), 3});
-        cols.insert(cols.begin() + 2, Column{"normal", ScalarType::Float32,
-                                             randomValues(123, ScalarType::Float32, -1, 1, rng), 3});
+        cols.insert(cols.begin() + 2,
+                    Column{"normal", ScalarType::Float32, randomValues(123, ScalarType::Float32, -1, 1, rng), 3});
         cols[3].count = 2;  // y, with a decoy second element
         cols.push_back({"ring", ScalarType::UInt16, randomValues(123, ScalarType::UInt16, 0, 63, rng)});
         const std::string path = dir.file("layout.pcd");

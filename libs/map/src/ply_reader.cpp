@@ -77,10 +77,14 @@ PlyHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path
         {
             core::require(w.size() >= 2, path, where + ": format line without encoding");
             h.encoding_name = w[1];
-            if (w[1] == "ascii") h.encoding = PlyEncoding::Ascii;
-            else if (w[1] == "binary_little_endian") h.encoding = PlyEncoding::BinaryLE;
-            else if (w[1] == "binary_big_endian") h.encoding = PlyEncoding::BinaryBE;
-            else throw core::InputError(path, where + ": unknown PLY encoding '" + w[1] + "'");
+            if (w[1] == "ascii")
+                h.encoding = PlyEncoding::Ascii;
+            else if (w[1] == "binary_little_endian")
+                h.encoding = PlyEncoding::BinaryLE;
+            else if (w[1] == "binary_big_endian")
+                h.encoding = PlyEncoding::BinaryBE;
+            else
+                throw core::InputError(path, where + ": unknown PLY encoding '" + w[1] + "'");
             have_format = true;
         }
         else if (w[0] == "element")
@@ -161,7 +165,8 @@ VertexLayout findVertexLayout(const PlyElement& vertex, const std::string& path,
                   "the vertex element lacks x, y or z (properties: " + names + ")");
     core::require(L.intensity >= 0, path,
                   "no intensity field: the vertex element has no property named intensity, reflectivity, "
-                  "reflectance, scalar_* or i (properties: " + names + ")");
+                  "reflectance, scalar_* or i (properties: " +
+                      names + ")");
     return L;
 }
 
@@ -238,8 +243,8 @@ void readBinary(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ve
         cloud.push(val[0], val[1], val[2], val[3]);
         if (L.time >= 0) cloud.time.push_back(detail::decodeScalar(record_base + off[L.time], P[L.time].type, swap));
         if (L.ring >= 0)
-            cloud.ring.push_back(static_cast<uint16_t>(std::clamp(
-                detail::decodeScalar(record_base + off[L.ring], P[L.ring].type, swap), 0.0, 65535.0)));
+            cloud.ring.push_back(static_cast<uint16_t>(
+                std::clamp(detail::decodeScalar(record_base + off[L.ring], P[L.ring].type, swap), 0.0, 65535.0)));
     };
     if (v.count == 0) return;
     if (!hasList(v))

@@ -11,12 +11,13 @@ using namespace quasiloc::map::test;
 namespace
 {
 /** x y z (coord_type) and an intensity column, n random points. */
-std::vector<Column> makeColumns(size_t n, ScalarType coord_type, const std::string& iname, ScalarType itype,
-                                double ilo, double ihi, uint32_t seed)
+std::vector<Column> makeColumns(size_t n, ScalarType coord_type, const std::string& iname, ScalarType itype, double ilo,
+                                double ihi, uint32_t seed)
 {
     std::mt19937 rng(seed);
     std::vector<Column> cols;
-    for (const char* axis : {"x", "y", "z"}) cols.push_back({axis, coord_type, randomValues(n, coord_type, -50, 50, rng)});
+    for (const char* axis : {"x", "y", "z"})
+        cols.push_back({axis, coord_type, randomValues(n, coord_type, -50, 50, rng)});
     cols.push_back({iname, itype, randomValues(n, itype, ilo, ihi, rng)});
     return cols;
 }
@@ -38,10 +39,10 @@ struct TypeCase
     ScalarType type;
     double lo, hi;
 };
-const TypeCase kIntensityTypes[] = {
-    {ScalarType::Int8, -128, 127},         {ScalarType::UInt8, 0, 255},           {ScalarType::Int16, -32768, 32767},
-    {ScalarType::UInt16, 0, 65535},        {ScalarType::Int32, -1e9, 1e9},        {ScalarType::UInt32, 0, 4e9},
-    {ScalarType::Float32, 0, 1},           {ScalarType::Float64, -1e6, 1e6}};
+const TypeCase kIntensityTypes[] = {{ScalarType::Int8, -128, 127},      {ScalarType::UInt8, 0, 255},
+                                    {ScalarType::Int16, -32768, 32767}, {ScalarType::UInt16, 0, 65535},
+                                    {ScalarType::Int32, -1e9, 1e9},     {ScalarType::UInt32, 0, 4e9},
+                                    {ScalarType::Float32, 0, 1},        {ScalarType::Float64, -1e6, 1e6}};
 const char* kEncodings[] = {"ascii", "binary_little_endian", "binary_big_endian"};
 }  // namespace
 
@@ -91,7 +92,8 @@ TEST(PlyReader, SkipsOtherPropertiesListsAndElements)
         std::mt19937 rng(7);
         auto cols = makeColumns(40, ScalarType::Float32, "intensity", ScalarType::UInt16, 0, 65535, 3);
         // Extra per-vertex properties before and after the ones we want.
-        cols.insert(cols.begin() + 3, Column{"nx", ScalarType::Float64, randomValues(40, ScalarType::Float64, -1, 1, rng)});
+        cols.insert(cols.begin() + 3,
+                    Column{"nx", ScalarType::Float64, randomValues(40, ScalarType::Float64, -1, 1, rng)});
         cols.push_back({"red", ScalarType::UInt8, randomValues(40, ScalarType::UInt8, 0, 255, rng)});
         const std::string path = dir.file("extras.ply");
         PlyExtras extras;
@@ -163,7 +165,8 @@ TEST(PlyReader, BadInputNamesTheFile)
     expectInputError([&] { readCloud(nan_path); }, nan_path, "point 4 has a non-finite");
 
     const std::string empty = dir.file("empty.ply");
-    writePly(empty, "binary_little_endian", makeColumns(0, ScalarType::Float32, "intensity", ScalarType::Float32, 0, 1, 1));
+    writePly(empty, "binary_little_endian",
+             makeColumns(0, ScalarType::Float32, "intensity", ScalarType::Float32, 0, 1, 1));
     EXPECT_EQ(readPly(empty).size(), 0u);
     expectInputError([&] { readCloud(empty); }, empty, "empty");
 

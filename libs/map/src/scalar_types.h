@@ -60,9 +60,9 @@ inline double decodeScalar(const uint8_t* p, ScalarType t, bool swap_bytes)
     {
         case ScalarType::Int8: return static_cast<int8_t>(buf[0]);
         case ScalarType::UInt8: return buf[0];
-#define QUASILOC_DECODE(T)   \
-    {                        \
-        T v;                 \
+#define QUASILOC_DECODE(T)               \
+    {                                    \
+        T v;                             \
         std::memcpy(&v, buf, sizeof(T)); \
         return static_cast<double>(v);   \
     }
@@ -85,11 +85,11 @@ inline void encodeScalar(double v, ScalarType t, bool swap_bytes, uint8_t* p)
     uint8_t buf[8];
     switch (t)
     {
-#define QUASILOC_ENCODE(T)                   \
-    {                                        \
-        const T x = static_cast<T>(v);       \
-        std::memcpy(buf, &x, sizeof(T));     \
-        break;                               \
+#define QUASILOC_ENCODE(T)               \
+    {                                    \
+        const T x = static_cast<T>(v);   \
+        std::memcpy(buf, &x, sizeof(T)); \
+        break;                           \
     }
         case ScalarType::Int8: QUASILOC_ENCODE(int8_t)
         case ScalarType::UInt8: QUASILOC_ENCODE(uint8_t)
@@ -136,17 +136,28 @@ inline bool plyTypeFromName(const std::string& name, ScalarType& t)
 /** PCD TYPE (I, U, F) + SIZE (1, 2, 4, 8) -> type. Returns false for an invalid combination. */
 inline bool pcdType(char type, int size, ScalarType& t)
 {
-    if (type == 'I' && size == 1) t = ScalarType::Int8;
-    else if (type == 'I' && size == 2) t = ScalarType::Int16;
-    else if (type == 'I' && size == 4) t = ScalarType::Int32;
-    else if (type == 'I' && size == 8) t = ScalarType::Int64;
-    else if (type == 'U' && size == 1) t = ScalarType::UInt8;
-    else if (type == 'U' && size == 2) t = ScalarType::UInt16;
-    else if (type == 'U' && size == 4) t = ScalarType::UInt32;
-    else if (type == 'U' && size == 8) t = ScalarType::UInt64;
-    else if (type == 'F' && size == 4) t = ScalarType::Float32;
-    else if (type == 'F' && size == 8) t = ScalarType::Float64;
-    else return false;
+    if (type == 'I' && size == 1)
+        t = ScalarType::Int8;
+    else if (type == 'I' && size == 2)
+        t = ScalarType::Int16;
+    else if (type == 'I' && size == 4)
+        t = ScalarType::Int32;
+    else if (type == 'I' && size == 8)
+        t = ScalarType::Int64;
+    else if (type == 'U' && size == 1)
+        t = ScalarType::UInt8;
+    else if (type == 'U' && size == 2)
+        t = ScalarType::UInt16;
+    else if (type == 'U' && size == 4)
+        t = ScalarType::UInt32;
+    else if (type == 'U' && size == 8)
+        t = ScalarType::UInt64;
+    else if (type == 'F' && size == 4)
+        t = ScalarType::Float32;
+    else if (type == 'F' && size == 8)
+        t = ScalarType::Float64;
+    else
+        return false;
     return true;
 }
 

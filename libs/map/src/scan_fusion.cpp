@@ -71,12 +71,17 @@ ReflectivityConsistency VoxelFusion::consistency() const
 }
 
 ReflectivityModel::ReflectivityModel(bool per_ring, bool per_range, double range_bin_m, double max_range_m)
-    : per_ring_(per_ring), per_range_(per_range), bin_m_(range_bin_m),
+    : per_ring_(per_ring),
+      per_range_(per_range),
+      bin_m_(range_bin_m),
       bins_(std::max(1, int(std::ceil(max_range_m / range_bin_m)))),
-      sum_(size_t(kMaxRings) * size_t(bins_), 0.0), count_(sum_.size(), 0.0), inv_g_(per_ring ? kMaxRings : 0, 1.f),
-      inv_h_(per_range ? bins_ : 0, 1.f), g_log_(kMaxRings, 0.0), h_log_(size_t(bins_), 0.0)
-{
-}
+      sum_(size_t(kMaxRings) * size_t(bins_), 0.0),
+      count_(sum_.size(), 0.0),
+      inv_g_(per_ring ? kMaxRings : 0, 1.f),
+      inv_h_(per_range ? bins_ : 0, 1.f),
+      g_log_(kMaxRings, 0.0),
+      h_log_(size_t(bins_), 0.0)
+{}
 
 void ReflectivityModel::observe(const WorldScan& scan, const VoxelFusion& fusion)
 {

@@ -133,9 +133,9 @@ ScanPoses::ScanPoses(const ScanPoseOptions& options, const std::vector<std::stri
         for (size_t i = 0; i < n; ++i)
         {
             const double frame = raw[i];
-            core::require(frame >= 0 && frame == std::floor(frame), scan_names[i],
-                          "with KITTI poses a scan's number is a frame (a whole number >= 0), not " +
-                              std::to_string(frame));
+            core::require(
+                frame >= 0 && frame == std::floor(frame), scan_names[i],
+                "with KITTI poses a scan's number is a frame (a whole number >= 0), not " + std::to_string(frame));
             core::require(frame < double(poses.size()), scan_names[i],
                           "needs pose line " + std::to_string(size_t(frame) + 1) + " of " + options.trajectory +
                               ", which holds only " + std::to_string(poses.size()) + " poses");
@@ -167,7 +167,8 @@ bool ScanPoses::interpolate(double t, Eigen::Isometry3d& T_world_body) const
 {
     const auto& P = trajectory_.poses;
     if (P.empty() || t < P.front().t - 1e-9 || t > P.back().t + 1e-9) return false;
-    const auto it = std::lower_bound(P.begin(), P.end(), t, [](const core::TimedPose& p, double tt) { return p.t < tt; });
+    const auto it =
+        std::lower_bound(P.begin(), P.end(), t, [](const core::TimedPose& p, double tt) { return p.t < tt; });
     if (it != P.end() && std::abs(it->t - t) <= 1e-9)
     {
         T_world_body = core::toIsometry(it->pose);

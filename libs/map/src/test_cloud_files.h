@@ -73,9 +73,10 @@ inline const char* plyTypeName(ScalarType t)
 inline void pcdTypeOf(ScalarType t, char& type, int& size)
 {
     size = static_cast<int>(detail::sizeOf(t));
-    type = (t == ScalarType::Float32 || t == ScalarType::Float64)                                   ? 'F'
-           : (t == ScalarType::Int8 || t == ScalarType::Int16 || t == ScalarType::Int32 || t == ScalarType::Int64) ? 'I'
-                                                                                                   : 'U';
+    type = (t == ScalarType::Float32 || t == ScalarType::Float64) ? 'F'
+           : (t == ScalarType::Int8 || t == ScalarType::Int16 || t == ScalarType::Int32 || t == ScalarType::Int64)
+               ? 'I'
+               : 'U';
 }
 
 /** Appends a value as text (integers without decimals, floats round-trippable). */
@@ -111,8 +112,7 @@ inline void writePly(const std::string& path, const std::string& encoding, const
     const bool ascii = encoding == "ascii", big = encoding == "binary_big_endian";
     std::ostringstream h;
     h << "ply\nformat " << encoding << " 1.0\ncomment written by a quasiloc unit test\n";
-    if (extras.element_before)
-        h << "element material 2\nproperty uchar red\nproperty list uchar int ids\n";
+    if (extras.element_before) h << "element material 2\nproperty uchar red\nproperty list uchar int ids\n";
     h << "element vertex " << n << "\n";
     for (size_t c = 0; c < cols.size(); ++c)
     {
@@ -235,8 +235,10 @@ inline std::vector<double> randomValues(size_t n, ScalarType type, double lo, do
     for (auto& x : v)
     {
         x = U(rng);
-        if (type == ScalarType::Float32) x = static_cast<float>(x);
-        else if (type != ScalarType::Float64) x = std::round(x);
+        if (type == ScalarType::Float32)
+            x = static_cast<float>(x);
+        else if (type != ScalarType::Float64)
+            x = std::round(x);
     }
     return v;
 }

@@ -75,8 +75,7 @@ struct BlockGrid
 
 BlockGrid makeGrid(const LidarMap& map, const VisibilityIndex::Options& o)
 {
-    core::require(o.block_size_m > 0 && std::isfinite(o.block_size_m), "VisibilityIndex block_size_m",
-                  "must be > 0");
+    core::require(o.block_size_m > 0 && std::isfinite(o.block_size_m), "VisibilityIndex block_size_m", "must be > 0");
     core::require(o.superblock_blocks >= 1 && o.superblock_blocks <= 64, "VisibilityIndex superblock_blocks",
                   "must be within 1..64");
     BlockGrid g;
@@ -143,7 +142,8 @@ VisibilityIndex::VisibilityIndex(const LidarMap& map, const Options& options) : 
         {
             if (k > 0) ++block;
             if (k == 0 || grid.superOf(keys[block]) != grid.superOf(keys[block - 1]))
-                superblocks_.push_back({p, p, uint32_t(blocks_.size()), uint32_t(blocks_.size()), grid.superOf(keys[block])});
+                superblocks_.push_back(
+                    {p, p, uint32_t(blocks_.size()), uint32_t(blocks_.size()), grid.superOf(keys[block])});
             blocks_.push_back({p, p, {uint32_t(k), uint32_t(k)}});
             ++superblocks_.back().end_block;
         }
@@ -186,8 +186,8 @@ VisibilityIndex::ViewCone VisibilityIndex::viewCone(const core::CameraModel& cam
             if (!borderPoint(side, (k + 0.5) / kPerSide, mid)) return cone;
             const Eigen::Vector2d ab = b - a;
             const double len = ab.norm();
-            const double dev = len > 0 ? std::abs(ab.x() * (mid - a).y() - ab.y() * (mid - a).x()) / len
-                                       : (mid - a).norm();
+            const double dev =
+                len > 0 ? std::abs(ab.x() * (mid - a).y() - ab.y() * (mid - a).x()) / len : (mid - a).norm();
             margin = std::max(margin, 2.0 * dev + 1e-6);
         }
 
@@ -304,7 +304,9 @@ void VisibilityIndex::forSuperblocksIn(const Eigen::Vector3d& flo, const Eigen::
         for (const Superblock& s : superblocks_) visit(s);
         return;
     }
-    const auto keyOf = [&](int64_t x, int64_t y, int64_t z) { return uint64_t((x * n_super_[1] + y) * n_super_[2] + z); };
+    const auto keyOf = [&](int64_t x, int64_t y, int64_t z) {
+        return uint64_t((x * n_super_[1] + y) * n_super_[2] + z);
+    };
     const auto byKey = [](const Superblock& s, uint64_t key) { return s.key < key; };
     for (int64_t x = c0[0]; x <= c1[0]; ++x)
         for (int64_t y = c0[1]; y <= c1[1]; ++y)

@@ -135,8 +135,8 @@ TEST(VisibilityIndex, ConservativeAgainstBruteForceProjection)
                 const auto covered = coverage(index, ranges);
                 size_t visible = 0;
                 const size_t missed = missedVisiblePoints(index, T_world_cam, cam, max_range, covered, &visible);
-                ASSERT_EQ(missed, 0u) << "block " << block << " camera " << cam.width << "x" << cam.height
-                                      << " trial " << trial << ": " << missed << " of " << visible
+                ASSERT_EQ(missed, 0u) << "block " << block << " camera " << cam.width << "x" << cam.height << " trial "
+                                      << trial << ": " << missed << " of " << visible
                                       << " visible points are outside the returned ranges";
                 total_visible += visible;
                 total_covered += VisibilityIndex::countPoints(ranges);

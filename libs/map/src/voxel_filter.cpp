@@ -20,8 +20,9 @@ LidarMap voxelDownsample(const LidarMap& map, double voxel_size_m)
         const auto [mn, mx] = std::minmax_element(P[a], P[a] + n);
         lo[a] = static_cast<int64_t>(std::floor(*mn * inv));
         const int64_t span = static_cast<int64_t>(std::floor(*mx * inv)) - lo[a];
-        core::require(span < (int64_t(1) << 21), "voxel_size_m",
-                      "too small for the cloud's extent (" + std::to_string(span) + " voxels along one axis, max 2^21)");
+        core::require(
+            span < (int64_t(1) << 21), "voxel_size_m",
+            "too small for the cloud's extent (" + std::to_string(span) + " voxels along one axis, max 2^21)");
     }
     std::vector<std::pair<uint64_t, uint32_t>> keyed(n);
     for (size_t i = 0; i < n; ++i)

@@ -26,7 +26,8 @@ WorldScan toWorld(LidarScan&& scan, const ScanPoses& poses, size_t i, const Scan
         const double dt = w.deskewed ? t0 + (t1 - t0) * (s + 0.5) / steps : 0.0;
         T_world_lidar[size_t(s)] = poses.T_world_lidar(i, dt).cast<float>();
     }
-    const float min2 = float(filter.min_range_m * filter.min_range_m), max2 = float(filter.max_range_m * filter.max_range_m);
+    const float min2 = float(filter.min_range_m * filter.min_range_m),
+                max2 = float(filter.max_range_m * filter.max_range_m);
     w.points.reserve(scan.size());
     w.origins.reserve(scan.size());
     w.intensity.reserve(scan.size());

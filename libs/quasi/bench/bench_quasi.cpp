@@ -41,8 +41,8 @@ std::vector<mrpt::poses::CPose3D> roomPoses()
         for (int k = 0; k < 8; ++k)
         {
             const double yaw = k * M_PI / 4;
-            const mrpt::poses::CPose3D T_world_body(-0.5 + 0.3 * h, 0.4 - 0.2 * h, 1.2 + 0.5 * h, yaw,
-                                                    0.15 + 0.1 * h, 0.0);
+            const mrpt::poses::CPose3D T_world_body(-0.5 + 0.3 * h, 0.4 - 0.2 * h, 1.2 + 0.5 * h, yaw, 0.15 + 0.1 * h,
+                                                    0.0);
             poses.push_back(T_world_body + T_body_cam);
         }
     return poses;
@@ -131,8 +131,9 @@ int main(int argc, char** argv)
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();
 
-    std::printf("\nPer quasi-image, mean over the timed renders (ms). wall: elapsed time (the bound applies to it);\n"
-                "cpu: CPU time of all threads (the work, insensitive to other processes competing for the cores)\n");
+    std::printf(
+        "\nPer quasi-image, mean over the timed renders (ms). wall: elapsed time (the bound applies to it);\n"
+        "cpu: CPU time of all threads (the work, insensitive to other processes competing for the cores)\n");
     std::printf("%-36s %-5s %8s %8s %8s %8s %8s %6s %4s\n", "map", "", "culling", "project", "complete", "encode",
                 "total", "bound", "ok");
     for (const auto& [name, s] : g_splits)
@@ -141,11 +142,12 @@ int main(int argc, char** argv)
         std::printf("%-36s %-5s %8.3f %8.3f %8.3f %8.3f %8.3f %6.1f %4s\n", name.c_str(), "wall", s.culling / n,
                     s.projection / n, s.completion / n, s.encoding / n, s.total / n, kBoundMs,
                     s.total / n <= kBoundMs ? "yes" : "NO");
-        std::printf("%-36s %-5s %8.3f %8.3f %8.3f %8.3f %8.3f\n", "", "cpu", s.cpu_culling / n,
-                    s.cpu_projection / n, s.cpu_completion / n, s.cpu_encoding / n, s.cpu_total / n);
-        std::printf("%-36s points: candidates %.0f, projected %.0f; pixels: sparse %.0f, hidden (see-through) %.0f, "
-                    "completed %.0f (renders: %d)\n",
-                    "", s.candidates / n, s.projected / n, s.sparse / n, s.occluded / n, s.completed / n, s.n);
+        std::printf("%-36s %-5s %8.3f %8.3f %8.3f %8.3f %8.3f\n", "", "cpu", s.cpu_culling / n, s.cpu_projection / n,
+                    s.cpu_completion / n, s.cpu_encoding / n, s.cpu_total / n);
+        std::printf(
+            "%-36s points: candidates %.0f, projected %.0f; pixels: sparse %.0f, hidden (see-through) %.0f, "
+            "completed %.0f (renders: %d)\n",
+            "", s.candidates / n, s.projected / n, s.sparse / n, s.occluded / n, s.completed / n, s.n);
     }
     return 0;
 }

@@ -59,10 +59,10 @@ struct CompletionWindow
 /** What completion computes for one empty pixel. */
 struct WindowStats
 {
-    float i_max = -1;       ///< max reflectivity over the depth-consistent neighbours
-    double depth_sum = 0;   ///< over the neighbours consistent in depth and reflectivity (exact in double:
-    int count = 0;          ///< their depths lie within a few percent, so the order of summation is irrelevant)
-    float min_dist2 = 1e9f; ///< squared pixel distance of the nearest of them
+    float i_max = -1;        ///< max reflectivity over the depth-consistent neighbours
+    double depth_sum = 0;    ///< over the neighbours consistent in depth and reflectivity (exact in double:
+    int count = 0;           ///< their depths lie within a few percent, so the order of summation is irrelevant)
+    float min_dist2 = 1e9f;  ///< squared pixel distance of the nearest of them
 };
 
 struct Planes
@@ -148,8 +148,8 @@ WindowStats statsSse2(const Planes& P, const CompletionWindow& w, int x, int y, 
         for (int c = 0; c < w.chunks; ++c, d2 += 4)
         {
             const __m128 d = _mm_loadu_ps(rd + 4 * c), r = _mm_loadu_ps(rr + 4 * c);
-            const __m128 m = _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(d, vlo), _mm_cmple_ps(d, vhi)),
-                                        _mm_cmplt_ps(_mm_loadu_ps(d2), big));
+            const __m128 m =
+                _mm_and_ps(_mm_and_ps(_mm_cmpge_ps(d, vlo), _mm_cmple_ps(d, vhi)), _mm_cmplt_ps(_mm_loadu_ps(d2), big));
             imax4 = _mm_max_ps(imax4, _mm_or_ps(_mm_and_ps(m, r), _mm_andnot_ps(m, minus1)));
         }
     }
@@ -273,7 +273,7 @@ const ByteMasks kByteMasks;
 
 /** (best_d, best_i) = the lexicographic minimum of itself and (d, i) in the lanes of `m`. */
 __attribute__((target("avx2"), always_inline)) inline void lexMinUpdate(__m256& best_d, __m256i& best_i, __m256 d,
-                                                                         __m256i i, __m256 m)
+                                                                        __m256i i, __m256 m)
 {
     const __m256 smaller_i = _mm256_castsi256_ps(_mm256_cmpgt_epi32(best_i, i));
     const __m256 better = _mm256_or_ps(_mm256_cmp_ps(d, best_d, _CMP_LT_OQ),
@@ -291,9 +291,9 @@ __attribute__((target("avx2"), always_inline)) inline void lexMinUpdate(__m256& 
  *  FMA: the target is plain AVX2), so the result is bit-identical. Depth sums are in double like the scalar
  *  path's (exact, so their order does not matter). `masks`: 8 floats per offset, 32-byte aligned (scratch).
  *  Returns the completed count. */
-__attribute__((target("avx2"))) size_t completeSpanAvx2(const SparsePlanes& sp, const CompletionWindow& win,
-                                                         int y, int x0, int x1, float depth_rel, float rtol,
-                                                         float* masks, const OutRow& o)
+__attribute__((target("avx2"))) size_t completeSpanAvx2(const SparsePlanes& sp, const CompletionWindow& win, int y,
+                                                        int x0, int x1, float depth_rel, float rtol, float* masks,
+                                                        const OutRow& o)
 {
     const float* D = sp.depth.ptr<float>(y);
     const float* RF = sp.refl.ptr<float>(y);
@@ -345,8 +345,7 @@ __attribute__((target("avx2"))) size_t completeSpanAvx2(const SparsePlanes& sp, 
                 {
                     const size_t k = k0 + j;
                     const __m256 d = _mm256_loadu_ps(dc + lin[k]), r = _mm256_loadu_ps(rc + lin[k]);
-                    const __m256 m =
-                        _mm256_and_ps(_mm256_cmp_ps(d, lo, _CMP_GE_OQ), _mm256_cmp_ps(d, hi, _CMP_LE_OQ));
+                    const __m256 m = _mm256_and_ps(_mm256_cmp_ps(d, lo, _CMP_GE_OQ), _mm256_cmp_ps(d, hi, _CMP_LE_OQ));
                     _mm256_store_ps(masks + 8 * k, m);  // depth-consistent, reused below
                     i_max2[j] = _mm256_max_ps(i_max2[j], _mm256_blendv_ps(minus1, r, m));
                 }
@@ -362,8 +361,7 @@ __attribute__((target("avx2"))) size_t completeSpanAvx2(const SparsePlanes& sp, 
                     const size_t k = k0 + j;
                     const __m256 d = _mm256_loadu_ps(dc + lin[k]), r = _mm256_loadu_ps(rc + lin[k]);
                     const __m256 di = _mm256_and_ps(abs_mask, _mm256_sub_ps(r, i_max));
-                    const __m256 m =
-                        _mm256_and_ps(_mm256_load_ps(masks + 8 * k), _mm256_cmp_ps(di, vrtol, _CMP_LE_OQ));
+                    const __m256 m = _mm256_and_ps(_mm256_load_ps(masks + 8 * k), _mm256_cmp_ps(di, vrtol, _CMP_LE_OQ));
                     _mm256_store_ps(masks + 8 * k, m);  // consistent in both, for the provenance
                     const __m256 dm = _mm256_and_ps(m, d);
                     sum_lo2[j] = _mm256_add_pd(sum_lo2[j], _mm256_cvtps_pd(_mm256_castps256_ps128(dm)));
@@ -401,12 +399,11 @@ __attribute__((target("avx2"))) size_t completeSpanAvx2(const SparsePlanes& sp, 
             completed += size_t(__builtin_popcount(unsigned(completed_bits)));
         }
         // Sparse pixels keep their values; completed ones take the statistics; the others are empty.
-        const __m256 depth_out =
-            _mm256_blendv_ps(_mm256_and_ps(is_completed, depth_c), _mm256_loadu_ps(dc), is_sparse);
+        const __m256 depth_out = _mm256_blendv_ps(_mm256_and_ps(is_completed, depth_c), _mm256_loadu_ps(dc), is_sparse);
         const __m256 refl_out = _mm256_blendv_ps(_mm256_and_ps(is_completed, refl_c), _mm256_loadu_ps(rc), is_sparse);
-        const __m256 prov_out = _mm256_blendv_ps(
-            _mm256_blendv_ps(_mm256_castsi256_ps(minus1i), _mm256_castsi256_ps(prov_c), is_completed),
-            _mm256_castsi256_ps(ci), is_sparse);
+        const __m256 prov_out =
+            _mm256_blendv_ps(_mm256_blendv_ps(_mm256_castsi256_ps(minus1i), _mm256_castsi256_ps(prov_c), is_completed),
+                             _mm256_castsi256_ps(ci), is_sparse);
         _mm256_storeu_ps(o.depth + x, depth_out);
         _mm256_storeu_ps(o.refl + x, refl_out);
         _mm256_storeu_ps(reinterpret_cast<float*>(o.prov + x), prov_out);
@@ -451,8 +448,7 @@ void copySparseRows(const SparsePlanes& sparse, int y0, int y1, QuasiImage& out)
 }
 }  // namespace
 
-size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptions& o, QuasiImage& out,
-                    bool allow_simd)
+size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptions& o, QuasiImage& out, bool allow_simd)
 {
     if (o.completion_radius_px == 0)
     {
@@ -468,8 +464,8 @@ size_t completeRows(const SparsePlanes& sparse, int y0, int y1, const QuasiOptio
 #if defined(QUASILOC_COMPLETION_AVX2)
     bool even_groups = true;  // the square window is symmetric: every distance group has 4 or 8 offsets
     for (size_t g = 0; g < win.group_end.size(); ++g) even_groups &= (win.group_end[g] - win.groupBegin(g)) % 2 == 0;
-    const bool vector_rows = allow_simd && even_groups && cpuHasAvx2() &&
-                             sparse.refl.step == sparse.depth.step && sparse.index.step == sparse.depth.step;
+    const bool vector_rows = allow_simd && even_groups && cpuHasAvx2() && sparse.refl.step == sparse.depth.step &&
+                             sparse.index.step == sparse.depth.step;
     // Pixels whose window columns are readable: x - R >= -M and x + R < W + M.
     const int xa = std::max(0, R - M);
     const int span_end = std::min(W, W + M - R);

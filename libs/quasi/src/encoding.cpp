@@ -168,20 +168,18 @@ void levelAndScaleAt(const float* up, const float* mid, const float* down, const
 }
 
 template <bool Laplacian>
-void levelsAndScalesRow(const float* up, const float* mid, const float* down, const uint8_t* vup,
-                        const uint8_t* vmid, const uint8_t* vdown, const float* refl, int width, EncodeParams p,
-                        int32_t* level, float* scale, float* hI)
+void levelsAndScalesRow(const float* up, const float* mid, const float* down, const uint8_t* vup, const uint8_t* vmid,
+                        const uint8_t* vdown, const float* refl, int width, EncodeParams p, int32_t* level,
+                        float* scale, float* hI)
 {
     levelAndScaleAt<Laplacian>(up, mid, down, vup, vmid, vdown, refl, 0, width, p, level, scale, hI);
-    if (width > 2)
-        levelsAndScales<Laplacian>(up, mid, down, vup, vmid, vdown, refl, 1, width - 1, p, level, scale, hI);
+    if (width > 2) levelsAndScales<Laplacian>(up, mid, down, vup, vmid, vdown, refl, 1, width - 1, p, level, scale, hI);
     if (width > 1)
         levelAndScaleAt<Laplacian>(up, mid, down, vup, vmid, vdown, refl, width - 1, width, p, level, scale, hI);
 }
 }  // namespace
 
-void encodeRows(QuasiImage& q, int y0, int y1, float refl_lo, float refl_hi, const HueTable& hue,
-                const QuasiOptions& o)
+void encodeRows(QuasiImage& q, int y0, int y1, float refl_lo, float refl_hi, const HueTable& hue, const QuasiOptions& o)
 {
     const int width = q.depth.cols, height = q.depth.rows;
     const bool laplacian = o.edge_operator == EdgeOperator::Laplacian;
@@ -199,9 +197,10 @@ void encodeRows(QuasiImage& q, int y0, int y1, float refl_lo, float refl_hi, con
         const float* down = has_down ? q.depth.ptr<float>(y + 1) : zero_depth.data();
         const uint8_t* vup = has_up ? q.valid.ptr<uint8_t>(y - 1) : invalid.data();
         const uint8_t* vdown = has_down ? q.valid.ptr<uint8_t>(y + 1) : invalid.data();
-        (laplacian ? levelsAndScalesRow<true> : levelsAndScalesRow<false>)(
-            up, q.depth.ptr<float>(y), down, vup, q.valid.ptr<uint8_t>(y), vdown, q.reflectivity.ptr<float>(y), width,
-            p, level.data(), scale.data(), hI.data());
+        (laplacian ? levelsAndScalesRow<true> : levelsAndScalesRow<false>)(up, q.depth.ptr<float>(y), down, vup,
+                                                                           q.valid.ptr<uint8_t>(y), vdown,
+                                                                           q.reflectivity.ptr<float>(y), width, p,
+                                                                           level.data(), scale.data(), hI.data());
         uint8_t* bgr = q.bgr.ptr<uint8_t>(y);
         uint8_t* gray = q.gray.ptr<uint8_t>(y);
         // Invalid pixels have scale 0: colour and gray round to 0.

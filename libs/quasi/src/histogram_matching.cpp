@@ -12,7 +12,8 @@ namespace
 int reflectivityBin(float r) { return std::clamp(int(r * 256.f), 0, 255); }
 }  // namespace
 
-std::vector<uint8_t> reflectivityToGrayTable(const cv::Mat& reflectivity, const cv::Mat& valid, const cv::Mat& camera_gray)
+std::vector<uint8_t> reflectivityToGrayTable(const cv::Mat& reflectivity, const cv::Mat& valid,
+                                             const cv::Mat& camera_gray)
 {
     const std::string in = "reflectivity histogram matching";
     core::require(reflectivity.type() == CV_32FC1 && valid.type() == CV_8UC1 && camera_gray.type() == CV_8UC1, in,

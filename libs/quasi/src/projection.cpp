@@ -84,8 +84,8 @@ FastProjector FastProjector::fromCamera(const core::CameraModel& camera)
 bool FastProjector::sameCamera(const core::CameraModel& c) const
 {
     const core::CameraModel& s = source;
-    return c.width == s.width && c.height == s.height && c.fx == s.fx && c.fy == s.fy && c.cx == s.cx &&
-           c.cy == s.cy && c.model == s.model && c.dist == s.dist;
+    return c.width == s.width && c.height == s.height && c.fx == s.fx && c.fy == s.fy && c.cx == s.cx && c.cy == s.cy &&
+           c.model == s.model && c.dist == s.dist;
 }
 
 PoseF PoseF::camFromWorld(const mrpt::poses::CPose3D& T_world_cam)
@@ -203,8 +203,7 @@ size_t zTestBatch(const int32_t* pix, const float* depth, int m, const uint32_t*
 
 template <core::DistortionModel Model>
 size_t projectRun(const map::VisibilityIndex& index, size_t k_begin, size_t k_end, const FastProjector& cam,
-                  const PoseF& pose, float min_depth, float max_depth, int32_t pix_begin, int32_t pix_end,
-                  ZBuffer& zb)
+                  const PoseF& pose, float min_depth, float max_depth, int32_t pix_begin, int32_t pix_end, ZBuffer& zb)
 {
     alignas(64) int32_t pix[kBatch];
     alignas(64) float depth[kBatch];
@@ -239,8 +238,8 @@ void projectPoints(const map::VisibilityIndex& index, const std::vector<map::Vis
                    size_t first, size_t last, const FastProjector& cam, const PoseF& pose, float min_depth,
                    float max_depth, ZBuffer& zb)
 {
-    zb.projected = projectPoints(index, ranges, first, last, cam, pose, min_depth, max_depth, 0,
-                                 cam.width * cam.height, zb);
+    zb.projected =
+        projectPoints(index, ranges, first, last, cam, pose, min_depth, max_depth, 0, cam.width * cam.height, zb);
 }
 
 size_t projectPoints(const map::VisibilityIndex& index, const std::vector<map::VisibilityIndex::Range>& ranges,
@@ -260,8 +259,8 @@ size_t projectPoints(const map::VisibilityIndex& index, const std::vector<map::V
                                                                        max_depth, pix_begin, pix_end, zb);
                 break;
             case core::DistortionModel::Equidistant:
-                projected += projectRun<core::DistortionModel::Equidistant>(
-                    index, k_begin, k_end, cam, pose, min_depth, max_depth, pix_begin, pix_end, zb);
+                projected += projectRun<core::DistortionModel::Equidistant>(index, k_begin, k_end, cam, pose, min_depth,
+                                                                            max_depth, pix_begin, pix_end, zb);
                 break;
         }
     });
@@ -286,8 +285,8 @@ void projectToBuffer(const map::VisibilityIndex& index, const std::vector<map::V
                                                               pix + at, depth + at);
                     break;
                 case core::DistortionModel::RadTan:
-                    projectBatch<core::DistortionModel::RadTan>(X, Y, Z, m, cam, pose, min_depth, max_depth, 0,
-                                                                n_pix, pix + at, depth + at);
+                    projectBatch<core::DistortionModel::RadTan>(X, Y, Z, m, cam, pose, min_depth, max_depth, 0, n_pix,
+                                                                pix + at, depth + at);
                     break;
                 case core::DistortionModel::Equidistant:
                     projectBatch<core::DistortionModel::Equidistant>(X, Y, Z, m, cam, pose, min_depth, max_depth, 0,

@@ -72,7 +72,7 @@ cv::Mat drawProvenanceOverlay(const cv::Mat& camera_image, const map::LidarMap& 
             Eigen::Vector2d px;
             if (idx < 0 || !reproject(map, q, idx, px)) continue;
             const double e = std::max(std::abs(px.x() - x), std::abs(px.y() - y));
-            const cv::Scalar colour = e <= 0.5 + 1e-3                        ? cv::Scalar(0, 255, 0)
+            const cv::Scalar colour = e <= 0.5 + 1e-3                          ? cv::Scalar(0, 255, 0)
                                       : e <= completion_radius_px + 0.5 + 1e-3 ? cv::Scalar(0, 255, 255)
                                                                                : cv::Scalar(0, 0, 255);
             cv::circle(out, cv::Point(int(std::lround(px.x())), int(std::lround(px.y()))), 1, colour, cv::FILLED);

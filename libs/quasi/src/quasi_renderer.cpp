@@ -17,13 +17,13 @@ struct QuasiRenderer::Buffers
     std::optional<detail::FastProjector> cam;
     map::VisibilityIndex::ViewCone cone;
     std::vector<map::VisibilityIndex::Range> ranges;
-    std::vector<detail::ZBuffer> zbs;        ///< one, shared by the projection threads (each owns a block of rows)
-    std::vector<int32_t> proj_pix;                  ///< per candidate: pixel (-1: rejected), with several threads
-    std::vector<float> proj_depth;                  ///< per candidate: camera z
-    detail::SparsePlanes sparse;                    ///< the z-buffer image
-    detail::SparsePlanes unsplatted;                ///< its copy before splatting
-    cv::Mat window_min;                             ///< its minimum over the see-through window
-    std::vector<std::vector<int32_t>> hidden;       ///< per row stripe: pixels the see-through filter drops
+    std::vector<detail::ZBuffer> zbs;          ///< one, shared by the projection threads (each owns a block of rows)
+    std::vector<int32_t> proj_pix;             ///< per candidate: pixel (-1: rejected), with several threads
+    std::vector<float> proj_depth;             ///< per candidate: camera z
+    detail::SparsePlanes sparse;               ///< the z-buffer image
+    detail::SparsePlanes unsplatted;           ///< its copy before splatting
+    cv::Mat window_min;                        ///< its minimum over the see-through window
+    std::vector<std::vector<int32_t>> hidden;  ///< per row stripe: pixels the see-through filter drops
     std::vector<std::vector<uint32_t>> histograms;  ///< per row stripe
     std::vector<size_t> counts;                     ///< per row stripe
     detail::HueTable hue;
@@ -99,11 +99,11 @@ QuasiRenderer::QuasiRenderer(const map::LidarMap& map, std::shared_ptr<const map
 }
 
 QuasiRenderer::QuasiRenderer(const map::LidarMap& map, const QuasiOptions& options)
-    : QuasiRenderer(map, std::make_shared<const map::VisibilityIndex>(
-                                     map, map::VisibilityIndex::Options{options.visibility_block_size_m}),
-                                 options)
-{
-}
+    : QuasiRenderer(map,
+                    std::make_shared<const map::VisibilityIndex>(
+                        map, map::VisibilityIndex::Options{options.visibility_block_size_m}),
+                    options)
+{}
 
 QuasiRenderer::~QuasiRenderer() = default;
 
@@ -132,7 +132,8 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
             zb.refl.assign(n, 0.f);
         }
         // Empty margin for the window loops of the see-through filter and completion (no border tests).
-        b.sparse.create(camera.width, camera.height, std::max(options_.completion_radius_px, options_.occlusion_radius_px));
+        b.sparse.create(camera.width, camera.height,
+                        std::max(options_.completion_radius_px, options_.occlusion_radius_px));
     }
     const int W = camera.width, H = camera.height;
     out.T_world_cam = T_world_cam;
@@ -153,8 +154,8 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     const float min_depth = float(o.min_depth_m), max_depth = float(o.max_depth_m);
     if (S == 1)
     {
-        b.counts[0] = detail::projectPoints(*index_, b.ranges, 0, n_cand, *b.cam, pose, min_depth, max_depth, 0, n_pix,
-                                            b.zbs[0]);
+        b.counts[0] =
+            detail::projectPoints(*index_, b.ranges, 0, n_cand, *b.cam, pose, min_depth, max_depth, 0, n_pix, b.zbs[0]);
         detail::mergeZBuffers(b.zbs, 0, H, b.sparse);
     }
     else
@@ -176,8 +177,8 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
             S);
         // Each thread's block of rows: z-buffer test, then the sparse planes of those rows (still in cache).
         parallelRows(H, S, [&](int y0, int y1, int s) {
-            b.counts[s] = detail::zTestBuffer(*index_, b.ranges, b.proj_pix.data(), b.proj_depth.data(), y0 * W,
-                                              y1 * W, b.zbs[0]);
+            b.counts[s] = detail::zTestBuffer(*index_, b.ranges, b.proj_pix.data(), b.proj_depth.data(), y0 * W, y1 * W,
+                                              b.zbs[0]);
             detail::mergeZBuffers(b.zbs, y0, y1, b.sparse);
         });
     }
@@ -206,8 +207,8 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
     if (o.occlusion_radius_px > 0)
     {
         const int D = 2 * o.occlusion_radius_px + 1;
-        cv::erode(b.sparse.depth, b.window_min, cv::Mat::ones(D, D, CV_8U), cv::Point(-1, -1), 1,
-                  cv::BORDER_CONSTANT, cv::Scalar(detail::kNoDepth));
+        cv::erode(b.sparse.depth, b.window_min, cv::Mat::ones(D, D, CV_8U), cv::Point(-1, -1), 1, cv::BORDER_CONSTANT,
+                  cv::Scalar(detail::kNoDepth));
         parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
             b.hidden[s].clear();
             detail::findSeeThrough(b.sparse, b.window_min, y0, y1, o, b.hidden[s]);
@@ -223,9 +224,8 @@ void QuasiRenderer::render(const mrpt::poses::CPose3D& T_world_cam, const core::
             st.occluded_pixels += hidden.size();
         }
     }
-    parallelRows(H, row_stripes, [&](int y0, int y1, int s) {
-        b.counts[s] = detail::completeRows(b.sparse, y0, y1, o, out);
-    });
+    parallelRows(H, row_stripes,
+                 [&](int y0, int y1, int s) { b.counts[s] = detail::completeRows(b.sparse, y0, y1, o, out); });
     st.completed_pixels = sum(b.counts);
     if (o.scanline_gap_px > 0)
     {

@@ -38,8 +38,8 @@ size_t addCameraPlane(map::LidarMap& m, const CPose3D& T_world_cam, double x0, d
                       double z, float spacing, const quasi::ReflectivityPattern& pattern, uint32_t seed)
 {
     map::LidarMap local;
-    quasi::addPlanarPatch(local, {float(x0), float(y0), float(z)}, {float(x1 - x0), 0, 0}, {0, float(y1 - y0), 0}, spacing,
-                   pattern, 0.3f, seed);
+    quasi::addPlanarPatch(local, {float(x0), float(y0), float(z)}, {float(x1 - x0), 0, 0}, {0, float(y1 - y0), 0},
+                          spacing, pattern, 0.3f, seed);
     for (size_t i = 0; i < local.size(); ++i)
     {
         double X, Y, Z;
@@ -112,7 +112,7 @@ TEST(QuasiRenderer, ProvenanceProjectsOntoItsPixel)
         // Float projection: a point on a pixel border may land on either side by ~1e-4 px.
         EXPECT_LE(worst_sparse, 0.5 + 1e-3);
         EXPECT_LE(worst_completed, o.completion_radius_px + 0.5 + 1e-3);
-        EXPECT_GT(n_sparse, 50'000u);    // the checks above covered many pixels of both kinds
+        EXPECT_GT(n_sparse, 50'000u);  // the checks above covered many pixels of both kinds
         EXPECT_GT(n_completed, 10'000u);
         EXPECT_EQ(n_sparse, q.stats.sparse_pixels);
         EXPECT_EQ(n_completed, q.stats.completed_pixels);
@@ -174,8 +174,8 @@ TEST(QuasiRenderer, ZBufferMatchesBruteForceReference)
                 const Eigen::Vector2d f = px - Eigen::Vector2d(x, y);
                 border = std::abs(std::abs(f.x()) - 0.5) < 1e-3 || std::abs(std::abs(f.y()) - 0.5) < 1e-3;
             }
-            EXPECT_TRUE(border || depth_tie) << "pixel (" << x << ", " << y << "): renderer " << got << ", reference "
-                                             << ref[k].second;
+            EXPECT_TRUE(border || depth_tie)
+                << "pixel (" << x << ", " << y << "): renderer " << got << ", reference " << ref[k].second;
             ++explained;
         }
     EXPECT_GT(hits, 40'000u);

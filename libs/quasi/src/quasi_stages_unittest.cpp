@@ -52,8 +52,7 @@ void allocate(quasi::QuasiImage& q, int W, int H)
 
 bool same(const cv::Mat& a, const cv::Mat& b)
 {
-    return a.size() == b.size() && a.type() == b.type() &&
-           std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
+    return a.size() == b.size() && a.type() == b.type() && std::memcmp(a.data, b.data, a.total() * a.elemSize()) == 0;
 }
 }  // namespace
 
@@ -106,7 +105,8 @@ TEST(QuasiStages, RadiusZeroCopiesTheSparsePlanes)
     sparse.depth.copyTo(padded.depth);
     sparse.refl.copyTo(padded.refl);
     sparse.index.copyTo(padded.index);
-    for (const quasi::detail::SparsePlanes* planes : {&sparse, static_cast<const quasi::detail::SparsePlanes*>(&padded)})
+    for (const quasi::detail::SparsePlanes* planes :
+         {&sparse, static_cast<const quasi::detail::SparsePlanes*>(&padded)})
     {
         quasi::QuasiImage q;
         allocate(q, W, H);
@@ -223,9 +223,9 @@ TEST(QuasiOptions, IniRoundTripAndRejections)
         return std::string();
     };
     // A typo'd key, a value that is not a number, a mode name, a value out of range: each names the key.
-    EXPECT_NE(loadError("[QuasiImage]\ncompletion_radius = 3\n")
-                  .find("test.ini [QuasiImage] completion_radius: unknown key"),
-              std::string::npos);
+    EXPECT_NE(
+        loadError("[QuasiImage]\ncompletion_radius = 3\n").find("test.ini [QuasiImage] completion_radius: unknown key"),
+        std::string::npos);
     EXPECT_NE(loadError("[QuasiImage]\ncompletion_depth_rel = abc\n").find("[QuasiImage] completion_depth_rel"),
               std::string::npos);
     EXPECT_NE(loadError("[QuasiImage]\nedge_operator = sobel\n").find("'sobel' is not one of gradient, laplacian"),

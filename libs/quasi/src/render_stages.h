@@ -93,8 +93,7 @@ void mergeZBuffers(std::vector<ZBuffer>& zbs, int y0, int y1, SparsePlanes& spar
  *  half-width r = min(max_radius_px, floor(radius_px_at_1m / z)) around its pixel, where it wins a pixel whose
  *  depth is larger (ties: the smaller map index). Reads the source rows within max_radius_px of [y0, y1), so
  *  stripes can run in parallel. Returns the number of pixels that were empty and are now covered. */
-size_t splatRows(const SparsePlanes& src, int y0, int y1, float radius_px_at_1m, int max_radius_px,
-                 SparsePlanes& dst);
+size_t splatRows(const SparsePlanes& src, int y0, int y1, float radius_px_at_1m, int max_radius_px, SparsePlanes& dst);
 
 /** Rows [y0, y1) of the see-through filter: appends to `hidden` the pixels (y * width + x) it drops.
  *  window_min = minimum of sparse.depth over the (2R+1)^2 window (a cheap pre-test). */

@@ -70,8 +70,7 @@ __attribute__((target_clones("avx2", "default")))
 void candidates(const float* __restrict depth, const float* __restrict wmin, float keep_factor, int width,
                 uint8_t* __restrict cand)
 {
-    for (int x = 0; x < width; ++x)
-        cand[x] = uint8_t((depth[x] < kNoDepth) & (wmin[x] < depth[x] * keep_factor));
+    for (int x = 0; x < width; ++x) cand[x] = uint8_t((depth[x] < kNoDepth) & (wmin[x] < depth[x] * keep_factor));
 }
 
 #if defined(__SSE2__)

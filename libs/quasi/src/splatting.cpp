@@ -8,8 +8,7 @@
 
 namespace quasiloc::quasi::detail
 {
-size_t splatRows(const SparsePlanes& src, int y0, int y1, float radius_px_at_1m, int max_radius_px,
-                 SparsePlanes& dst)
+size_t splatRows(const SparsePlanes& src, int y0, int y1, float radius_px_at_1m, int max_radius_px, SparsePlanes& dst)
 {
     const int W = src.depth.cols, H = src.depth.rows;
     size_t covered = 0;

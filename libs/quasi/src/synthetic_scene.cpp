@@ -35,8 +35,7 @@ std::vector<Box> roomBoxes(float size_m, float height_m)
 double boxesArea(const std::vector<Box>& boxes)
 {
     double a = 0;
-    for (const Box& b : boxes)
-        a += 2.0 * (b.size.x() * b.size.y() + b.size.x() * b.size.z() + b.size.y() * b.size.z());
+    for (const Box& b : boxes) a += 2.0 * (b.size.x() * b.size.y() + b.size.x() * b.size.z() + b.size.y() * b.size.z());
     return a;
 }
 }  // namespace

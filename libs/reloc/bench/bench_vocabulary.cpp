@@ -42,7 +42,8 @@ int main()
         std::vector<BowVector> queries;
         for (int r = 0; r < reps; ++r) queries.push_back(voc.transform(images[size_t(r)]));
         const double transform_ms = msSince(t0) / reps;
-        row(binary ? "transform 1000 ORB descriptors" : "transform 1000 float descriptors", transform_ms, "<= 2", transform_ms <= 2);
+        row(binary ? "transform 1000 ORB descriptors" : "transform 1000 float descriptors", transform_ms, "<= 2",
+            transform_ms <= 2);
         if (!binary) continue;
         // 5000 database images: the 200 real vectors, then vectors of 1000 random words (typical list lengths).
         InvertedIndex index;

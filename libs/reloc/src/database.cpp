@@ -23,8 +23,10 @@ constexpr uint32_t kVersion = 3;
 
 void preprocessImage(const cv::Mat& gray, double sigma_px, cv::Mat& out)
 {
-    if (sigma_px > 0) cv::GaussianBlur(gray, out, cv::Size(), sigma_px, sigma_px, cv::BORDER_REPLICATE);
-    else out = gray;
+    if (sigma_px > 0)
+        cv::GaussianBlur(gray, out, cv::Size(), sigma_px, sigma_px, cv::BORDER_REPLICATE);
+    else
+        out = gray;
 }
 
 int DatabaseView::numLifted() const
@@ -60,7 +62,8 @@ Database Database::load(const std::string& path)
         auto in = mrpt::serialization::archiveFrom(stream);
         // Fixed-size magic first: a foreign file fails here, before any length field is trusted.
         std::string magic(kMagic.size(), '\0');
-        core::require(in.ReadBuffer(magic.data(), magic.size()) == magic.size(), path, "is too short to be a quasiloc database");
+        core::require(in.ReadBuffer(magic.data(), magic.size()) == magic.size(), path,
+                      "is too short to be a quasiloc database");
         core::require(magic == kMagic, path, "is not a quasiloc database (build one with quasiloc-build-db)");
         const uint32_t version = in.ReadAs<uint32_t>();
         core::require(version == kVersion, path,
@@ -83,8 +86,9 @@ Database Database::load(const std::string& path)
         db.index = InvertedIndex::read(in);
         for (const auto& v : db.views)
             for (WordId w : v.words)
-                core::require(w < db.vocabulary.numWords(), path,
-                              "view " + std::to_string(v.id) + " has word " + std::to_string(w) + " outside the vocabulary");
+                core::require(
+                    w < db.vocabulary.numWords(), path,
+                    "view " + std::to_string(v.id) + " has word " + std::to_string(w) + " outside the vocabulary");
     }
     catch (const core::InputError& e)
     {
@@ -94,8 +98,8 @@ Database Database::load(const std::string& path)
     }
     catch (const std::exception& e)
     {
-        throw core::InputError(path, "cannot be read as a quasiloc database (truncated or corrupt): " +
-                                         mrpt::exception_to_str(e));
+        throw core::InputError(
+            path, "cannot be read as a quasiloc database (truncated or corrupt): " + mrpt::exception_to_str(e));
     }
     core::require(db.index.size() == db.views.size(), path, "the inverted index does not cover every view");
     return db;

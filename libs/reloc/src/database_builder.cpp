@@ -27,11 +27,8 @@ const Eigen::Vector3f kNaN3 = Eigen::Vector3f::Constant(std::numeric_limits<floa
 struct Worker
 {
     Worker(const map::LidarMap& map, std::shared_ptr<const map::VisibilityIndex> index, const DatabaseBuildConfig& cfg)
-        : renderer(map, index, cfg.quasi),
-          extractor(frontend::createFeatureExtractor(cfg.features)),
-          lines(cfg.lines)
-    {
-    }
+        : renderer(map, index, cfg.quasi), extractor(frontend::createFeatureExtractor(cfg.features)), lines(cfg.lines)
+    {}
     quasi::QuasiRenderer renderer;
     std::unique_ptr<frontend::FeatureExtractor> extractor;
     frontend::LineDetector lines;
@@ -41,9 +38,8 @@ struct Worker
 };
 
 /** Renders, extracts and lifts one view; false when it sees too little of the map (counted in `dropped_*`). */
-bool processView(Worker& w, const map::LidarMap& map, const core::CameraModel& camera,
-                 const DatabaseBuildConfig& cfg, const mrpt::poses::CPose3D& T_world_cam, DatabaseView& view,
-                 bool& dropped_for_valid)
+bool processView(Worker& w, const map::LidarMap& map, const core::CameraModel& camera, const DatabaseBuildConfig& cfg,
+                 const mrpt::poses::CPose3D& T_world_cam, DatabaseView& view, bool& dropped_for_valid)
 {
     w.renderer.render(T_world_cam, camera, w.q);
     view.T_world_cam = T_world_cam;
@@ -128,7 +124,8 @@ RenderedViews renderViews(const map::LidarMap& map, const core::CameraModel& cam
                 r.keep[i] = processView(w, map, camera, cfg, poses[selected[i]], r.views[i], low_valid) ? 1 : 0;
                 r.dropped_valid[i] = low_valid ? 1 : 0;
                 double expected = cpu_ms.load();
-                while (!cpu_ms.compare_exchange_weak(expected, expected + msSince(tv))) {}
+                while (!cpu_ms.compare_exchange_weak(expected, expected + msSince(tv)))
+                {}
                 const size_t d = ++done;
                 if (progress && (d % report_every == 0 || d == n))
                 {
@@ -263,8 +260,8 @@ DatabaseShard buildDatabaseShard(const map::LidarMap& map, const core::CameraMod
     const std::vector<size_t> selected = shardViews(poses, config.sampling.grid_spacing_m, shard);
     st.sampled = poses.size();
     st.rendered = selected.size();
-    st.threads = config.build.threads > 0 ? config.build.threads
-                                          : std::max(1, int(std::thread::hardware_concurrency()));
+    st.threads =
+        config.build.threads > 0 ? config.build.threads : std::max(1, int(std::thread::hardware_concurrency()));
     st.threads = std::max(1, std::min<int>(st.threads, int(selected.size())));
 
     const DatabaseBuildConfig cfg = workerConfig(config);

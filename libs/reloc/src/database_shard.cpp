@@ -67,8 +67,8 @@ ShardSelection ShardSelection::parse(const std::string& text, const std::string&
     const auto number = [&](const std::string& part) {
         return !part.empty() && part.size() <= 9 && part.find_first_not_of("0123456789") == std::string::npos;
     };
-    core::require(slash != std::string::npos && number(text.substr(0, slash)) && number(text.substr(slash + 1)),
-                  input, "'" + text + "' is not a shard i/N (for example 2/8)");
+    core::require(slash != std::string::npos && number(text.substr(0, slash)) && number(text.substr(slash + 1)), input,
+                  "'" + text + "' is not a shard i/N (for example 2/8)");
     ShardSelection s;
     s.index = std::stoi(text.substr(0, slash));
     s.count = std::stoi(text.substr(slash + 1));
@@ -246,8 +246,8 @@ DatabaseShard DatabaseShard::load(const std::string& path, bool header_only)
                           std::to_string(kVersion) + ": rebuild the shard");
         s.selection.index = in.ReadAs<int32_t>();
         s.selection.count = in.ReadAs<int32_t>();
-        core::require(s.selection.count >= 1 && s.selection.index >= 0 && s.selection.index < s.selection.count,
-                      path, "corrupt shard header (shard " + s.selection.text() + ")");
+        core::require(s.selection.count >= 1 && s.selection.index >= 0 && s.selection.index < s.selection.count, path,
+                      "corrupt shard header (shard " + s.selection.text() + ")");
         s.map.file_bytes = in.ReadAs<uint64_t>();
         s.map.file_hash = in.ReadAs<uint64_t>();
         in >> s.map_file >> s.options;
@@ -279,8 +279,8 @@ DatabaseShard DatabaseShard::load(const std::string& path, bool header_only)
     }
     catch (const std::exception& e)
     {
-        throw core::InputError(path, "cannot be read as a quasiloc database shard (truncated or corrupt): " +
-                                         mrpt::exception_to_str(e));
+        throw core::InputError(
+            path, "cannot be read as a quasiloc database shard (truncated or corrupt): " + mrpt::exception_to_str(e));
     }
     return s;
 }
@@ -325,9 +325,9 @@ std::vector<DatabaseShard> loadShardsForMerge(const std::string& output, const S
     {
         const DatabaseShard h = DatabaseShard::load(paths[size_t(i)], true);
         const ShardSelection want{i, n};
-        core::require(h.selection == want, paths[size_t(i)],
-                      "holds shard " + h.selection.text() + ", not shard " + want.text() +
-                          " (a copied or renamed shard file?)");
+        core::require(
+            h.selection == want, paths[size_t(i)],
+            "holds shard " + h.selection.text() + ", not shard " + want.text() + " (a copied or renamed shard file?)");
         core::require(h.map == expected.map, shardName(paths[size_t(i)], want),
                       "is from another map: built from '" + h.map_file + "' (" + h.map.text() +
                           "), the merge's map_file '" + expected.map_file + "' is " + expected.map.text());
@@ -351,8 +351,8 @@ std::vector<DatabaseShard> loadShardsForMerge(const std::string& output, const S
         for (const auto& v : shards.back().views)
         {
             core::require(owner[size_t(v.id)] < 0, shardName(paths[size_t(i)], {i, n}),
-                          "has view " + std::to_string(v.id) + ", which shard " +
-                              std::to_string(owner[size_t(v.id)]) + "/" + std::to_string(n) + " has too");
+                          "has view " + std::to_string(v.id) + ", which shard " + std::to_string(owner[size_t(v.id)]) +
+                              "/" + std::to_string(n) + " has too");
             owner[size_t(v.id)] = i;
         }
     }

@@ -150,8 +150,8 @@ TEST(DatabaseShard, MergedShardsSaveTheSameBytesAsASingleProcessBuild)
 
     const std::string a = fileBytes(dir + "/whole.qdb"), b = fileBytes(output);
     ASSERT_FALSE(a.empty());
-    EXPECT_TRUE(a == b) << "the merged database differs from the single-process one (" << a.size() << " vs "
-                        << b.size() << " bytes)";
+    EXPECT_TRUE(a == b) << "the merged database differs from the single-process one (" << a.size() << " vs " << b.size()
+                        << " bytes)";
     fs::remove_all(dir);
 }
 

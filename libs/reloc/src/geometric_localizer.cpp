@@ -69,17 +69,13 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
                                        const GeometricLocalizationOptions& o, const std::string& input)
     : GeometricLocalizer(map, rig, o, buildField(map, o, input),
                          std::make_shared<const map::VisibilityIndex>(map, map::VisibilityIndex::Options{}), input)
-{
-}
+{}
 
 GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::StereoRig& rig,
                                        const GeometricLocalizationOptions& o,
                                        std::shared_ptr<const map::DistanceField> field,
                                        std::shared_ptr<const map::VisibilityIndex> index, const std::string& input)
-    : options_(o),
-      field_(std::move(field)),
-      index_(std::move(index)),
-      stereo_(rig, o.stereo)
+    : options_(o), field_(std::move(field)), index_(std::move(index)), stereo_(rig, o.stereo)
 {
     core::require(index_ && index_->size() == map.size(), input, "the visibility index is not the map's");
     ViewSamplingOptions vs;
@@ -242,8 +238,8 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
     }
     // Coarse search: rotation R_world_cam = Rz(yaw) * R_level, where R_level turns the camera's up into world +z.
     auto t0 = Clock::now();
-    const Eigen::Matrix3d R_level = Eigen::Quaterniond::FromTwoVectors(up_cam.normalized(), Eigen::Vector3d::UnitZ())
-                                        .toRotationMatrix();
+    const Eigen::Matrix3d R_level =
+        Eigen::Quaterniond::FromTwoVectors(up_cam.normalized(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     std::vector<Eigen::Vector3f> scored;
     const double stride = double(points_cam.size()) / options_.score_points;
     for (int i = 0; i < options_.score_points; ++i) scored.push_back(points_cam[size_t(i * stride)]);
@@ -278,7 +274,8 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
     r.candidates = scores.size();
     std::vector<size_t> order(scores.size());
     std::iota(order.begin(), order.end(), size_t(0));
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return scores[a] < scores[b] || (scores[a] == scores[b] && a < b); });
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return scores[a] < scores[b] || (scores[a] == scores[b] && a < b); });
     // Distinct starting candidates: > 0.5 m or > 20 deg of heading from every one already taken.
     std::vector<Candidate> starts;
     for (size_t idx : order)
@@ -306,7 +303,8 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         }
     });
     r.ms_refine = msSince(t0);
-    std::stable_sort(refined.begin(), refined.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+    std::stable_sort(refined.begin(), refined.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     const Candidate& best = refined.front();
     r.T_world_cam = best.T_world_cam;
     if (!options_.polish_truncations_m.empty())

@@ -30,7 +30,8 @@ void GeometricLocalizationOptions::declare(core::OptionTable& t)
     t.add("field_voxel_m", field_voxel_m, "m", Range::above(0), "distance field (map::DistanceField) voxel");
     t.add("field_max_distance_m", field_max_distance_m, "m", Range::above(0), "distance field truncation");
     t.addEnum("field_layout", field_layout,
-              {{"auto", map::DistanceFieldLayout::Auto}, {"dense", map::DistanceFieldLayout::Dense},
+              {{"auto", map::DistanceFieldLayout::Auto},
+               {"dense", map::DistanceFieldLayout::Dense},
                {"sparse", map::DistanceFieldLayout::Sparse}},
               "distance field storage: auto = a dense grid up to 50 M voxels (a room), sparse bricks beyond (a block)");
     declareStereo(t, stereo);

@@ -66,10 +66,16 @@ std::vector<Eigen::Vector3f> stereoPoints(const Fixture& f, const Eigen::Isometr
     return reloc::StereoCloud(f.rig, testOptions().stereo).compute(left, right);
 }
 
-Eigen::Vector3d upIn(const Eigen::Isometry3d& T_world_cam) { return T_world_cam.linear().transpose() * Eigen::Vector3d::UnitZ(); }
+Eigen::Vector3d upIn(const Eigen::Isometry3d& T_world_cam)
+{
+    return T_world_cam.linear().transpose() * Eigen::Vector3d::UnitZ();
+}
 
 double errorM(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) { return core::translationDistance(a, b); }
-double errorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) { return core::rotationDistanceRad(a, b) * 180 / M_PI; }
+double errorDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
+{
+    return core::rotationDistanceRad(a, b) * 180 / M_PI;
+}
 }  // namespace
 
 TEST(GeometricLocalizer, LocalizesARenderedStereoFrameWithNoGuess)

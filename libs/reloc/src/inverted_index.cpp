@@ -119,9 +119,9 @@ InvertedIndex InvertedIndex::read(mrpt::serialization::CArchive& in)
     try
     {
         char magic[sizeof(kMagic)] = {};
-        core::require(in.ReadBuffer(magic, sizeof(magic)) == sizeof(magic) &&
-                          std::memcmp(magic, kMagic, sizeof(magic)) == 0,
-                      kArchiveInput, "not a quasiloc inverted index (bad header)");
+        core::require(
+            in.ReadBuffer(magic, sizeof(magic)) == sizeof(magic) && std::memcmp(magic, kMagic, sizeof(magic)) == 0,
+            kArchiveInput, "not a quasiloc inverted index (bad header)");
         const uint32_t version = in.ReadAs<uint32_t>();
         core::require(version == kVersion, kArchiveInput,
                       "version " + std::to_string(version) + " is not supported (this build reads " +
@@ -149,9 +149,9 @@ InvertedIndex InvertedIndex::read(mrpt::serialization::CArchive& in)
             for (uint32_t i = 0; i < length; ++i)
             {
                 list[i] = {slots[i], weights[i]};
-                core::require(slots[i] >= 0 && uint32_t(slots[i]) < images && std::isfinite(weights[i]) &&
-                                  weights[i] > 0,
-                              kArchiveInput, "corrupt entry in the list of word " + std::to_string(word));
+                core::require(
+                    slots[i] >= 0 && uint32_t(slots[i]) < images && std::isfinite(weights[i]) && weights[i] > 0,
+                    kArchiveInput, "corrupt entry in the list of word " + std::to_string(word));
             }
         }
         return index;

@@ -187,7 +187,8 @@ struct Localizer::Impl
         }
         // Correspondences that several views agree on are far more often right (a wrong match rarely lands on
         // the same map point twice): keep only those when there are enough of them.
-        const auto confirmed = std::count_if(votes_of.begin(), votes_of.end(), [&](int v) { return v >= options.min_votes; });
+        const auto confirmed =
+            std::count_if(votes_of.begin(), votes_of.end(), [&](int v) { return v >= options.min_votes; });
         if (options.min_votes > 1 && confirmed >= options.min_group_matches)
         {
             size_t w = 0;
@@ -260,7 +261,8 @@ struct Localizer::Impl
         r.localized = false;
         int best = -1;
         for (int g : hypotheses)
-            if (r.groups[size_t(g)].inliers > 0 && (best < 0 || r.groups[size_t(g)].inliers > r.groups[size_t(best)].inliers))
+            if (r.groups[size_t(g)].inliers > 0 &&
+                (best < 0 || r.groups[size_t(g)].inliers > r.groups[size_t(best)].inliers))
                 best = g;
         if (best < 0)
         {
@@ -291,7 +293,8 @@ struct Localizer::Impl
             nearest = std::min(nearest, (viewPosition(db.views[size_t(vid)]) - b.T_world_cam.translation()).norm());
         if (nearest > options.max_distance_to_views_m)
         {
-            r.reason = "the pose lies " + std::to_string(nearest) + " m from its group's views (> max_distance_to_views_m)";
+            r.reason =
+                "the pose lies " + std::to_string(nearest) + " m from its group's views (> max_distance_to_views_m)";
             return;
         }
         for (int g : hypotheses)
@@ -317,10 +320,10 @@ struct Localizer::Impl
     std::unique_ptr<frontend::FeatureExtractor> extractor;
     frontend::Features query;
     cv::Mat blurred;
-    std::vector<int> bucket_of_word;                                    ///< word -> node at match_level
+    std::vector<int> bucket_of_word;                                      ///< word -> node at match_level
     std::vector<std::unordered_map<int, std::vector<int>>> view_buckets;  ///< per view: node -> keypoints
-    std::vector<int> query_buckets;                                      ///< per query keypoint
-    std::map<int, GroupCorrespondences> correspondences;  ///< per group, for the current query
+    std::vector<int> query_buckets;                                       ///< per query keypoint
+    std::map<int, GroupCorrespondences> correspondences;                  ///< per group, for the current query
 };
 
 Localizer::Localizer(const Database& db, const LocalizerOptions& options)
@@ -334,7 +337,8 @@ Localizer::~Localizer() = default;
 
 LocalizationReport Localizer::localize(const cv::Mat& gray, const core::CameraModel& camera, LocalizationMode mode)
 {
-    core::require(!gray.empty() && gray.type() == CV_8UC1, "the query image", "must be a non-empty 8-bit grayscale image");
+    core::require(!gray.empty() && gray.type() == CV_8UC1, "the query image",
+                  "must be a non-empty 8-bit grayscale image");
     camera.check("the query camera");
     core::require(gray.cols == camera.width && gray.rows == camera.height, "the query image",
                   "is " + std::to_string(gray.cols) + "x" + std::to_string(gray.rows) + " but the camera model " +

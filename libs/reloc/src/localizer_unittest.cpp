@@ -40,8 +40,8 @@ reloc::DatabaseBuildConfig testConfig()
     c.sampling.heights_m = {1.3};
     c.sampling.pitches_deg = {-10};
     c.sampling.num_headings = 12;
-    c.build.store_lines = false;  // not used by the localizer; keeps the test short
-    c.quasi.reflectivity_scope = "map";  // the same point gets the same grey level in every view
+    c.build.store_lines = false;                 // not used by the localizer; keeps the test short
+    c.quasi.reflectivity_scope = "map";          // the same point gets the same grey level in every view
     c.sampling.region = {-1.5, -1.0, 0.5, 1.0};  // part of the room: keeps the test short
     c.features.dense_map = false;
     c.association.lift_search_radius_px = 1;
@@ -151,7 +151,8 @@ void checkQueryBetweenViews()
         ++tried;
         if (r.localized && translationError(r, T) < 0.3) ++ok;
         if (r.localized && translationError(r, T) > 1.0) ++wrong;
-        if (!r.localized) std::cout << "  query near view " << id << ": not localized: " << r.reason << "\n";
+        if (!r.localized)
+            std::cout << "  query near view " << id << ": not localized: " << r.reason << "\n";
         else if (translationError(r, T) >= 0.3)
             std::cout << "  query near view " << id << ": localized " << translationError(r, T) << " m off\n";
     }

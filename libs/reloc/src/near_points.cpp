@@ -10,7 +10,9 @@ namespace
 {
 uint64_t cellKey(const Eigen::Vector3f& p, float inv_cell)
 {
-    const auto u = [&](float v) { return uint64_t(uint32_t(int32_t(std::floor(v * inv_cell)) + (1 << 20)) & 0x1FFFFFu); };
+    const auto u = [&](float v) {
+        return uint64_t(uint32_t(int32_t(std::floor(v * inv_cell)) + (1 << 20)) & 0x1FFFFFu);
+    };
     return (u(p.x()) << 42) | (u(p.y()) << 21) | u(p.z());
 }
 uint64_t shifted(uint64_t key, int dx, int dy, int dz)

@@ -27,7 +27,7 @@ class NearPoints
     uint64_t key(const Eigen::Vector3f& p) const;
 
     float cell_;
-    std::vector<Eigen::Vector3f> points_;  ///< grouped by cell
+    std::vector<Eigen::Vector3f> points_;                                ///< grouped by cell
     std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> cells_;  ///< cell -> [begin, end) in points_
 };
 

@@ -18,8 +18,7 @@ TEST(NearPoints, NearestWithinTheRadiusEqualsABruteForceSearchOfTheWholeMap)
     for (int i = 0; i < 2000; ++i) m.addPoint(-20 + 40 * U(rng), -20 + 40 * U(rng), 5 * U(rng), 0.5f);
     const map::VisibilityIndex index(m, {});
     std::vector<Eigen::Vector3f> queries;
-    for (int i = 0; i < 500; ++i)
-        queries.emplace_back(-1 + 8 * U(rng), -1 + 6 * U(rng), -0.2f + 3.4f * U(rng));
+    for (int i = 0; i < 500; ++i) queries.emplace_back(-1 + 8 * U(rng), -1 + 6 * U(rng), -0.2f + 3.4f * U(rng));
     for (int i = 0; i < 500; ++i)  // near the surfaces
         queries.push_back(m.point(size_t(80000 * U(rng))) + 0.1f * Eigen::Vector3f(U(rng), U(rng), U(rng)));
     const float radius = 0.1f, reach = 0.25f;

@@ -102,7 +102,8 @@ std::vector<Eigen::Vector3f> StereoCloud::compute(const cv::Mat& left_raw, const
     return points(disparity(left_raw, right_raw, input));
 }
 
-StereoDisparity StereoCloud::disparity(const cv::Mat& left_raw, const cv::Mat& right_raw, const std::string& input) const
+StereoDisparity StereoCloud::disparity(const cv::Mat& left_raw, const cv::Mat& right_raw,
+                                       const std::string& input) const
 {
     for (const cv::Mat* im : {&left_raw, &right_raw})
     {

@@ -49,9 +49,9 @@ std::vector<Eigen::Vector3f> reference(const core::StereoRectification& rect, co
             if (z < o.min_depth_m || z > o.max_depth_m) continue;
             const Eigen::Vector3f p((float((s * (x + 0.5) - 0.5 - cx) * z / f)),
                                     float((s * (y + 0.5) - 0.5 - cy) * z / f), float(z));
-            const auto key = std::make_tuple(int64_t(std::floor(p.x() / o.voxel_m)),
-                                             int64_t(std::floor(p.y() / o.voxel_m)),
-                                             int64_t(std::floor(p.z() / o.voxel_m)));
+            const auto key =
+                std::make_tuple(int64_t(std::floor(p.x() / o.voxel_m)), int64_t(std::floor(p.y() / o.voxel_m)),
+                                int64_t(std::floor(p.z() / o.voxel_m)));
             if (voxels.insert(key).second) out.push_back(R_cam_rect * p);
         }
     return out;

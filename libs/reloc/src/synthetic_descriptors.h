@@ -52,7 +52,7 @@ inline void observe(const cv::Mat& prototype, cv::Mat out_row, std::mt19937& rng
 }
 
 inline std::vector<cv::Mat> sceneImages(const DescriptorKind& kind, int images, int per_image, int prototypes,
-                                 unsigned seed)
+                                        unsigned seed)
 {
     std::mt19937 rng(seed);
     const cv::Mat pool = randomDescriptors(kind, prototypes, rng);

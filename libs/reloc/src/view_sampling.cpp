@@ -186,8 +186,8 @@ std::vector<mrpt::poses::CPose3D> sampleViewpoints(const map::LidarMap& map, con
                 {
                     bool enclosed = grid.rayHits(x, y, z, 0, 0, 1, options.max_ray_m);
                     for (int k = 0; enclosed && k < 8; ++k)
-                        enclosed = grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0,
-                                                options.max_ray_m);
+                        enclosed =
+                            grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0, options.max_ray_m);
                     if (!enclosed)
                     {
                         ++st.not_enclosed;

@@ -203,8 +203,7 @@ class TreeBuilder
    public:
     TreeBuilder(Metric metric, const std::vector<Elem>& data, const VocabularyOptions& options)
         : m_(metric), data_(data), options_(options)
-    {
-    }
+    {}
 
     void build(BuildNode<Elem>& node, std::vector<int> members, int level, uint64_t key) const
     {
@@ -514,8 +513,8 @@ WordId Vocabulary::descend(const void* row) const
         while (first_child_[node] >= 0)
         {
             const int first = first_child_[node];
-            node = first + metric.nearest(x, float_centres_.data() + size_t(first) * row_elements_,
-                                          num_children_[node]);
+            node =
+                first + metric.nearest(x, float_centres_.data() + size_t(first) * row_elements_, num_children_[node]);
         }
     }
     return static_cast<WordId>(node_word_[node]);
@@ -668,9 +667,9 @@ Vocabulary Vocabulary::read(mrpt::serialization::CArchive& in)
     try
     {
         char magic[sizeof(kMagic)] = {};
-        core::require(in.ReadBuffer(magic, sizeof(magic)) == sizeof(magic) &&
-                          std::memcmp(magic, kMagic, sizeof(magic)) == 0,
-                      kArchiveInput, "not a quasiloc vocabulary (bad header)");
+        core::require(
+            in.ReadBuffer(magic, sizeof(magic)) == sizeof(magic) && std::memcmp(magic, kMagic, sizeof(magic)) == 0,
+            kArchiveInput, "not a quasiloc vocabulary (bad header)");
         const uint32_t version = in.ReadAs<uint32_t>();
         core::require(version == kVersion, kArchiveInput,
                       "version " + std::to_string(version) + " is not supported (this build reads " +
@@ -685,8 +684,8 @@ Vocabulary Vocabulary::read(mrpt::serialization::CArchive& in)
                       kArchiveInput, "corrupt descriptor format");
         const uint32_t nodes = in.ReadAs<uint32_t>();
         const size_t elem_size = v.binary() ? sizeof(uint64_t) : sizeof(float);
-        core::require(nodes >= 1 && uint64_t(nodes) * v.row_elements_ * elem_size <= (uint64_t(1) << 34),
-                      kArchiveInput, "corrupt node count " + std::to_string(nodes));
+        core::require(nodes >= 1 && uint64_t(nodes) * v.row_elements_ * elem_size <= (uint64_t(1) << 34), kArchiveInput,
+                      "corrupt node count " + std::to_string(nodes));
         v.first_child_ = readArray<int32_t>(in, nodes, "the tree");
         v.num_children_ = readArray<int32_t>(in, nodes, "the tree");
         v.node_word_ = readArray<int32_t>(in, nodes, "the tree");
@@ -702,9 +701,9 @@ Vocabulary Vocabulary::read(mrpt::serialization::CArchive& in)
         checkTree(v.first_child_, v.num_children_, v.node_word_, num_words);
         core::require(std::all_of(v.idf_.begin(), v.idf_.end(), [](float x) { return std::isfinite(x) && x >= 0; }),
                       kArchiveInput, "corrupt idf table");
-        core::require(std::all_of(v.float_centres_.begin(), v.float_centres_.end(),
-                                  [](float x) { return std::isfinite(x); }),
-                      kArchiveInput, "corrupt float centres");
+        core::require(
+            std::all_of(v.float_centres_.begin(), v.float_centres_.end(), [](float x) { return std::isfinite(x); }),
+            kArchiveInput, "corrupt float centres");
         return v;
     }
     catch (const core::InputError&)

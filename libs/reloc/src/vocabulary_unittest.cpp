@@ -217,8 +217,11 @@ TEST(Vocabulary, BadInputThrowsInputErrorNamingTheProblem)
     std::mt19937 rng(1);
     const cv::Mat orb = randomDescriptors({true, 32}, 50, rng), sift = randomDescriptors({false, 128}, 50, rng);
     expectInputError([&] { Vocabulary::train({orb, sift}, smallOptions()); }, "mixed descriptors");
-    expectInputError([&] { Vocabulary::train({orb, orb.colRange(0, 16).clone()}, smallOptions()); },
-                     "mixed descriptors");
+    expectInputError(
+        [&] {
+            Vocabulary::train({orb, orb.colRange(0, 16).clone()}, smallOptions());
+        },
+        "mixed descriptors");
     cv::Mat nan_row = sift.clone();
     nan_row.at<float>(3, 7) = std::numeric_limits<float>::quiet_NaN();
     expectInputError([&] { Vocabulary::train({nan_row}, smallOptions()); }, "NaN");

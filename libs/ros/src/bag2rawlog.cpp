@@ -157,11 +157,11 @@ void Converter::takePairs()
         images_.erase(u.id);
         if (u.out_of_order) ++r_.out_of_order;
         if (r_.unpaired_report.size() < 5)
-            r_.unpaired_report.push_back(std::string(u.left ? "left image on " + o_.left_topic
-                                                            : "right image on " + o_.right_topic) +
-                                         " at t=" + std::to_string(u.t_ns) + " ns" +
-                                         (u.out_of_order ? ": not later than the previous image of its topic"
-                                                         : ": no image of the other camera within the tolerance"));
+            r_.unpaired_report.push_back(
+                std::string(u.left ? "left image on " + o_.left_topic : "right image on " + o_.right_topic) +
+                " at t=" + std::to_string(u.t_ns) + " ns" +
+                (u.out_of_order ? ": not later than the previous image of its topic"
+                                : ": no image of the other camera within the tolerance"));
     }
 }
 
@@ -175,8 +175,8 @@ void Converter::handleGroundTruth(const BagMessage& m)
     require(t.allFinite() && std::abs(q.norm() - 1.0) < 1e-3, m.where(),
             "pose with a non-finite value or a non-unit quaternion");
     mrpt::poses::CPose3D T_world_x = core::fromTranslationQuaternion(t, q.normalized());
-    const auto T_world_cam0 = o_.groundtruth_frame == GroundTruthFrame::Body ? T_world_x + calib_.rig.T_body_left
-                                                                             : T_world_x;
+    const auto T_world_cam0 =
+        o_.groundtruth_frame == GroundTruthFrame::Body ? T_world_x + calib_.rig.T_body_left : T_world_x;
     if (!gt_.poses.empty() && dataset::secondsToNs(gt_.poses.back().t) >= t_ns) return;  // repeated or late: drop
     gt_.poses.push_back({dataset::nsToSeconds(t_ns), T_world_cam0});
 }
@@ -242,8 +242,8 @@ void Converter::progress(std::int64_t t_ns, bool done)
     shown_percent_ = percent;
     const int width = 40, filled = percent * width / 100;
     std::fprintf(stderr, "%s[%s%s] %3d%%  %zu stereo frames, %zu IMU samples%s", tty ? "\r" : "",
-                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), percent,
-                 r_.stereo_written, r_.imu_written, tty && !done ? "" : "\n");
+                 std::string(filled, '#').c_str(), std::string(width - filled, '.').c_str(), percent, r_.stereo_written,
+                 r_.imu_written, tty && !done ? "" : "\n");
     std::fflush(stderr);
 }
 
@@ -301,8 +301,8 @@ Bag2RawlogResult Converter::run()
     if (!o_.groundtruth_topic.empty())
     {
         require(!gt_.poses.empty(), o_.input_bag + " topic " + o_.groundtruth_topic, "no ground-truth message");
-        gt_.header = "T_world_cam0 from " + o_.input_bag + " topic " + o_.groundtruth_topic +
-                     "\nt tx ty tz qx qy qz qw";
+        gt_.header =
+            "T_world_cam0 from " + o_.input_bag + " topic " + o_.groundtruth_topic + "\nt tx ty tz qx qy qz qw";
         core::writeTum(staged.addFile(o_.gtOutPath()), gt_);
         r_.gt_path = o_.gtOutPath();
         r_.gt_written = gt_.poses.size();

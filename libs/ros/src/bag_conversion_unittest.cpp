@@ -108,7 +108,8 @@ qros::Bag2RawlogOptions optionsFor(const TempDir& dir, const std::string& bag)
     rig.left = rig.right = core::CameraModel::pinhole(kW, kH, 50, 50, 32, 24);
     rig.T_left_right = mrpt::poses::CPose3D(0.1, 0, 0, 0, 0, 0);
     rig.T_body_left = mrpt::poses::CPose3D(0.01, 0.02, 0.03, 0.1, 0.2, 0.3);
-    std::ofstream(dir.path + "/camchain.yaml") << dataset::kalibrCamchainText(rig, "/cam0/image_raw", "/cam1/image_raw", "test");
+    std::ofstream(dir.path + "/camchain.yaml")
+        << dataset::kalibrCamchainText(rig, "/cam0/image_raw", "/cam1/image_raw", "test");
     dataset::ImuCalibration imu;
     imu.gyroscope_noise_density = imu.gyroscope_random_walk = 1e-4;
     imu.accelerometer_noise_density = imu.accelerometer_random_walk = 1e-3;
@@ -203,7 +204,7 @@ TEST(BagConversion, CompressedPngAndJpegImagesAreRead)
     auto src = dataset::openRawlog(o.output, {{}, 0.005, r.calib_path});
     dataset::StereoFrame f;
     ASSERT_TRUE(src->next(f));
-    EXPECT_EQ(cv::norm(f.left, testImage(0, false), cv::NORM_INF), 0);     // png: lossless
+    EXPECT_EQ(cv::norm(f.left, testImage(0, false), cv::NORM_INF), 0);             // png: lossless
     EXPECT_LT(cv::norm(f.right, testImage(0, true), cv::NORM_L1) / (kW * kH), 8);  // jpeg: close
 }
 

@@ -14,8 +14,9 @@ namespace
 cv::Mat view(const ImageMsg& msg, int type, int bytes_per_pixel, const std::string& where)
 {
     require(msg.width > 0 && msg.height > 0, where, "image of size 0");
-    require(msg.width <= 65535 && msg.height <= 65535, where,
-            "image of " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " pixels (at most 65535 a side)");
+    require(
+        msg.width <= 65535 && msg.height <= 65535, where,
+        "image of " + std::to_string(msg.width) + "x" + std::to_string(msg.height) + " pixels (at most 65535 a side)");
     require(std::uint64_t(msg.step) >= std::uint64_t(msg.width) * std::uint64_t(bytes_per_pixel), where,
             "step " + std::to_string(msg.step) + " is less than width x " + std::to_string(bytes_per_pixel));
     require(msg.data.size() >= size_t(msg.step) * msg.height, where,
@@ -121,8 +122,8 @@ CompressedImageMsg compressedMsgFromGray(const cv::Mat& gray, bool png, int jpeg
     require(gray.type() == CV_8UC1 && !gray.empty(), "compressedMsgFromGray", "expects a CV_8UC1 image");
     CompressedImageMsg msg;
     msg.format = png ? "mono8; png compressed" : "mono8; jpeg compressed";
-    const std::vector<int> params =
-        png ? std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 1} : std::vector<int>{cv::IMWRITE_JPEG_QUALITY, jpeg_quality};
+    const std::vector<int> params = png ? std::vector<int>{cv::IMWRITE_PNG_COMPRESSION, 1}
+                                        : std::vector<int>{cv::IMWRITE_JPEG_QUALITY, jpeg_quality};
     std::vector<uchar> bytes;
     require(cv::imencode(png ? ".png" : ".jpg", gray, bytes, params), "compressedMsgFromGray", "encoding failed");
     msg.data.assign(bytes.begin(), bytes.end());

@@ -35,7 +35,10 @@ struct Decode
     void operator()(std::vector<std::uint8_t>& v) { v = r.byteSequence(); }
     void operator()(std::vector<double>& v) { v = r.f64Sequence(); }
     template <std::size_t N>
-    void operator()(std::array<double, N>& a) { r.f64Array(a); }
+    void operator()(std::array<double, N>& a)
+    {
+        r.f64Array(a);
+    }
     void operator()(Eigen::Vector3d& v)
     {
         for (int i = 0; i < 3; ++i) v[i] = r.f64();
@@ -63,7 +66,10 @@ struct Encode
     void operator()(const std::vector<std::uint8_t>& v) { w.byteSequence(v); }
     void operator()(const std::vector<double>& v) { w.f64Sequence(v); }
     template <std::size_t N>
-    void operator()(const std::array<double, N>& a) { w.f64Array(a); }
+    void operator()(const std::array<double, N>& a)
+    {
+        w.f64Array(a);
+    }
     void operator()(const Eigen::Vector3d& v)
     {
         for (int i = 0; i < 3; ++i) w.f64(v[i]);
@@ -176,7 +182,10 @@ CompressedImageMsg readCompressedImage(Reader& r)
     return decodeWith<CompressedImageMsg, compressedImageFields<Decode, CompressedImageMsg>>(r);
 }
 ImuMsg readImu(Reader& r) { return decodeWith<ImuMsg, imuFields<Decode, ImuMsg>>(r); }
-CameraInfoMsg readCameraInfo(Reader& r) { return decodeWith<CameraInfoMsg, cameraInfoFields<Decode, CameraInfoMsg>>(r); }
+CameraInfoMsg readCameraInfo(Reader& r)
+{
+    return decodeWith<CameraInfoMsg, cameraInfoFields<Decode, CameraInfoMsg>>(r);
+}
 PoseMsg readPoseStamped(Reader& r) { return decodeWith<PoseMsg, poseStampedFields<Decode, PoseMsg>>(r); }
 TransformMsg readTransformStamped(Reader& r)
 {
@@ -217,7 +226,10 @@ std::vector<std::uint8_t> encodeWith(const M& m)
     return w.take();
 }
 
-std::vector<std::uint8_t> encode(const ImageMsg& m) { return encodeWith<ImageMsg, imageFields<Encode, const ImageMsg>>(m); }
+std::vector<std::uint8_t> encode(const ImageMsg& m)
+{
+    return encodeWith<ImageMsg, imageFields<Encode, const ImageMsg>>(m);
+}
 std::vector<std::uint8_t> encode(const CompressedImageMsg& m)
 {
     return encodeWith<CompressedImageMsg, compressedImageFields<Encode, const CompressedImageMsg>>(m);

@@ -136,9 +136,9 @@ TEST(Cdr, BigEndianMessagesAlignFromTheEndOfTheHeader)
     // geometry_msgs/PoseStamped, big endian: stamp, frame "map" (4 + 4 bytes: the doubles start at 16, aligned to 8
     // counted after the encapsulation header), position, orientation.
     BigEndian be;
-    be.u32(12);           // sec
-    be.u32(500000000);    // nanosec
-    be.string("map");     // ends at 12: 4 bytes of padding before the first double
+    be.u32(12);         // sec
+    be.u32(500000000);  // nanosec
+    be.string("map");   // ends at 12: 4 bytes of padding before the first double
     for (double v : {1.5, -2.5, 3.25, 0.0, 0.0, 0.0, 1.0}) be.f64(v);
     EXPECT_EQ(be.b.size(), 4u + 16u + 56u);
     const PoseMsg p = decode(be.b, cdr::readPoseStamped);

@@ -19,10 +19,10 @@ class McapBagSink : public BagSink
 {
    public:
     McapBagSink(const std::string& folder, const std::string& name, dataset::BagCompression compression)
-        : folder_(folder), file_name_(name + "_0.mcap"),
+        : folder_(folder),
+          file_name_(name + "_0.mcap"),
           writer_((fs::path(folder) / file_name_).string(), options(compression))
-    {
-    }
+    {}
     bool carriesCalibration() const override { return true; }
     void image(const std::string& topic, const ImageMsg& m) override
     {
@@ -58,9 +58,9 @@ class McapBagSink : public BagSink
         m.duration_ns = std::int64_t(writer_.endTime() - writer_.startTime());
         m.message_count = writer_.messageCount();
         for (const auto& [topic, channel] : channels_)
-            m.topics.push_back({topic, types_.at(topic), "cdr", writer_.channelMessageCounts().count(channel)
-                                                                    ? writer_.channelMessageCounts().at(channel)
-                                                                    : 0});
+            m.topics.push_back(
+                {topic, types_.at(topic), "cdr",
+                 writer_.channelMessageCounts().count(channel) ? writer_.channelMessageCounts().at(channel) : 0});
         core::writeTextFileAtomically((fs::path(folder_) / "metadata.yaml").string(), rosbag2MetadataYaml(m));
     }
 
@@ -81,7 +81,8 @@ class McapBagSink : public BagSink
             auto schema = schemas_.find(type);
             if (schema == schemas_.end())
                 schema = schemas_.emplace(type, writer_.addSchema(type, "ros2msg", ros2MessageDefinition(type))).first;
-            it = channels_.emplace(topic, writer_.addChannel(topic, schema->second, "cdr", {{"offered_qos_profiles", ""}}))
+            it = channels_
+                     .emplace(topic, writer_.addChannel(topic, schema->second, "cdr", {{"offered_qos_profiles", ""}}))
                      .first;
             types_[topic] = type;
         }

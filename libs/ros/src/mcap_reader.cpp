@@ -39,7 +39,10 @@ Reader::~Reader()
     if (file_) std::fclose(file_);
 }
 
-std::string Reader::where(std::uint64_t at) const { return path_ + " (MCAP record at byte " + std::to_string(at) + ")"; }
+std::string Reader::where(std::uint64_t at) const
+{
+    return path_ + " (MCAP record at byte " + std::to_string(at) + ")";
+}
 
 void Reader::readAt(std::uint64_t offset, std::uint8_t* out, std::size_t n, const char* what)
 {
@@ -59,14 +62,15 @@ std::string Reader::typeOf(const Channel& c) const
 void Reader::readFooterAndSummary()
 {
     if (size_ < 8 + kFooterRecordBytes + 8)
-        throw InputError(path_, "truncated: too short for an MCAP file with its footer (" + std::to_string(size_) +
-                                    " bytes)");
+        throw InputError(path_,
+                         "truncated: too short for an MCAP file with its footer (" + std::to_string(size_) + " bytes)");
     std::uint8_t tail[kFooterRecordBytes + 8];
     const std::uint64_t footer_at = size_ - sizeof tail;
     readAt(footer_at, tail, sizeof tail, "the footer");
     if (!std::equal(tail + kFooterRecordBytes, tail + sizeof tail, kMagic) || tail[0] != op::kFooter)
-        throw InputError(path_, "truncated: no MCAP footer and end magic (a recording that was cut off; the "
-                                "mcap CLI's 'recover' command can rewrite it)");
+        throw InputError(path_,
+                         "truncated: no MCAP footer and end magic (a recording that was cut off; the "
+                         "mcap CLI's 'recover' command can rewrite it)");
     Cursor c(tail + 1, kFooterRecordBytes - 1, where(footer_at));
     if (c.u64() != kFooterContentBytes) throw InputError(where(footer_at), "footer of the wrong length");
     const std::uint64_t summary_start = c.u64();
@@ -74,8 +78,8 @@ void Reader::readFooterAndSummary()
     const std::uint32_t crc = c.u32();
     const std::uint64_t crc_end = footer_at + kRecordHeaderBytes + 16;  // up to and including summary_offset_start
     if (summary_start != 0 && (summary_start < 8 || summary_start > footer_at))
-        throw InputError(where(footer_at), "footer's summary_start " + std::to_string(summary_start) +
-                                               " is outside the file");
+        throw InputError(where(footer_at),
+                         "footer's summary_start " + std::to_string(summary_start) + " is outside the file");
     readSummary(summary_start, footer_at, crc, crc_end);
 }
 
@@ -115,10 +119,10 @@ void Reader::readSummary(std::uint64_t start, std::uint64_t end, std::uint32_t c
             Cursor c(p, std::size_t(len), where(at));
             summary_.has_statistics = true;
             summary_.message_count = c.u64();
-            c.u16();                                     // schema_count
-            for (int i = 0; i < 4; ++i) c.u32();         // channel, attachment, metadata, chunk counts
-            c.u64();                                     // message_start_time
-            c.u64();                                     // message_end_time
+            c.u16();                              // schema_count
+            for (int i = 0; i < 4; ++i) c.u32();  // channel, attachment, metadata, chunk counts
+            c.u64();                              // message_start_time
+            c.u64();                              // message_end_time
             const std::uint8_t* counts = c.bytes32();
             Cursor m(counts, c.lastSize(), where(at));
             while (m.remaining() > 0)
@@ -168,8 +172,8 @@ MessageView Reader::message(const std::uint8_t* p, std::size_t n, std::uint64_t 
     m.size = c.lastSize();
     const auto it = channels_.find(channel);
     if (it == channels_.end())
-        throw InputError(where(at), "message on channel " + std::to_string(channel) +
-                                        " that no Channel record declared before it");
+        throw InputError(
+            where(at), "message on channel " + std::to_string(channel) + " that no Channel record declared before it");
     m.channel = &it->second;
     return m;
 }

@@ -10,9 +10,9 @@ namespace quasiloc::ros::mcap
 {
 namespace op
 {
-constexpr std::uint8_t kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05,
-                       kChunk = 0x06, kMessageIndex = 0x07, kChunkIndex = 0x08, kStatistics = 0x0B,
-                       kSummaryOffset = 0x0E, kDataEnd = 0x0F;
+constexpr std::uint8_t kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05, kChunk = 0x06,
+                       kMessageIndex = 0x07, kChunkIndex = 0x08, kStatistics = 0x0B, kSummaryOffset = 0x0E,
+                       kDataEnd = 0x0F;
 }
 constexpr std::size_t kRecordHeaderBytes = 9;  ///< opcode u8 + content length u64
 constexpr std::size_t kFooterContentBytes = 20;

@@ -129,7 +129,8 @@ TEST(Mcap, AChunkWhoseCrcFailsIsAnErrorNamingTheFileAndTheChunk)
         // 100 bytes into the first chunk's records (after its compression string and records length).
         std::ifstream in(path, std::ios::binary);
         const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-        const auto at = c.empty() ? std::string::npos : bytes.find(std::string(1, char(c.size())) + std::string(3, '\0') + c);
+        const auto at =
+            c.empty() ? std::string::npos : bytes.find(std::string(1, char(c.size())) + std::string(3, '\0') + c);
         flipByteAt(path, c.empty() ? 2000 : at + 4 + c.size() + 8 + 100);
         const std::string e = errorOf([&] { readMcap(path); });
         EXPECT_NE(e.find(path), std::string::npos) << e;

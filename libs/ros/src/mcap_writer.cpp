@@ -93,16 +93,20 @@ std::uint16_t Writer::addSchema(const std::string& name, const std::string& enco
     return id;
 }
 
-std::uint16_t Writer::addChannel(const std::string& topic, std::uint16_t schema_id,
-                                 const std::string& message_encoding,
+std::uint16_t Writer::addChannel(const std::string& topic, std::uint16_t schema_id, const std::string& message_encoding,
                                  const std::map<std::string, std::string>& metadata)
 {
     flushChunk();
     const auto id = std::uint16_t(channel_records_.size());
     Record map(0);
     for (const auto& [k, v] : metadata) map.string(k).string(v);
-    auto rec = Record(op::kChannel).u16(id).u16(schema_id).string(topic).string(message_encoding).block32(
-        map.content()).take();
+    auto rec = Record(op::kChannel)
+                   .u16(id)
+                   .u16(schema_id)
+                   .string(topic)
+                   .string(message_encoding)
+                   .block32(map.content())
+                   .take();
     emit(rec);
     channel_records_.push_back(std::move(rec));
     return id;

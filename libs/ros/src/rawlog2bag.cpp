@@ -70,8 +70,7 @@ class BagWriter
    public:
     BagWriter(const Rawlog2BagOptions& o, const dataset::SensorCalibration& calib, std::unique_ptr<BagSink> sink)
         : o_(o), calib_(calib), sink_(std::move(sink))
-    {
-    }
+    {}
 
     void stereo(std::int64_t t_ns, const cv::Mat& left, const cv::Mat& right)
     {
@@ -225,8 +224,8 @@ Rawlog2BagResult convertRawlogToBag(const Rawlog2BagOptions& o)
             bag.stereo(t_ns, loadImage(stereo->imageLeft, images_folder, calib.rig.left, where + " left"),
                        loadImage(stereo->imageRight, images_folder, calib.rig.right, where + " right"));
         else if (auto i = std::dynamic_pointer_cast<CObservationIMU>(obs);
-                 i && i->has(IMU_X_ACC) && i->has(IMU_Y_ACC) && i->has(IMU_Z_ACC) && i->has(IMU_WX) &&
-                 i->has(IMU_WY) && i->has(IMU_WZ))
+                 i && i->has(IMU_X_ACC) && i->has(IMU_Y_ACC) && i->has(IMU_Z_ACC) && i->has(IMU_WX) && i->has(IMU_WY) &&
+                 i->has(IMU_WZ))
             bag.imu(t_ns, *i);
         else
             ++bag.r.ignored;

@@ -21,7 +21,8 @@ const std::map<std::string, std::string>& definitions()
         {"geometry_msgs/Transform", "Vector3 translation\nQuaternion rotation\n"},
         {"geometry_msgs/TransformStamped", "std_msgs/Header header\nstring child_frame_id\nTransform transform\n"},
         {"geometry_msgs/PoseStamped", "std_msgs/Header header\nPose pose\n"},
-        {"sensor_msgs/RegionOfInterest", "uint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify\n"},
+        {"sensor_msgs/RegionOfInterest",
+         "uint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify\n"},
         {"sensor_msgs/Image",
          "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\n"
          "uint8[] data\n"},

@@ -55,8 +55,9 @@ std::string writeRos2Bag(const std::string& folder, const Ros2BagSpec& spec)
 {
     auto sink = makeMcapBagSink(folder, fs::path(folder).filename().string(), dataset::BagCompression::Zstd);
     // The extrinsics through a chain: base_link -> imu_link, base_link -> cam0 -> cam1.
-    sink->tfStatic("/tf_static", {transform("base_link", "imu_link", kT_base_imu),
-                                  transform("base_link", "cam0", kT_base_cam0), transform("cam0", "cam1", kT_cam0_cam1)});
+    sink->tfStatic("/tf_static",
+                   {transform("base_link", "imu_link", kT_base_imu), transform("base_link", "cam0", kT_base_cam0),
+                    transform("cam0", "cam1", kT_cam0_cam1)});
     for (int i = 0; i < 8; ++i)
     {
         const std::int64_t t = kT0 + i * kFramePeriod;

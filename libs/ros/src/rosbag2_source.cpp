@@ -38,9 +38,8 @@ bool endsWith(const std::string& s, const std::string& tail)
 class CdrMessage : public BagMessage
 {
    public:
-    CdrMessage(const std::string& file, const std::string& topic, const std::string& type,
-               const std::string& format, std::int64_t t_ns, const std::uint8_t* data, std::size_t size,
-               bool zstd_compressed)
+    CdrMessage(const std::string& file, const std::string& topic, const std::string& type, const std::string& format,
+               std::int64_t t_ns, const std::uint8_t* data, std::size_t size, bool zstd_compressed)
         : file_(file), topic_(topic), type_(type), format_(format), t_ns_(t_ns), data_(data), size_(size)
     {
         if (zstd_compressed)
@@ -145,8 +144,7 @@ class Rosbag2Source : public MessageSource
     const std::map<std::string, std::string>& topicTypes() const override { return types_; }
     std::pair<std::int64_t, std::int64_t> timeSpanNs() const override { return span_; }
 
-    void read(const std::vector<std::string>& topics,
-              const std::function<bool(const BagMessage&)>& visit) override
+    void read(const std::vector<std::string>& topics, const std::function<bool(const BagMessage&)>& visit) override
     {
         for (auto& f : files_)
         {
@@ -161,8 +159,7 @@ class Rosbag2Source : public MessageSource
             else
                 f.mcap->readMessages([&](const mcap::MessageView& m) {
                     const std::string& topic = m.channel->topic;
-                    if (std::find(topics.begin(), topics.end(), topic) == topics.end() && !topics.empty())
-                        return true;
+                    if (std::find(topics.begin(), topics.end(), topic) == topics.end() && !topics.empty()) return true;
                     const auto it = topics_.find(topic);
                     if (it == topics_.end())
                         throw InputError(f.original, "topic " + topic + " has a channel that the summary lacks");
@@ -201,8 +198,9 @@ class Rosbag2Source : public MessageSource
         if (!fs::is_directory(path_, ec)) throw InputError(path_, "bag not found (a rosbag2 folder, .db3 or .mcap)");
         const std::string yaml = (fs::path(path_) / "metadata.yaml").string();
         if (!fs::is_regular_file(yaml, ec))
-            throw InputError(path_, "a folder without metadata.yaml: not a rosbag2 bag (give the folder rosbag2 "
-                                    "wrote, or one .db3 / .mcap file)");
+            throw InputError(path_,
+                             "a folder without metadata.yaml: not a rosbag2 bag (give the folder rosbag2 "
+                             "wrote, or one .db3 / .mcap file)");
         const Rosbag2Metadata m = readRosbag2Metadata(yaml);
         storage_ = m.storage_identifier;
         if (storage_ != "sqlite3" && storage_ != "mcap")
@@ -218,7 +216,8 @@ class Rosbag2Source : public MessageSource
             else if (mode == "file")
                 file_zstd_ = true;
             else
-                throw InputError(yaml, "compression_mode '" + m.compression_mode + "' is not supported (file, message)");
+                throw InputError(yaml,
+                                 "compression_mode '" + m.compression_mode + "' is not supported (file, message)");
         }
         for (const auto& rel : m.relative_file_paths)
         {
@@ -241,7 +240,8 @@ class Rosbag2Source : public MessageSource
         if (std::string(head, 15) == "SQLite format 3") return "sqlite3";
         if (endsWith(file, ".mcap")) return "mcap";  // the reader will say what is wrong with it
         if (endsWith(file, ".db3")) return "sqlite3";
-        throw InputError(named, "unknown storage: neither an MCAP nor a SQLite3 file (a rosbag2 folder, .db3 or .mcap)");
+        throw InputError(named,
+                         "unknown storage: neither an MCAP nor a SQLite3 file (a rosbag2 folder, .db3 or .mcap)");
     }
 
     void openFile(File& f)
@@ -254,8 +254,7 @@ class Rosbag2Source : public MessageSource
             zstdDecompressFile(f.original, f.readable);
         }
         const std::string kind = storageOfFile(f.readable, f.original);
-        if (kind != storage_)
-            throw InputError(f.original, "is a " + kind + " file, the bag's storage is " + storage_);
+        if (kind != storage_) throw InputError(f.original, "is a " + kind + " file, the bag's storage is " + storage_);
         try
         {
             if (kind == "sqlite3")

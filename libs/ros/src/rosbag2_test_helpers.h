@@ -18,8 +18,8 @@ inline std::string ros2Data(const std::string& relative)
 }
 
 /** Skips the test (a clear message) when the shared data is not on this machine. */
-#define QUASILOC_REQUIRE_ROS2_DATA()                                                                    \
-    if (!std::filesystem::is_directory(quasiloc::ros::test::ros2Data("")))                              \
+#define QUASILOC_REQUIRE_ROS2_DATA()                                       \
+    if (!std::filesystem::is_directory(quasiloc::ros::test::ros2Data(""))) \
     GTEST_SKIP() << "no " << quasiloc::ros::test::ros2Data("") << " (QUASILOC_SHARED_DIR)"
 
 struct TempDir

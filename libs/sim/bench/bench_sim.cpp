@@ -116,16 +116,18 @@ int main(int argc, char** argv)
         double mean = 0;
         for (double x : v) mean += x;
         mean /= static_cast<double>(v.size());
-        std::printf("stereo render 752x480: mean %.1f ms, median %.1f ms, p90 %.1f ms per frame over %zu frames "
-                    "(bound %.0f ms on 2 cores): %s\n",
-                    mean, v[v.size() / 2], v[v.size() * 9 / 10], v.size(), kRenderBoundMs,
-                    v[v.size() / 2] <= kRenderBoundMs ? "OK" : "ABOVE BOUND");
+        std::printf(
+            "stereo render 752x480: mean %.1f ms, median %.1f ms, p90 %.1f ms per frame over %zu frames "
+            "(bound %.0f ms on 2 cores): %s\n",
+            mean, v[v.size() / 2], v[v.size() * 9 / 10], v.size(), kRenderBoundMs,
+            v[v.size() / 2] <= kRenderBoundMs ? "OK" : "ABOVE BOUND");
         // Wall time suffers when other processes share the 2 cores; CPU time does not: the two cameras render
         // in two threads, so on 2 idle cores a frame takes about half its CPU time.
         const double cpu = g_render_cpu_ms / static_cast<double>(v.size());
-        std::printf("stereo render CPU time: %.1f ms per frame (both threads) -> %.1f ms per frame on 2 idle cores "
-                    "(bound %.0f ms): %s\n",
-                    cpu, cpu / 2, kRenderBoundMs, cpu / 2 <= kRenderBoundMs ? "OK" : "ABOVE BOUND");
+        std::printf(
+            "stereo render CPU time: %.1f ms per frame (both threads) -> %.1f ms per frame on 2 idle cores "
+            "(bound %.0f ms): %s\n",
+            cpu, cpu / 2, kRenderBoundMs, cpu / 2 <= kRenderBoundMs ? "OK" : "ABOVE BOUND");
         double load[1] = {0};
         if (getloadavg(load, 1) == 1) std::printf("load average during the run: %.2f (2 cores)\n", load[0]);
     }

@@ -201,7 +201,8 @@ void addClutter(const FloorLayout& l, const WorldOptions& o, const ClearanceGrid
             Mesh piece;
             Eigen::AlignedBox2d fp;
             if (!makeFurniture(l, r, cell, rng, piece, fp)) continue;
-            const bool overlaps = std::any_of(taken.begin(), taken.end(), [&](const auto& b) { return b.intersects(fp); });
+            const bool overlaps =
+                std::any_of(taken.begin(), taken.end(), [&](const auto& b) { return b.intersects(fp); });
             if (!overlaps && place(piece))
             {
                 taken.push_back(fp);
@@ -227,7 +228,8 @@ void addClutter(const FloorLayout& l, const WorldOptions& o, const ClearanceGrid
         const int side = u01(rng) < 0.5 ? 1 : -1;
         const double x = u01(rng) * (l.corridor_length - 1.5);
         const bool at_door = std::any_of(l.rooms.begin(), l.rooms.end(), [&](const FloorRoom& r) {
-            return r.side == side && x < r.door_x + 0.5 * l.door_width + 0.1 && x + 1.3 > r.door_x - 0.5 * l.door_width - 0.1;
+            return r.side == side && x < r.door_x + 0.5 * l.door_width + 0.1 &&
+                   x + 1.3 > r.door_x - 0.5 * l.door_width - 0.1;
         });
         if (at_door) continue;
         Mesh piece;

@@ -89,7 +89,7 @@ ResolvedImuBias resolveImuBias(const ImuNoiseOptions& o, const std::string& shar
     if (o.bias == ImuBiasModel::random_walk || o.bias == ImuBiasModel::random_draw)
     {
         r.description = walk + (o.bias == ImuBiasModel::random_walk ? " (bias = random_walk)"
-                                                                     : " (bias = random_draw: initial biases drawn)");
+                                                                    : " (bias = random_draw: initial biases drawn)");
         return r;
     }
     std::string path = o.bias_file;
@@ -98,14 +98,15 @@ ResolvedImuBias resolveImuBias(const ImuNoiseOptions& o, const std::string& shar
         path = shared_dir + "/data/euroc/groundtruth/body/" + sequence + ".csv";
         if (!std::filesystem::exists(path))
         {
-            r.description = walk + " (bias = euroc_groundtruth, but " + sequence + " has no ground-truth bias file " +
-                            path + ")";
+            r.description =
+                walk + " (bias = euroc_groundtruth, but " + sequence + " has no ground-truth bias file " + path + ")";
             return r;
         }
     }
     else
     {
-        core::require(std::filesystem::is_regular_file(path), input + " [IMU] bias_file", "'" + path + "' does not exist");
+        core::require(std::filesystem::is_regular_file(path), input + " [IMU] bias_file",
+                      "'" + path + "' does not exist");
     }
     r.trajectory = ImuBiasTrajectory::fromEuroc(dataset::readEurocBiasCsv(path, o.rate_hz));
     const ImuBiasTrajectory& b = *r.trajectory;

@@ -97,7 +97,7 @@ TEST(ImuBias, BiasesEqualTheGroundTruthFileInterpolatedAtSampleTimes)
     const auto rows = readBiasRows(path);
     const TrajectorySpline& spline = splineOf("V1_02_medium");
     const auto file = ImuBiasTrajectory::fromEuroc(quasiloc::dataset::readEurocBiasCsv(path));
-    ImuNoiseOptions opt;  // noise on: the biases are still the file's, white noise on top
+    ImuNoiseOptions opt;                          // noise on: the biases are still the file's, white noise on top
     const double t0 = spline.tStart() + 20.0025;  // between the file's rows: real interpolation
     ImuSynthesizer noisy(spline, opt, file), clean(spline, noiseless(), file);
     ImuNoiseOptions zero_bias = noiseless();
@@ -124,12 +124,12 @@ TEST(ImuBias, BiasesEqualTheGroundTruthFileInterpolatedAtSampleTimes)
         EXPECT_LT((c[i].acc - e[i].acc - ba).norm(), 1e-9);
         mean_residual += (s[i].acc - e[i].acc - ba) / static_cast<double>(s.size());
     }
-    std::printf("[ gt bias  ] V1_02_medium 30 s: max |truth - file interpolated| gyro %.2e rad/s, acc %.2e m/s^2; "
-                "bias at start gyro (%.5f %.5f %.5f) acc (%.5f %.5f %.5f), at end acc (%.5f %.5f %.5f)\n",
-                max_err_g, max_err_a, truth.front().gyro_bias.x(), truth.front().gyro_bias.y(),
-                truth.front().gyro_bias.z(), truth.front().acc_bias.x(), truth.front().acc_bias.y(),
-                truth.front().acc_bias.z(), truth.back().acc_bias.x(), truth.back().acc_bias.y(),
-                truth.back().acc_bias.z());
+    std::printf(
+        "[ gt bias  ] V1_02_medium 30 s: max |truth - file interpolated| gyro %.2e rad/s, acc %.2e m/s^2; "
+        "bias at start gyro (%.5f %.5f %.5f) acc (%.5f %.5f %.5f), at end acc (%.5f %.5f %.5f)\n",
+        max_err_g, max_err_a, truth.front().gyro_bias.x(), truth.front().gyro_bias.y(), truth.front().gyro_bias.z(),
+        truth.front().acc_bias.x(), truth.front().acc_bias.y(), truth.front().acc_bias.z(), truth.back().acc_bias.x(),
+        truth.back().acc_bias.y(), truth.back().acc_bias.z());
     EXPECT_LT(max_err_g, 1e-9);
     EXPECT_LT(max_err_a, 1e-9);
     // The white noise is on top, zero-mean (sigma 0.028 m/s^2 per sample, 6001 samples).
@@ -140,8 +140,8 @@ TEST(ImuBias, BiasesEqualTheGroundTruthFileInterpolatedAtSampleTimes)
 
 TEST(ImuBias, BiasTrajectoryInterpolatesAndHoldsItsEnds)
 {
-    const ImuBiasTrajectory b({10.0, 11.0, 13.0}, {{0, 0, 0}, {1, 2, 3}, {3, 2, 1}}, {{0, 0, 0}, {-1, 0, 1}, {1, 0, -1}},
-                              "test");
+    const ImuBiasTrajectory b({10.0, 11.0, 13.0}, {{0, 0, 0}, {1, 2, 3}, {3, 2, 1}},
+                              {{0, 0, 0}, {-1, 0, 1}, {1, 0, -1}}, "test");
     Eigen::Vector3d g, a;
     b.at(5.0, g, a);  // before: the first value
     EXPECT_EQ(g, Eigen::Vector3d(0, 0, 0));

@@ -25,9 +25,9 @@ const std::string kEuroc = std::string(QUASILOC_SHARED_DIR) + "/data/euroc";
 
 const TrajectorySpline& v101Spline()
 {
-    static const TrajectorySpline spline = TrajectorySpline::fitCameraTrajectory(
-        quasiloc::core::readTum(kEuroc + "/groundtruth/cam0/V1_01_easy.txt"),
-        quasiloc::core::readEurocSensorPose(kEuroc + "/calib/cam0_sensor.yaml"));
+    static const TrajectorySpline spline =
+        TrajectorySpline::fitCameraTrajectory(quasiloc::core::readTum(kEuroc + "/groundtruth/cam0/V1_01_easy.txt"),
+                                              quasiloc::core::readEurocSensorPose(kEuroc + "/calib/cam0_sensor.yaml"));
     return spline;
 }
 
@@ -152,10 +152,7 @@ NavState derivative(const NavState& x, const Eigen::Vector3d& gyro, const Eigen:
     return d;
 }
 
-NavState axpy(const NavState& x, double h, const NavState& d)
-{
-    return {x.q + h * d.q, x.p + h * d.p, x.v + h * d.v};
-}
+NavState axpy(const NavState& x, double h, const NavState& d) { return {x.q + h * d.q, x.p + h * d.p, x.v + h * d.v}; }
 
 /** Classic RK4 over pairs of samples: step 2/rate, the middle sample is the midpoint evaluation. */
 NavState integrateRk4(NavState x, const std::vector<ImuSample>& imu, size_t k, const Eigen::Vector3d& g_world)
@@ -208,9 +205,10 @@ TEST(ImuSynthesizer, NoiselessImuIntegratesBackToTrajectory)
     for (double offset : {5.0, 30.0, 60.0, 90.0, 130.0})  // starts on the knot grid
     {
         const auto e = integrateAgainstSpline(spline, spline.tStart() + offset, 10.0);
-        std::printf("[ rk4      ] t0 = start + %5.1f s, 10 s: max error position %.3e m, velocity %.3e m/s, "
-                    "rotation %.3e rad\n",
-                    offset, e.position_m, e.velocity_m_s, e.rotation_rad);
+        std::printf(
+            "[ rk4      ] t0 = start + %5.1f s, 10 s: max error position %.3e m, velocity %.3e m/s, "
+            "rotation %.3e rad\n",
+            offset, e.position_m, e.velocity_m_s, e.rotation_rad);
         worst.position_m = std::max(worst.position_m, e.position_m);
         worst.rotation_rad = std::max(worst.rotation_rad, e.rotation_rad);
     }
@@ -296,11 +294,11 @@ TEST(ImuSynthesizer, FollowsRealEurocImu)
     double rms_gyro, rms_acc, signal_gyro, signal_acc;
     meanAndRms(diffs, bias, rms_gyro, rms_acc);
     meanAndRms(synthetic, mean_signal, signal_gyro, signal_acc);
-    std::printf("[ real imu ] %zu blocks of 0.5 s: real - synthetic mean (bias) gyro [%.4f %.4f %.4f] rad/s, "
-                "acc [%.3f %.3f %.3f] m/s^2; RMS after removing it: gyro %.4f rad/s, acc %.3f m/s^2 "
-                "(RMS of the signal's variation: gyro %.4f rad/s, acc %.3f m/s^2)\n",
-                diffs.size(), bias[0], bias[1], bias[2], bias[3], bias[4], bias[5], rms_gyro, rms_acc, signal_gyro,
-                signal_acc);
+    std::printf(
+        "[ real imu ] %zu blocks of 0.5 s: real - synthetic mean (bias) gyro [%.4f %.4f %.4f] rad/s, "
+        "acc [%.3f %.3f %.3f] m/s^2; RMS after removing it: gyro %.4f rad/s, acc %.3f m/s^2 "
+        "(RMS of the signal's variation: gyro %.4f rad/s, acc %.3f m/s^2)\n",
+        diffs.size(), bias[0], bias[1], bias[2], bias[3], bias[4], bias[5], rms_gyro, rms_acc, signal_gyro, signal_acc);
     // A frame error (world rate, R instead of R^T, gravity sign) gives offsets of the size of g or of the
     // signal itself; the real ADIS16448's biases are a few 0.01 rad/s and ~0.1 m/s^2.
     EXPECT_LT(bias.head<3>().norm(), 0.15);
@@ -412,18 +410,19 @@ TEST(ImuSynthesizer, NoiseStatisticsMatchDensities)
     for (int l = 0; l < 3; ++l)
     {
         const double sl = std::sqrt(static_cast<double>(lags[l]));
-        std::printf("[ noise    ] bias increments over %4zu steps: gyro %.4e / %.4e (%.2f%%), acc %.4e / %.4e "
-                    "(%.2f%%), %zu values each\n",
-                    lags[l], bias_gyro[l].rms(), step_gyro * sl, 100 * (bias_gyro[l].rms() / (step_gyro * sl) - 1),
-                    bias_acc[l].rms(), step_acc * sl, 100 * (bias_acc[l].rms() / (step_acc * sl) - 1),
-                    bias_acc[l].n);
+        std::printf(
+            "[ noise    ] bias increments over %4zu steps: gyro %.4e / %.4e (%.2f%%), acc %.4e / %.4e "
+            "(%.2f%%), %zu values each\n",
+            lags[l], bias_gyro[l].rms(), step_gyro * sl, 100 * (bias_gyro[l].rms() / (step_gyro * sl) - 1),
+            bias_acc[l].rms(), step_acc * sl, 100 * (bias_acc[l].rms() / (step_acc * sl) - 1), bias_acc[l].n);
         EXPECT_NEAR(bias_gyro[l].rms() / (step_gyro * sl), 1.0, 0.1);
         EXPECT_NEAR(bias_acc[l].rms() / (step_acc * sl), 1.0, 0.1);
     }
-    std::printf("[ noise    ] acc bias step from the data alone (Allan variance at %zu samples): %.4e / %.4e "
-                "(%.2f%%); 1 s means of (noisy - clean - true bias): RMS %.4e, expected %.4e\n",
-                cluster, step_acc_allan, step_acc, 100 * (step_acc_allan / step_acc - 1), block_residual_acc.rms(),
-                sd_acc / std::sqrt(static_cast<double>(block)));
+    std::printf(
+        "[ noise    ] acc bias step from the data alone (Allan variance at %zu samples): %.4e / %.4e "
+        "(%.2f%%); 1 s means of (noisy - clean - true bias): RMS %.4e, expected %.4e\n",
+        cluster, step_acc_allan, step_acc, 100 * (step_acc_allan / step_acc - 1), block_residual_acc.rms(),
+        sd_acc / std::sqrt(static_cast<double>(block)));
     EXPECT_NEAR(white_gyro.rms() / sd_gyro, 1.0, 0.1);
     EXPECT_NEAR(white_acc.rms() / sd_acc, 1.0, 0.1);
     EXPECT_NEAR(sd_gyro_data / sd_gyro, 1.0, 0.1);

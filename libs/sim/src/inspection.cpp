@@ -53,7 +53,8 @@ cv::Mat makeInspectionImage(const cv::Mat& camera_gray, const cv::Mat& reflectiv
     cv::Mat out;
     cv::hconcat(std::vector<cv::Mat>{cam_bgr, refl_bgr, overlay}, out);
     const auto label = [&](const std::string& text, int panel) {
-        cv::putText(out, text, {panel * camera_gray.cols + 10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(0, 0, 255), 2);
+        cv::putText(out, text, {panel * camera_gray.cols + 10, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.7,
+                    cv::Scalar(0, 0, 255), 2);
     };
     label("camera (left, raw)", 0);
     label("LiDAR map reflectivity, same pose", 1);

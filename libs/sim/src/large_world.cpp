@@ -60,7 +60,8 @@ map::LidarMap buildLargeWorld(const map::LidarMap& base, const LargeWorldOptions
 
     map::LidarMap out;
     out.reserve(base.size() * size_t(total + 1));
-    for (size_t i = 0; i < base.size(); ++i) out.addPoint(base.xs()[i], base.ys()[i], base.zs()[i], base.reflectivity(i));
+    for (size_t i = 0; i < base.size(); ++i)
+        out.addPoint(base.xs()[i], base.ys()[i], base.zs()[i], base.reflectivity(i));
 
     const std::vector<Eigen::Vector3f> keep_clear[2] = {loadRoomTrajectoryPositions(o.shared_dir, "v1"),
                                                         loadRoomTrajectoryPositions(o.shared_dir, "v2")};

@@ -31,7 +31,8 @@ std::vector<SurfaceSample> sampleSurfaces(const Mesh& mesh, double density, uint
         const double expected = mesh.triangleArea(t) * density;
         const auto n = static_cast<size_t>(expected) + (u01(rng) < expected - std::floor(expected) ? 1 : 0);
         const Triangle& tri = mesh.triangles[t];
-        const Eigen::Vector3f a = mesh.vertices[tri.v[0]].p, b = mesh.vertices[tri.v[1]].p, c = mesh.vertices[tri.v[2]].p;
+        const Eigen::Vector3f a = mesh.vertices[tri.v[0]].p, b = mesh.vertices[tri.v[1]].p,
+                              c = mesh.vertices[tri.v[2]].p;
         for (size_t i = 0; i < n; ++i)
         {
             float r1 = u01(rng), r2 = u01(rng);
@@ -49,7 +50,8 @@ std::vector<SurfaceSample> sampleSurfaces(const Mesh& mesh, double density, uint
 Eigen::Vector2f uvAt(const Mesh& mesh, uint32_t t, float b1, float b2)
 {
     const Triangle& tri = mesh.triangles[t];
-    return (1 - b1 - b2) * mesh.vertices[tri.v[0]].uv + b1 * mesh.vertices[tri.v[1]].uv + b2 * mesh.vertices[tri.v[2]].uv;
+    return (1 - b1 - b2) * mesh.vertices[tri.v[0]].uv + b1 * mesh.vertices[tri.v[1]].uv +
+           b2 * mesh.vertices[tri.v[2]].uv;
 }
 
 /** Measured reflectivity of a surface point seen from `from` (see lidar_sampler.h). */
@@ -79,9 +81,9 @@ std::vector<Eigen::Vector3f> chooseStations(const World& world, int count, doubl
             float best2 = 0.25f;  // keep candidates at least 0.5 m from any geometry
             for (const Triangle& t : world.mesh.triangles)
             {
-                best2 = std::min(best2, pointTriangleDistanceSquared(c, world.mesh.vertices[t.v[0]].p,
-                                                                     world.mesh.vertices[t.v[1]].p,
-                                                                     world.mesh.vertices[t.v[2]].p));
+                best2 = std::min(
+                    best2, pointTriangleDistanceSquared(c, world.mesh.vertices[t.v[0]].p, world.mesh.vertices[t.v[1]].p,
+                                                        world.mesh.vertices[t.v[2]].p));
                 if (best2 < 0.25f) break;
             }
             if (best2 >= 0.25f) candidates.push_back(c);
@@ -129,8 +131,8 @@ map::LidarMap sampleSurveyMap(const World& w, const LidarOptions& o, uint64_t se
                 const VisibilitySample* px = cube.lookup(d, z_face);
                 // Visible if the station's z-buffer shows the same triangle, or a surface not in front of
                 // the point by more than what a pixel's footprint (up to ~5 pixels at grazing angles) explains.
-                const bool visible = px->tri == static_cast<int32_t>(p.tri) ||
-                                     z_face <= px->depth + 0.005f + 5.f * pixel_angle * z_face;
+                const bool visible =
+                    px->tri == static_cast<int32_t>(p.tri) || z_face <= px->depth + 0.005f + 5.f * pixel_angle * z_face;
                 if (!visible) continue;
             }
             p.station = static_cast<int16_t>(s);
@@ -185,20 +187,23 @@ map::LidarMap sampleBeamMap(const World& w, const LidarOptions& o, uint64_t seed
         renderCubeMap(w.mesh, station, std::min(o.cubemap_size_px, 1024), cube);
         for (int b = 0; b < beams; ++b)
         {
-            const double elev = (o.beam_min_elevation_deg + (o.beam_max_elevation_deg - o.beam_min_elevation_deg) * b / (beams - 1)) * M_PI / 180;
+            const double elev =
+                (o.beam_min_elevation_deg + (o.beam_max_elevation_deg - o.beam_min_elevation_deg) * b / (beams - 1)) *
+                M_PI / 180;
             for (int a = 0; a < o.beam_azimuth_steps; ++a)
             {
                 const double az = 2 * M_PI * a / o.beam_azimuth_steps;
                 const Eigen::Vector3f d(static_cast<float>(std::cos(elev) * std::cos(az)),
-                                        static_cast<float>(std::cos(elev) * std::sin(az)), static_cast<float>(std::sin(elev)));
+                                        static_cast<float>(std::cos(elev) * std::sin(az)),
+                                        static_cast<float>(std::sin(elev)));
                 float z_face;
                 const VisibilitySample* px = cube.lookup(d, z_face);
                 ++st.sampled;
                 if (px->tri < 0) continue;
                 const float range = px->depth / z_face + normal(rng) * static_cast<float>(o.beam_range_noise_mm * 1e-3);
                 const Eigen::Vector3f q = station + d * range;
-                const float refl = measuredReflectivity(w, o, static_cast<uint32_t>(px->tri), px->b1, px->b2, q,
-                                                        station, normal(rng));
+                const float refl =
+                    measuredReflectivity(w, o, static_cast<uint32_t>(px->tri), px->b1, px->b2, q, station, normal(rng));
                 map.addPoint(q.x(), q.y(), q.z(), refl);
             }
         }

@@ -55,8 +55,8 @@ TEST(LidarSampler, ReflectivityIsCorrelatedWithAlbedoButNotEqual)
     ASSERT_GT(m.size(), 50000u);
     ASSERT_EQ(info.albedo.size(), m.size());
     EXPECT_NO_THROW(m.check("simulated map"));
-    EXPECT_GT(st.not_visible, 0u);             // scan shadows exist
-    EXPECT_LT(st.not_visible, st.sampled / 2); // but most surfaces are seen
+    EXPECT_GT(st.not_visible, 0u);              // scan shadows exist
+    EXPECT_LT(st.not_visible, st.sampled / 2);  // but most surfaces are seen
     std::vector<double> refl, albedo;
     for (size_t i = 0; i < m.size(); ++i)
     {
@@ -132,7 +132,7 @@ TEST(StereoRenderer, DeterministicForASeedAndFrame)
     ASSERT_EQ(l1.type(), CV_8UC1);
     EXPECT_EQ(cv::norm(l1, l2, cv::NORM_INF), 0.0);
     EXPECT_EQ(cv::norm(r1, r2, cv::NORM_INF), 0.0);
-    EXPECT_GT(cv::norm(l1, l3, cv::NORM_L1), 0.0);           // other frame: other noise
+    EXPECT_GT(cv::norm(l1, l3, cv::NORM_L1), 0.0);               // other frame: other noise
     EXPECT_LT(cv::norm(l1, l3, cv::NORM_L1) / l1.total(), 4.0);  // ... but the same scene
     EXPECT_GT(cv::norm(l1, r1, cv::NORM_L1) / l1.total(), 4.0);  // stereo: a different view
     cv::Scalar mean, stddev;

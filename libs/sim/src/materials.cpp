@@ -97,8 +97,7 @@ cv::Mat printPattern(int n, int count, Rng& rng)
         const float v = 0.3f + 0.7f * uniform01(rng);
         cv::rectangle(out, cv::Rect(x, y, std::min(w, n - x), std::min(h, n - y)), cv::Scalar(v), cv::FILLED);
         if (uniform01(rng) < 0.3f)
-            cv::circle(out, {x, y}, 3 + static_cast<int>(uniform01(rng) * n / 10), cv::Scalar(1 - v), 2,
-                       cv::LINE_AA);
+            cv::circle(out, {x, y}, 3 + static_cast<int>(uniform01(rng) * n / 10), cv::Scalar(1 - v), 2, cv::LINE_AA);
     }
     return out;
 }
@@ -159,8 +158,8 @@ cv::Mat folds(int n, int count, Rng& rng)
     cv::Mat out(n, n, CV_32F);
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
-            out.at<float>(y, x) =
-                0.5f + 0.5f * std::sin(2.f * static_cast<float>(CV_PI) * (count * x / float(n) + 0.7f * warp.at<float>(y, x)));
+            out.at<float>(y, x) = 0.5f + 0.5f * std::sin(2.f * static_cast<float>(CV_PI) *
+                                                         (count * x / float(n) + 0.7f * warp.at<float>(y, x)));
     return out;
 }
 
@@ -186,42 +185,74 @@ Layers makeLayers(MaterialId id, int n, Rng& rng)
     switch (id)
     {
         case kWallPlaster:
-            return {0.6f * noise(4, 3) + 0.4f * seams(n, 2, 1, 3, false), noise(16, 5), noise(8, 4),
-                    {0.55f, 0.25f, 0.25f, 0.55f, 0.15f, 0.30f, 0.08f, 1.0f, false}, 2.4f, "wall_plaster"};
+            return {0.6f * noise(4, 3) + 0.4f * seams(n, 2, 1, 3, false),           noise(16, 5), noise(8, 4),
+                    {0.55f, 0.25f, 0.25f, 0.55f, 0.15f, 0.30f, 0.08f, 1.0f, false}, 2.4f,         "wall_plaster"};
         case kFloorCarpet:
-            return {seams(n, 2, 2, 2, false), noise(64, 3), noise(4, 4),
-                    {0.18f, -0.10f, 0.35f, 0.30f, 0.10f, 0.35f, 0.10f, 1.2f, true}, 1.0f, "floor_carpet"};
+            return {seams(n, 2, 2, 2, false),
+                    noise(64, 3),
+                    noise(4, 4),
+                    {0.18f, -0.10f, 0.35f, 0.30f, 0.10f, 0.35f, 0.10f, 1.2f, true},
+                    1.0f,
+                    "floor_carpet"};
         case kCeilingPanels:
-            return {seams(n, 2, 2, 4, false), noise(32, 4), noise(4, 3),
-                    {0.75f, -0.45f, 0.15f, 0.60f, 0.10f, 0.25f, 0.06f, 1.0f, false}, 1.2f, "ceiling_panels"};
+            return {seams(n, 2, 2, 4, false),
+                    noise(32, 4),
+                    noise(4, 3),
+                    {0.75f, -0.45f, 0.15f, 0.60f, 0.10f, 0.25f, 0.06f, 1.0f, false},
+                    1.2f,
+                    "ceiling_panels"};
         case kWoodPanel:
-            return {woodGrain(n, rng), noise(32, 4), noise(2, 3),
-                    {0.30f, 0.25f, 0.15f, 0.45f, 0.10f, 0.40f, 0.08f, 1.3f, true}, 1.0f, "wood_panel"};
+            return {woodGrain(n, rng),
+                    noise(32, 4),
+                    noise(2, 3),
+                    {0.30f, 0.25f, 0.15f, 0.45f, 0.10f, 0.40f, 0.08f, 1.3f, true},
+                    1.0f,
+                    "wood_panel"};
         case kPoster:
-            return {noise(2, 2), printPattern(n, 90, rng), noise(8, 3),
-                    {0.80f, 0.05f, -0.70f, 0.70f, 0.10f, 0.15f, 0.05f, 1.0f, false}, 1.0f, "poster"};
+            return {noise(2, 2), printPattern(n, 90, rng),
+                    noise(8, 3), {0.80f, 0.05f, -0.70f, 0.70f, 0.10f, 0.15f, 0.05f, 1.0f, false},
+                    1.0f,        "poster"};
         case kMattress:
-            return {quilting(n, 8), noise(8, 4), noise(16, 3),
-                    {0.25f, 0.35f, 0.25f, 0.25f, 0.25f, 0.30f, 0.10f, 0.8f, false}, 1.0f, "mattress"};
+            return {quilting(n, 8), noise(8, 4),
+                    noise(16, 3),   {0.25f, 0.35f, 0.25f, 0.25f, 0.25f, 0.30f, 0.10f, 0.8f, false},
+                    1.0f,           "mattress"};
         case kCardboard:
-            return {stripes(n, 3, 0.12f), printPattern(n, 25, rng), noise(16, 4),
-                    {0.45f, 0.25f, -0.30f, 0.50f, -0.20f, 0.30f, 0.08f, 1.0f, false}, 0.8f, "cardboard"};
+            return {stripes(n, 3, 0.12f),
+                    printPattern(n, 25, rng),
+                    noise(16, 4),
+                    {0.45f, 0.25f, -0.30f, 0.50f, -0.20f, 0.30f, 0.08f, 1.0f, false},
+                    0.8f,
+                    "cardboard"};
         case kMetalPole:
-            return {noise(8, 3), noise(32, 4), stripes(n, 6, 0.25f),
-                    {0.15f, 0.15f, 0.10f, 0.20f, 0.05f, 0.70f, 0.05f, 1.0f, false}, 0.6f, "metal_pole_tape"};
+            return {noise(8, 3),
+                    noise(32, 4),
+                    stripes(n, 6, 0.25f),
+                    {0.15f, 0.15f, 0.10f, 0.20f, 0.05f, 0.70f, 0.05f, 1.0f, false},
+                    0.6f,
+                    "metal_pole_tape"};
         case kCurtain:
-            return {folds(n, 10, rng), noise(32, 3), noise(4, 3),
-                    {0.08f, 0.10f, 0.06f, 0.35f, 0.15f, 0.35f, 0.10f, 1.0f, true}, 2.0f, "black_curtain"};
+            return {folds(n, 10, rng),
+                    noise(32, 3),
+                    noise(4, 3),
+                    {0.08f, 0.10f, 0.06f, 0.35f, 0.15f, 0.35f, 0.10f, 1.0f, true},
+                    2.0f,
+                    "black_curtain"};
         case kCheckerBoard:
-            return {checker(n, 8), noise(16, 3), noise(8, 3),
-                    {0.08f, 0.82f, 0.05f, 0.35f, 0.35f, 0.15f, 0.05f, 1.0f, false}, 0.8f, "checker_board"};
+            return {checker(n, 8), noise(16, 3),
+                    noise(8, 3),   {0.08f, 0.82f, 0.05f, 0.35f, 0.35f, 0.15f, 0.05f, 1.0f, false},
+                    0.8f,          "checker_board"};
         case kConcrete:
-            return {noise(8, 5), noise(64, 3), noise(4, 4),
-                    {0.35f, 0.30f, 0.15f, 0.40f, 0.20f, 0.30f, 0.12f, 1.1f, false}, 2.0f, "concrete"};
+            return {noise(8, 5), noise(64, 3),
+                    noise(4, 4), {0.35f, 0.30f, 0.15f, 0.40f, 0.20f, 0.30f, 0.12f, 1.1f, false},
+                    2.0f,        "concrete"};
         case kPersonClothes:
         default:
-            return {stripes(n, 5, 0.5f), noise(16, 4), noise(8, 3),
-                    {0.20f, 0.40f, 0.15f, 0.50f, 0.05f, 0.30f, 0.10f, 1.0f, false}, 1.0f, "person_clothes"};
+            return {stripes(n, 5, 0.5f),
+                    noise(16, 4),
+                    noise(8, 3),
+                    {0.20f, 0.40f, 0.15f, 0.50f, 0.05f, 0.30f, 0.10f, 1.0f, false},
+                    1.0f,
+                    "person_clothes"};
     }
 }
 
@@ -242,7 +273,8 @@ Material buildMaterial(const Layers& l, int n, Rng& rng)
             // Non-linear NIR response of the shared structure: a smooth step, optionally inverted.
             float sn = s * s * (3 - 2 * s);
             if (r.r_invert_shared) sn = 1 - sn;
-            const float raw = r.r0 + r.r_shared * sn + r.r_lidar * (d - 0.5f) + r.r_noise * (own_noise.at<float>(y, x) - 0.5f);
+            const float raw =
+                r.r0 + r.r_shared * sn + r.r_lidar * (d - 0.5f) + r.r_noise * (own_noise.at<float>(y, x) - 0.5f);
             refl.at<float>(y, x) = std::pow(std::clamp(raw, 0.01f, 1.f), r.r_gamma);
         }
     m.reflectivity = refl;
@@ -271,8 +303,10 @@ double Material::meanAlbedo() const { return cv::mean(albedo_mips[0])[0] / 255.0
 
 MaterialLibrary makeProceduralMaterials(uint64_t seed, int texture_size_px)
 {
-    const bool pow2 = texture_size_px >= 32 && texture_size_px <= 2048 && (texture_size_px & (texture_size_px - 1)) == 0;
-    core::require(pow2, "texture_size_px", "must be a power of two in [32, 2048], got " + std::to_string(texture_size_px));
+    const bool pow2 =
+        texture_size_px >= 32 && texture_size_px <= 2048 && (texture_size_px & (texture_size_px - 1)) == 0;
+    core::require(pow2, "texture_size_px",
+                  "must be a power of two in [32, 2048], got " + std::to_string(texture_size_px));
     MaterialLibrary lib;
     for (int id = 0; id < kNumMaterials; ++id)
     {

@@ -32,8 +32,8 @@ void drawPiece(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, co
         s[i] = {K.fx * in[i]->p.x() * iz + K.cx, K.fy * in[i]->p.y() * iz + K.cy, iz, in[i]->bary * iz};
     }
     // Edge functions in double: coordinates reach ~1e3 px and products ~1e6, too close to float's precision.
-    const double area = (double(s[1].x) - s[0].x) * (double(s[2].y) - s[0].y) -
-                        (double(s[1].y) - s[0].y) * (double(s[2].x) - s[0].x);
+    const double area =
+        (double(s[1].x) - s[0].x) * (double(s[2].y) - s[0].y) - (double(s[1].y) - s[0].y) * (double(s[2].x) - s[0].x);
     if (std::abs(area) < 1e-12) return;
     const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({s[0].x, s[1].x, s[2].x}))));
     const int x1 = std::min(buf.width - 1, static_cast<int>(std::floor(std::max({s[0].x, s[1].x, s[2].x}))));
@@ -68,7 +68,8 @@ void drawPiece(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, co
             else if (c[i] < -eps)
                 xr = xl - 1;
         }
-        const int xs = std::max(x0, static_cast<int>(std::ceil(xl))), xe = std::min(x1, static_cast<int>(std::floor(xr)));
+        const int xs = std::max(x0, static_cast<int>(std::ceil(xl))),
+                  xe = std::min(x1, static_cast<int>(std::floor(xr)));
         if (xs > xe) continue;
         float l[3];
         for (int i = 0; i < 3; ++i) l[i] = static_cast<float>(A[i] * xs + c[i]);
@@ -81,7 +82,8 @@ void drawPiece(const ClipVertex& a, const ClipVertex& b, const ClipVertex& c, co
             if (inv_z <= 0 || inv_z * row[x].depth <= 1.f) continue;
             const float z = 1.f / inv_z;
             if (z < near_lo || z > opt.far_m) continue;
-            const Eigen::Vector3f bary = (l[0] * s[0].bary_over_z + l[1] * s[1].bary_over_z + l[2] * s[2].bary_over_z) * z;
+            const Eigen::Vector3f bary =
+                (l[0] * s[0].bary_over_z + l[1] * s[1].bary_over_z + l[2] * s[2].bary_over_z) * z;
             row[x] = {z, id, bary.y(), bary.z()};
         }
     }

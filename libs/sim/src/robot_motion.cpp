@@ -187,7 +187,9 @@ std::vector<Eigen::Vector2d> planFloorTour(const FloorLayout& l, const GroundRob
     std::vector<const FloorRoom*> rooms;
     for (const FloorRoom& r : l.rooms) rooms.push_back(&r);
     std::sort(rooms.begin(), rooms.end(), [](const auto* a, const auto* b) { return a->door_x < b->door_x; });
-    auto inside_door = [&](const FloorRoom& r) { return Eigen::Vector2d(r.door_x, r.side * (l.corridor_half_width + 1.0)); };
+    auto inside_door = [&](const FloorRoom& r) {
+        return Eigen::Vector2d(r.door_x, r.side * (l.corridor_half_width + 1.0));
+    };
     auto room_point = [&](const FloorRoom& r) {
         const Eigen::AlignedBox2d& b = r.box;
         return Eigen::Vector2d(b.min().x() + room_margin + u01(rng) * (b.sizes().x() - 2 * room_margin),
@@ -279,7 +281,8 @@ GroundRobotMotion driveWaypoints(const std::vector<Eigen::Vector2d>& wps, const 
     if (o.start_moving)
     {
         // The first frame at the first drive's cruise (the end of its speed ramp).
-        const auto first = std::find_if(phases.begin(), phases.end(), [](const Phase& p) { return p.kind == Phase::drive; });
+        const auto first =
+            std::find_if(phases.begin(), phases.end(), [](const Phase& p) { return p.kind == Phase::drive; });
         m.first_frame_offset_s = first->t0 + first->ramp_s;
     }
     else
@@ -288,7 +291,7 @@ GroundRobotMotion driveWaypoints(const std::vector<Eigen::Vector2d>& wps, const 
 }
 
 GroundRobotMotion generateGroundRobotMotion(const FloorLayout& layout, const GroundRobotOptions& options,
-                                           double min_duration_s, double t0, uint64_t seed, const std::string& input)
+                                            double min_duration_s, double t0, uint64_t seed, const std::string& input)
 {
     checkOptions(options, input);
     // The tour is planned for the frames' span plus the time before the first frame (a moving start begins after

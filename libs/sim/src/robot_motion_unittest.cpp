@@ -35,7 +35,8 @@ RobotRun makeRun(uint64_t seed, bool start_moving, double duration_s = 30)
 bool inDoorPassage(const sim::FloorLayout& l, const Eigen::Vector2d& p)
 {
     for (const sim::FloorRoom& r : l.rooms)
-        if (std::abs(p.x() - r.door_x) < 1e-6 && p.y() * r.side >= 0 && std::abs(p.y()) <= l.corridor_half_width + 1.0 + 1e-6)
+        if (std::abs(p.x() - r.door_x) < 1e-6 && p.y() * r.side >= 0 &&
+            std::abs(p.y()) <= l.corridor_half_width + 1.0 + 1e-6)
             return true;
     return false;
 }
@@ -61,11 +62,13 @@ TEST(RobotMotion, SpeedBoundsPlanarityStopsAndTurnsInPlace)
             max_speed = std::max(max_speed, s.speed);
             if (i > 0)  // the poses themselves, not the profile: finite-difference speed
             {
-                const double d = std::hypot(poses[i].pose.x() - poses[i - 1].pose.x(), poses[i].pose.y() - poses[i - 1].pose.y());
+                const double d =
+                    std::hypot(poses[i].pose.x() - poses[i - 1].pose.x(), poses[i].pose.y() - poses[i - 1].pose.y());
                 max_fd_speed = std::max(max_fd_speed, d / dt);
             }
             max_z = std::max(max_z, std::abs(poses[i].pose.z()));
-            max_tilt = std::max({max_tilt, std::abs(double(poses[i].pose.pitch())), std::abs(double(poses[i].pose.roll()))});
+            max_tilt =
+                std::max({max_tilt, std::abs(double(poses[i].pose.pitch())), std::abs(double(poses[i].pose.roll()))});
             // A wait: the robot still for a while between the initial stand and the final one, then moving again.
             const bool still = s.speed == 0 && s.yaw_rate == 0;
             if (!still && stand_run > 0 && s.t - planar.front().t > o.standing_s + 0.1)

@@ -12,7 +12,9 @@ namespace
 std::string sourceName(ImuSource s) { return s == ImuSource::real ? "real" : "synthetic"; }
 std::string biasName(ImuBiasModel b)
 {
-    return b == ImuBiasModel::random_walk ? "random_walk" : b == ImuBiasModel::random_draw ? "random_draw" : "euroc_groundtruth";
+    return b == ImuBiasModel::random_walk   ? "random_walk"
+           : b == ImuBiasModel::random_draw ? "random_draw"
+                                            : "euroc_groundtruth";
 }
 }  // namespace
 
@@ -35,7 +37,8 @@ void SimulationOptions::declare(core::OptionTable& t)
     t.add("camchain", camchain,
           "a Kalibr camchain YAML of the stereo rig (cam0 = left; T_cam_imu gives the body = IMU frame), instead of "
           "cam0_yaml / cam1_yaml (share/quasiloc/sim/d435i_camchain.yaml: a RealSense D435i)");
-    t.addEnum("motion", motion, {{"trajectory", MotionSource::trajectory}, {"ground_robot", MotionSource::ground_robot}},
+    t.addEnum("motion", motion,
+              {{"trajectory", MotionSource::trajectory}, {"ground_robot", MotionSource::ground_robot}},
               "trajectory: along `trajectory` (or EuRoC's ground truth); ground_robot: a ground robot's tour of the "
               "office floor generated from seed (robot_motion.h, keys robot_*; needs [World] world = floor)");
     t.add("robot_min_speed_m_s", robot.min_speed_m_s, "m/s", Range::between(0.05, 5),
@@ -109,7 +112,8 @@ void ImuNoiseOptions::declare(core::OptionTable& t)
     t.add("noise_enabled", noise_enabled, "white noise and bias random walk; false = exact samples plus the biases");
     t.add("seed", seed, "", Range::any(), "noise seed, combined with [Simulation] seed");
     t.addEnum("bias", bias,
-              {{"euroc_groundtruth", ImuBiasModel::euroc_groundtruth}, {"random_walk", ImuBiasModel::random_walk},
+              {{"euroc_groundtruth", ImuBiasModel::euroc_groundtruth},
+               {"random_walk", ImuBiasModel::random_walk},
                {"random_draw", ImuBiasModel::random_draw}},
               "euroc_groundtruth: EuRoC's ground-truth bias trajectory where there is one, else the random walk; "
               "random_walk: from the initial biases; random_draw: from initial biases drawn from the seed (each axis "

@@ -111,8 +111,7 @@ void LidarOptions::declare(core::OptionTable& t)
           "survey-grade range noise along the ray from the station that sees the point");
     t.add("num_stations", num_stations, "", Range::between(1, 64), "scanner stations (farthest-point sampling)");
     t.add("station_height_m", station_height_m, "m", Range::between(0.1, 3), "height of the stations");
-    t.add("visibility_from_stations", visibility_from_stations,
-          "keep only points some station sees (scan shadows)");
+    t.add("visibility_from_stations", visibility_from_stations, "keep only points some station sees (scan shadows)");
     t.add("cubemap_size_px", cubemap_size_px, "px", Range::between(64, 4096),
           "side of a station's visibility cube map");
     t.add("reflectivity_noise", reflectivity_noise, "", Range::between(0, 1), "std of the reflectivity noise");
@@ -123,8 +122,7 @@ void LidarOptions::declare(core::OptionTable& t)
     t.add("beam_map", beam_map, "also produce the sparse 32-beam-like map");
     t.add("beam_num_scans", beam_num_scans, "", Range::between(1, 1000), "32-beam map: scan stations");
     t.add("beam_azimuth_steps", beam_azimuth_steps, "", Range::between(16, 100000), "32-beam map: beams per turn");
-    t.add("beam_min_elevation_deg", beam_min_elevation_deg, "deg", Range::between(-89, 89),
-          "32-beam map: lowest beam");
+    t.add("beam_min_elevation_deg", beam_min_elevation_deg, "deg", Range::between(-89, 89), "32-beam map: lowest beam");
     t.add("beam_max_elevation_deg", beam_max_elevation_deg, "deg", Range::between(-89, 89),
           "32-beam map: highest beam (>= beam_min_elevation_deg)");
     t.add("beam_range_noise_mm", beam_range_noise_mm, "mm", Range::between(0, 1000),

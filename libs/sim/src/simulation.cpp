@@ -47,8 +47,9 @@ SimulatedImu simulateImu(const SimulationOptions& so, const ImuNoiseOptions& io,
     SimulatedImu out;
     if (io.source == ImuSource::real)
     {
-        const std::string path =
-            io.real_imu_csv.empty() ? so.shared_dir + "/data/euroc/V1_01_easy_micro/mav0/imu0/data.csv" : io.real_imu_csv;
+        const std::string path = io.real_imu_csv.empty()
+                                     ? so.shared_dir + "/data/euroc/V1_01_easy_micro/mav0/imu0/data.csv"
+                                     : io.real_imu_csv;
         const dataset::EurocImuCsv all = dataset::readEurocImuCsv(path, io.rate_hz);
         const size_t snapped = snapToImuTicks(frame_ns, all.t_ns);
         dataset::EurocImuCsv real = selectRealImu(all, frame_ns.front(), frame_ns.back(), io.rate_hz);
@@ -69,16 +70,19 @@ SimulatedImu simulateImu(const SimulationOptions& so, const ImuNoiseOptions& io,
     // Integer ticks from the first frame: every (rate / camera rate)-th sample has exactly a frame's timestamp,
     // as in EuRoC (rounding s.t, ~1.4e9 s in a double, would scatter them by +-120 ns around the frames).
     for (size_t k = 0; k < out.samples.size(); ++k)
-        out.t_ns.push_back(frame_ns.front() + static_cast<int64_t>(std::llround(static_cast<double>(k) * 1e9 / io.rate_hz)));
-    out.description = std::string("synthetic") + (io.noise_enabled ? "" : " (noiseless)") + ", biases: " + bias.description;
+        out.t_ns.push_back(frame_ns.front() +
+                           static_cast<int64_t>(std::llround(static_cast<double>(k) * 1e9 / io.rate_hz)));
+    out.description =
+        std::string("synthetic") + (io.noise_enabled ? "" : " (noiseless)") + ", biases: " + bias.description;
     return out;
 }
 
 /** gt_imu_bias.csv: the true biases added to every IMU sample of the rawlog. */
 std::string imuBiasCsv(const SimulatedImu& imu, const std::string& sequence)
 {
-    std::string text = "# True IMU biases of every IMU sample of " + sequence + ".rawlog (body = IMU frame): " +
-                       imu.description + "\n# t [s], b_g_x, b_g_y, b_g_z [rad/s], b_a_x, b_a_y, b_a_z [m/s^2]\n";
+    std::string text = "# True IMU biases of every IMU sample of " + sequence +
+                       ".rawlog (body = IMU frame): " + imu.description +
+                       "\n# t [s], b_g_x, b_g_y, b_g_z [rad/s], b_a_x, b_a_y, b_a_z [m/s^2]\n";
     char line[200];
     for (size_t i = 0; i < imu.truth.size(); ++i)
     {
@@ -97,24 +101,29 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
     if (o.motion == MotionSource::ground_robot)
         s << "Simulated ground-robot sequence written by sim-rawlog (quasiloc sim library).\n\n"
           << "World: an office floor of rooms along a corridor (floor_world.h), motion: a ground robot's tour of it\n"
-          << "(robot_motion.h), " << (o.robot.start_moving ? "started moving" : "started standing") << ", seed " << o.seed
-          << ".\n";
+          << "(robot_motion.h), " << (o.robot.start_moving ? "started moving" : "started standing") << ", seed "
+          << o.seed << ".\n";
     else
         s << "Simulated EuRoC-like sequence written by sim-rawlog (quasiloc sim library).\n\n"
-          << "World: EuRoC Vicon room " << roomName(wo.world) << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
-          << "procedural objects), trajectory: " << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory)
-          << ", seed " << o.seed << ".\n";
+          << "World: EuRoC Vicon room " << roomName(wo.world)
+          << " (shell and clutter from the GMMLoc GMM and line maps, plus\n"
+          << "procedural objects), trajectory: "
+          << (o.trajectory.empty() ? "EuRoC ground truth of " + o.sequence : o.trajectory) << ", seed " << o.seed
+          << ".\n";
     s << r.frames << " stereo frames at " << o.camera_rate_hz << " Hz, " << r.imu_samples
-      << " IMU samples.\nIMU: " << r.imu_description << ".\nMap: " << r.map_points << " points. Minimum clearance between the room's trajectories\n"
+      << " IMU samples.\nIMU: " << r.imu_description << ".\nMap: " << r.map_points
+      << " points. Minimum clearance between the room's trajectories\n"
       << "and the geometry: " << r.world.min_clearance_m << " m.\n\nFiles:\n"
-      << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity [0,1]\n"
-      << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "")
-      << "  " << o.sequence << ".rawlog   MRPT rawlog: CObservationStereoImages 'stereo' + CObservationIMU 'imu', time order\n"
+      << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity "
+         "[0,1]\n"
+      << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "") << "  " << o.sequence
+      << ".rawlog   MRPT rawlog: CObservationStereoImages 'stereo' + CObservationIMU 'imu', time order\n"
       << "  " << o.sequence << "_Images/  raw (distorted) " << rig.left.width << "x" << rig.left.height
       << " 8-bit PNG images referenced by the rawlog\n"
       << "  gt.tum               ground truth T_world_cam0 (TUM: t x y z qx qy qz qw) at every camera frame\n"
       << "  gt_body.tum          ground truth T_world_body (IMU frame) at every IMU sample\n"
-      << (r.imu_bias_written ? "  gt_imu_bias.csv      true IMU biases at every IMU sample (t, b_g xyz, b_a xyz)\n" : "")
+      << (r.imu_bias_written ? "  gt_imu_bias.csv      true IMU biases at every IMU sample (t, b_g xyz, b_a xyz)\n"
+                             : "")
       << "  calib.ini            stereo rig (sections camera_left, camera_right, camera_rig) and [imu] noise model\n"
       << "  sim-rawlog.ini       the effective configuration (re-run sim-rawlog with it to reproduce the folder)\n"
       << "  inspection.png       camera frame | LiDAR reflectivity projected at the same pose | edges overlay\n\n"
@@ -152,8 +161,8 @@ SimulatedMotion robotMotion(const SimulationOptions& so, const WorldOptions& wo,
     SimulatedMotion m;
     m.floor = makeFloorLayout(wo.floor, so.seed, config_name + " [World]");
     const double duration = so.duration_s > 0 ? so.duration_s + so.start_offset_s : 60.0;
-    const GroundRobotMotion robot =
-        generateGroundRobotMotion(*m.floor, so.robot, duration, kRobotClockStart_s, so.seed, config_name + " [Simulation]");
+    const GroundRobotMotion robot = generateGroundRobotMotion(*m.floor, so.robot, duration, kRobotClockStart_s, so.seed,
+                                                              config_name + " [Simulation]");
     const mrpt::poses::CPose3D T_base_cam0 = baseToCamera(so.robot);
     const mrpt::poses::CPose3D T_cam0_body = core::fromIsometry(core::toIsometry(rig.T_body_left).inverse());
     core::Trajectory body;
@@ -170,9 +179,10 @@ SimulatedMotion robotMotion(const SimulationOptions& so, const WorldOptions& wo,
     m.spline = TrajectorySpline::fitBodyTrajectory(body, spo);
     m.first_frame_offset_s = robot.first_frame_offset_s + so.start_offset_s;
     char text[200];
-    std::snprintf(text, sizeof(text), "ground robot tour: %zu waypoints, %.1f m, %zu rooms entered, %zu turns in "
-                  "place, %zu waits", robot.waypoints.size(), robot.length_m, robot.rooms_visited,
-                  robot.turns_in_place, robot.stops);
+    std::snprintf(text, sizeof(text),
+                  "ground robot tour: %zu waypoints, %.1f m, %zu rooms entered, %zu turns in "
+                  "place, %zu waits",
+                  robot.waypoints.size(), robot.length_m, robot.rooms_visited, robot.turns_in_place, robot.stops);
     m.source = text;
     return m;
 }
@@ -180,7 +190,8 @@ SimulatedMotion robotMotion(const SimulationOptions& so, const WorldOptions& wo,
 SimulatedMotion trajectoryMotion(const SimulationOptions& so, const core::StereoRig& rig)
 {
     SimulatedMotion m;
-    m.source = so.trajectory.empty() ? so.shared_dir + "/data/euroc/groundtruth/cam0/" + so.sequence + ".txt" : so.trajectory;
+    m.source =
+        so.trajectory.empty() ? so.shared_dir + "/data/euroc/groundtruth/cam0/" + so.sequence + ".txt" : so.trajectory;
     const core::Trajectory traj = core::readTum(m.source);
     TrajectorySplineOptions spo;
     spo.knot_spacing_s = so.spline_knot_spacing_s;
@@ -238,7 +249,8 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
 
     const auto t0_ns = static_cast<int64_t>(std::llround((spline.tStart() + motion.first_frame_offset_s) * 1e9));
     const auto end_ns = static_cast<int64_t>(std::floor(spline.tEnd() * 1e9));
-    const int64_t last_ns = so.duration_s > 0 ? std::min(end_ns, t0_ns + static_cast<int64_t>(so.duration_s * 1e9)) : end_ns;
+    const int64_t last_ns =
+        so.duration_s > 0 ? std::min(end_ns, t0_ns + static_cast<int64_t>(so.duration_s * 1e9)) : end_ns;
     const double period_ns = 1e9 / so.camera_rate_hz;
     std::vector<int64_t> frame_ns;
     for (int64_t k = 0;; ++k)
@@ -272,9 +284,10 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
                               : buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
     timer.leave("world");
     r.world_time_s = seconds(clock);
-    log("world " + roomName(wo.world) + ": " + std::to_string(r.world.triangles) + " triangles, " + std::to_string(r.world.gmm_patches) +
-        " GMM patches, " + std::to_string(r.world.objects_placed) + " objects, min clearance " +
-        std::to_string(r.world.min_clearance_m) + " m (" + std::to_string(r.world_time_s) + " s)");
+    log("world " + roomName(wo.world) + ": " + std::to_string(r.world.triangles) + " triangles, " +
+        std::to_string(r.world.gmm_patches) + " GMM patches, " + std::to_string(r.world.objects_placed) +
+        " objects, min clearance " + std::to_string(r.world.min_clearance_m) + " m (" + std::to_string(r.world_time_s) +
+        " s)");
 
     core::StagedOutputs staged;
     const fs::path out_final(so.output_dir);
@@ -332,7 +345,8 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         const int n_blur = ao.motion_blur_samples;
         for (int b = 0; b < n_blur; ++b)
         {
-            const double dt = n_blur > 1 ? (static_cast<double>(b) / (n_blur - 1) - 0.5) * ao.exposure_time_ms * 1e-3 : 0.0;
+            const double dt =
+                n_blur > 1 ? (static_cast<double>(b) / (n_blur - 1) - 0.5) * ao.exposure_time_ms * 1e-3 : 0.0;
             poses.push_back(T_world_cam0(std::clamp(t + dt, spline.tStart(), spline.tEnd())));
         }
         cv::Mat left, right;
@@ -387,7 +401,8 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     core::writeEffectiveConfig((dir / "sim-rawlog.ini").string(),
                                {{"Simulation", &so}, {"World", &wo}, {"Appearance", &ao}, {"Lidar", &lo}, {"IMU", &io}},
                                "Effective configuration of sim-rawlog (" + config_name + ")");
-    for (const char* f : {"gt.tum", "gt_body.tum", "calib.ini", "sim-rawlog.ini"}) r.files.push_back((out_final / f).string());
+    for (const char* f : {"gt.tum", "gt_body.tum", "calib.ini", "sim-rawlog.ini"})
+        r.files.push_back((out_final / f).string());
     if (so.inspection_png && !inspect_left.empty())
     {
         const cv::Mat refl = projectReflectivity(lidar_map, rig.left, gt_cam.poses[inspect_frame].pose);

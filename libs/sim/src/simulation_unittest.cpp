@@ -91,8 +91,8 @@ TEST(Simulation, ShortRunWritesEveryOutput)
     const fs::path out = fs::temp_directory_path() / "quasiloc_sim_unittest_run";
     fs::remove_all(out);
     const sim::SimulationResult r = sim::runSimulation(shortRun(out.string()), "test");
-    EXPECT_EQ(r.frames, 21u);            // 1 s at 20 Hz, both ends
-    EXPECT_EQ(r.imu_samples, 201u);      // 1 s at 200 Hz, both ends
+    EXPECT_EQ(r.frames, 21u);        // 1 s at 20 Hz, both ends
+    EXPECT_EQ(r.imu_samples, 201u);  // 1 s at 200 Hz, both ends
     for (const char* f : {"lidar_map.map", "lidar_map_32beam.map", "V2_01_easy.rawlog", "gt.tum", "gt_body.tum",
                           "gt_imu_bias.csv", "calib.ini", "sim-rawlog.ini", "inspection.png", "README.txt"})
         EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
@@ -194,7 +194,8 @@ TEST(Simulation, BadInputLeavesNoOutput)
         catch (const core::InputError& e)
         {
             EXPECT_NE(std::string(e.what()).find("test.ini [" + std::string(section) + "] no_such_key"),
-                      std::string::npos) << e.what();
+                      std::string::npos)
+                << e.what();
         }
     }
     auto range = shortRun(out.string());

@@ -116,9 +116,9 @@ Mesh occluderMesh(const AppearanceOptions& o, const World& world, double t_rel)
     const Eigen::Vector3f pos(centre.x() + a * std::cos(theta), centre.y() + b * std::sin(theta), world.room.min().z());
     const float heading = std::atan2(b * std::cos(theta), -a * std::sin(theta));
     const Eigen::Matrix3f R = Eigen::AngleAxisf(heading, Eigen::Vector3f::UnitZ()).toRotationMatrix();
-    appendPersonBox(m, pos + Eigen::Vector3f(0, 0, 0.42f), R, {0.25f, 0.38f, 0.84f});   // legs
-    appendPersonBox(m, pos + Eigen::Vector3f(0, 0, 1.15f), R, {0.28f, 0.48f, 0.62f});   // torso
-    appendPersonBox(m, pos + Eigen::Vector3f(0, 0, 1.60f), R, {0.22f, 0.18f, 0.26f});   // head
+    appendPersonBox(m, pos + Eigen::Vector3f(0, 0, 0.42f), R, {0.25f, 0.38f, 0.84f});  // legs
+    appendPersonBox(m, pos + Eigen::Vector3f(0, 0, 1.15f), R, {0.28f, 0.48f, 0.62f});  // torso
+    appendPersonBox(m, pos + Eigen::Vector3f(0, 0, 1.60f), R, {0.22f, 0.18f, 0.26f});  // head
     return m;
 }
 
@@ -134,7 +134,8 @@ StereoRenderer::StereoRenderer(const World& world, const core::StereoRig& rig, c
         pinhole_[c] = coveringPinhole(cam, opt_.render_scale);
         cv::Mat mx(cam.height, cam.width, CV_32F), my(cam.height, cam.width, CV_32F);
         vignette_[c].create(cam.height, cam.width, CV_32F);
-        const double corner2 = std::pow(std::max(cam.cx, cam.width - cam.cx), 2) + std::pow(std::max(cam.cy, cam.height - cam.cy), 2);
+        const double corner2 =
+            std::pow(std::max(cam.cx, cam.width - cam.cx), 2) + std::pow(std::max(cam.cy, cam.height - cam.cy), 2);
         for (int v = 0; v < cam.height; ++v)
             for (int u = 0; u < cam.width; ++u)
             {
@@ -278,8 +279,8 @@ cv::Mat StereoRenderer::sensor(int cam, const cv::Mat& radiance, double t_rel, u
     return img;
 }
 
-void StereoRenderer::render(const std::vector<mrpt::poses::CPose3D>& T_world_cam0, double t_rel,
-                            uint64_t frame_index, cv::Mat& left, cv::Mat& right)
+void StereoRenderer::render(const std::vector<mrpt::poses::CPose3D>& T_world_cam0, double t_rel, uint64_t frame_index,
+                            cv::Mat& left, cv::Mat& right)
 {
     cv::Mat rad[2];
     std::thread right_thread([&] {

@@ -99,8 +99,7 @@ Eigen::Vector3d TrajectorySpline::Impl::rotationResidual(int k, const CubicBasis
     std::array<Eigen::Matrix3d, 4> Dt;  // Exp(d_j)^T
     for (int j = 1; j <= 3; ++j)
     {
-        M[j] = post[j].transpose() * rightJacobian(lambda[j] * d[k + j]) * lambda[j] *
-               rightJacobianInverse(d[k + j]);
+        M[j] = post[j].transpose() * rightJacobian(lambda[j] * d[k + j]) * lambda[j] * rightJacobianInverse(d[k + j]);
         Dt[j] = (R[k + j - 1].transpose() * R[k + j]).transpose();
     }
     const Eigen::Matrix3d Jr_inv_r = rightJacobianInverse(r);

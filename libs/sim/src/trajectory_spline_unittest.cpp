@@ -33,10 +33,11 @@ const TrajectorySpline& v101Spline()
         const auto start = std::chrono::steady_clock::now();
         TrajectorySpline s = TrajectorySpline::fitCameraTrajectory(traj, T_body_cam0);
         const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        std::printf("[ fit      ] V1_01_easy: %zu poses (%zu duplicates dropped), %.1f s, %zu control points, "
-                    "%d SO(3) Gauss-Newton iterations, fit time %.3f s\n",
-                    s.fitStats().num_samples, s.fitStats().num_duplicates_dropped, s.tEnd() - s.tStart(),
-                    s.fitStats().num_control_points, s.fitStats().rotation_iterations, secs);
+        std::printf(
+            "[ fit      ] V1_01_easy: %zu poses (%zu duplicates dropped), %.1f s, %zu control points, "
+            "%d SO(3) Gauss-Newton iterations, fit time %.3f s\n",
+            s.fitStats().num_samples, s.fitStats().num_duplicates_dropped, s.tEnd() - s.tStart(),
+            s.fitStats().num_control_points, s.fitStats().rotation_iterations, secs);
         return s;
     }();
     return spline;
@@ -94,11 +95,11 @@ TEST(TrajectorySpline, FitsAllViconSequences)
             max_w = std::max(max_w, st.omega_body.norm());
         }
         const auto& st = spline.fitStats();
-        std::printf("[ fit      ] %-16s %5.1f s, %4zu poses, %d iterations, %.3f s; position RMS %.3f mm "
-                    "(max %.2f), rotation RMS %.3f deg (max %.2f); max |a| %.1f m/s^2, |omega| %.2f rad/s\n",
-                    seq, spline.tEnd() - spline.tStart(), st.num_samples, st.rotation_iterations, secs,
-                    st.rms_position_m * 1e3, st.max_position_m * 1e3, st.rms_rotation_rad * 180 / M_PI,
-                    st.max_rotation_rad * 180 / M_PI, max_a, max_w);
+        std::printf(
+            "[ fit      ] %-16s %5.1f s, %4zu poses, %d iterations, %.3f s; position RMS %.3f mm "
+            "(max %.2f), rotation RMS %.3f deg (max %.2f); max |a| %.1f m/s^2, |omega| %.2f rad/s\n",
+            seq, spline.tEnd() - spline.tStart(), st.num_samples, st.rotation_iterations, secs, st.rms_position_m * 1e3,
+            st.max_position_m * 1e3, st.rms_rotation_rad * 180 / M_PI, st.max_rotation_rad * 180 / M_PI, max_a, max_w);
         EXPECT_LT(st.rotation_iterations, 10) << seq;
         EXPECT_LT(st.rms_position_m, 1e-3) << seq;
         EXPECT_LT(st.max_position_m, 1e-2) << seq;
@@ -128,9 +129,10 @@ TEST(TrajectorySpline, ContinuousAcrossKnots)
         max_a = std::max(max_a, hi.a_world.norm());
         max_w = std::max(max_w, hi.omega_body.norm());
     }
-    std::printf("[ smooth   ] over %d knots, across 2 us: v - a*dt %.2e m/s, omega - alpha*dt %.2e rad/s, "
-                "change of a %.2e m/s^2, of alpha %.2e rad/s^2; max |a| %.2f m/s^2, max |omega| %.2f rad/s\n",
-                num_knots - 1, max_jump_v, max_jump_w, max_jump_a, max_jump_alpha, max_a, max_w);
+    std::printf(
+        "[ smooth   ] over %d knots, across 2 us: v - a*dt %.2e m/s, omega - alpha*dt %.2e rad/s, "
+        "change of a %.2e m/s^2, of alpha %.2e rad/s^2; max |a| %.2f m/s^2, max |omega| %.2f rad/s\n",
+        num_knots - 1, max_jump_v, max_jump_w, max_jump_a, max_jump_alpha, max_a, max_w);
     EXPECT_LT(max_jump_v, 1e-9);
     EXPECT_LT(max_jump_w, 1e-9);
     // Over 2 us a C2 curve changes a by jerk * 2 us (jerk here < 100 m/s^3); a step would be ~0.1-1.
@@ -169,9 +171,10 @@ TEST(TrajectorySpline, AnalyticDerivativesMatchFiniteDifferences)
         ASSERT_LT((Eigen::Vector3d(s0.T_world_body.x(), s0.T_world_body.y(), s0.T_world_body.z()) - s0.p_world).norm(),
                   1e-12);
     }
-    std::printf("[ fd       ] max |analytic - central difference|: v %.2e m/s, a %.2e m/s^2, omega %.2e rad/s, "
-                "alpha %.2e rad/s^2\n",
-                err_v, err_a, err_w, err_alpha);
+    std::printf(
+        "[ fd       ] max |analytic - central difference|: v %.2e m/s, a %.2e m/s^2, omega %.2e rad/s, "
+        "alpha %.2e rad/s^2\n",
+        err_v, err_a, err_w, err_alpha);
     EXPECT_LT(err_v, 1e-4);
     EXPECT_LT(err_a, 1e-4);
     EXPECT_LT(err_w, 1e-4);
@@ -211,8 +214,8 @@ TEST(TrajectorySpline, RecoversAnalyticMotion)
         err_a = std::max(err_a, (st.a_world - a).norm());
         err_w = std::max(err_w, (st.omega_body - w).norm());
     }
-    std::printf("[ analytic ] max error vs true motion: p %.2e m, v %.2e m/s, a %.2e m/s^2, omega %.2e rad/s\n",
-                err_p, err_v, err_a, err_w);
+    std::printf("[ analytic ] max error vs true motion: p %.2e m, v %.2e m/s, a %.2e m/s^2, omega %.2e rad/s\n", err_p,
+                err_v, err_a, err_w);
     EXPECT_LT(err_p, 1e-4);
     EXPECT_LT(err_v, 1e-3);
     EXPECT_LT(err_a, 2e-2);  // |a| = 1.28 m/s^2

@@ -7,7 +7,10 @@ namespace quasiloc::sim
 {
 namespace
 {
-int cellsFor(float length_m, float max_cell_m) { return std::max(1, static_cast<int>(std::ceil(length_m / max_cell_m))); }
+int cellsFor(float length_m, float max_cell_m)
+{
+    return std::max(1, static_cast<int>(std::ceil(length_m / max_cell_m)));
+}
 }  // namespace
 
 void Mesh::addQuad(const Eigen::Vector3f& origin, const Eigen::Vector3f& axis_u, const Eigen::Vector3f& axis_v,
@@ -66,12 +69,12 @@ void Mesh::addBox(const Eigen::Vector3f& centre, const Eigen::Matrix3f& R_world_
     const Eigen::Vector3f ex = R_world_box.col(0) * size.x(), ey = R_world_box.col(1) * size.y(),
                           ez = R_world_box.col(2) * size.z();
     const Eigen::Vector3f c0 = centre - 0.5f * (ex + ey + ez);  // corner (-,-,-)
-    addQuad(c0, ex, ez, material, max_cell_m, uv_offset);             // y- face
-    addQuad(c0 + ey, ex, ez, material, max_cell_m, uv_offset);        // y+ face
-    addQuad(c0, ey, ez, material, max_cell_m, uv_offset);             // x- face
-    addQuad(c0 + ex, ey, ez, material, max_cell_m, uv_offset);        // x+ face
-    addQuad(c0, ex, ey, material, max_cell_m, uv_offset);             // bottom
-    addQuad(c0 + ez, ex, ey, material, max_cell_m, uv_offset);        // top
+    addQuad(c0, ex, ez, material, max_cell_m, uv_offset);       // y- face
+    addQuad(c0 + ey, ex, ez, material, max_cell_m, uv_offset);  // y+ face
+    addQuad(c0, ey, ez, material, max_cell_m, uv_offset);       // x- face
+    addQuad(c0 + ex, ey, ez, material, max_cell_m, uv_offset);  // x+ face
+    addQuad(c0, ex, ey, material, max_cell_m, uv_offset);       // bottom
+    addQuad(c0 + ez, ex, ey, material, max_cell_m, uv_offset);  // top
 }
 
 void Mesh::addCylinder(const Eigen::Vector3f& base_centre, float radius, float height, int n_sides, uint16_t material,
@@ -79,12 +82,12 @@ void Mesh::addCylinder(const Eigen::Vector3f& base_centre, float radius, float h
 {
     for (int s = 0; s < n_sides; ++s)
     {
-        const float a0 = static_cast<float>(2 * M_PI * s / n_sides), a1 = static_cast<float>(2 * M_PI * (s + 1) / n_sides);
+        const float a0 = static_cast<float>(2 * M_PI * s / n_sides),
+                    a1 = static_cast<float>(2 * M_PI * (s + 1) / n_sides);
         const Eigen::Vector3f p0 = base_centre + radius * Eigen::Vector3f(std::cos(a0), std::sin(a0), 0);
         const Eigen::Vector3f p1 = base_centre + radius * Eigen::Vector3f(std::cos(a1), std::sin(a1), 0);
         const auto first = static_cast<uint32_t>(vertices.size());
-        addQuad(p0, p1 - p0, Eigen::Vector3f(0, 0, height), material, max_cell_m,
-                Eigen::Vector2f(radius * a0, 0));
+        addQuad(p0, p1 - p0, Eigen::Vector3f(0, 0, height), material, max_cell_m, Eigen::Vector2f(radius * a0, 0));
         // Smooth shading around the pole: the facet's vertices get radial normals.
         for (size_t v = first; v < vertices.size(); ++v)
         {

@@ -48,7 +48,8 @@ void addShell(const Eigen::AlignedBox3f& room, float cell, Rng& rng, Mesh& mesh)
                  Eigen::Vector3f(0, size.y(), 0), kCeilingPanels, cell);
     const uint16_t wall_materials[] = {kWallPlaster, kCurtain, kWoodPanel, kConcrete, kWallPlaster, kCurtain};
     std::uniform_int_distribution<int> pick(0, 5);
-    const Eigen::Vector3f corners[4] = {lo, {hi.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), lo.z()}, {lo.x(), hi.y(), lo.z()}};
+    const Eigen::Vector3f corners[4] = {
+        lo, {hi.x(), lo.y(), lo.z()}, {hi.x(), hi.y(), lo.z()}, {lo.x(), hi.y(), lo.z()}};
     float u_along = 0;
     for (int w = 0; w < 4; ++w)
     {
@@ -111,7 +112,8 @@ void addGmmPatches(const std::vector<map::GmmComponent>& gmm, const Eigen::Align
         // Neighbouring patches usually belong to one object: the material is a hash of the 1 m cell of the
         // mean (and of the seed), so clusters look like coherent objects instead of a patchwork.
         const Eigen::Vector3i cell = (mean / 1.0f).array().floor().cast<int>();
-        uint64_t h = (static_cast<uint64_t>(cell.x() + 1000) * 73856093ull) ^ (static_cast<uint64_t>(cell.y() + 1000) * 19349663ull) ^
+        uint64_t h = (static_cast<uint64_t>(cell.x() + 1000) * 73856093ull) ^
+                     (static_cast<uint64_t>(cell.y() + 1000) * 19349663ull) ^
                      (static_cast<uint64_t>(cell.z() + 1000) * 83492791ull) ^ material_salt;
         h ^= h >> 17;
         const uint16_t mat = is_horizontal ? horizontal[h % 4] : vertical[h % 6];
@@ -134,10 +136,7 @@ void addGmmPatches(const std::vector<map::GmmComponent>& gmm, const Eigen::Align
     }
 }
 
-Eigen::Matrix3f yawRotation(float yaw)
-{
-    return Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix();
-}
+Eigen::Matrix3f yawRotation(float yaw) { return Eigen::AngleAxisf(yaw, Eigen::Vector3f::UnitZ()).toRotationMatrix(); }
 
 void addObjects(const Eigen::AlignedBox3f& room, const WorldOptions& o, const ClearanceGrid& grid, Rng& rng, Mesh& mesh,
                 WorldStats& st)
@@ -170,8 +169,9 @@ void addObjects(const Eigen::AlignedBox3f& room, const WorldOptions& o, const Cl
         const Eigen::Matrix3f R = yawRotation(u01(rng) * 3.14159f);
         m.addBox(c, R, s, kCardboard, cell, Eigen::Vector2f(u01(rng) * 5, u01(rng) * 5));
         if (u01(rng) < 0.4f)
-            m.addBox(c + Eigen::Vector3f(0, 0, 0.5f * s.z() + 0.2f), R, Eigen::Vector3f(0.8f * s.x(), 0.8f * s.y(), 0.4f),
-                     kCardboard, cell, Eigen::Vector2f(u01(rng) * 5, u01(rng) * 5));
+            m.addBox(c + Eigen::Vector3f(0, 0, 0.5f * s.z() + 0.2f), R,
+                     Eigen::Vector3f(0.8f * s.x(), 0.8f * s.y(), 0.4f), kCardboard, cell,
+                     Eigen::Vector2f(u01(rng) * 5, u01(rng) * 5));
     });
     try_place(o.num_slabs, [&](Mesh& m) {  // mattresses lying flat or leaning against something
         const Eigen::Vector3f s(1.9f, 0.9f + 0.4f * u01(rng), 0.15f + 0.1f * u01(rng));

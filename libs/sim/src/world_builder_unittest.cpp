@@ -51,7 +51,8 @@ TEST(WorldBuilder, DeterministicForASeed)
     for (size_t i = 0; i < a.mesh.vertices.size(); ++i) ASSERT_EQ(a.mesh.vertices[i].p, b.mesh.vertices[i].p);
     EXPECT_EQ(cv::norm(a.materials[0].albedo_mips[0], b.materials[0].albedo_mips[0], cv::NORM_INF), 0.0);
     bool differs = a.mesh.vertices.size() != c.mesh.vertices.size();
-    for (size_t i = 0; !differs && i < a.mesh.vertices.size(); ++i) differs = a.mesh.vertices[i].p != c.mesh.vertices[i].p;
+    for (size_t i = 0; !differs && i < a.mesh.vertices.size(); ++i)
+        differs = a.mesh.vertices[i].p != c.mesh.vertices[i].p;
     EXPECT_TRUE(differs);
 }
 

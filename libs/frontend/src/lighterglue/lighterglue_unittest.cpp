@@ -29,7 +29,8 @@ bool fileExists(const std::string& p)
 TEST(LighterGlue, MatchesAgreeWithAKnownHomography)
 {
     ASSERT_TRUE(lighterGlueAvailable()) << "this file is compiled only in builds with libtorch";
-    if (!fileExists(kXFeat) || !fileExists(kLighterGlue)) GTEST_SKIP() << "model file missing: " << kXFeat << " or " << kLighterGlue;
+    if (!fileExists(kXFeat) || !fileExists(kLighterGlue))
+        GTEST_SKIP() << "model file missing: " << kXFeat << " or " << kLighterGlue;
 
     const cv::Mat img = test::texturedImage();
     // Rotation 8 deg, scale 0.92, shift, mild perspective (as point_matcher_unittest's classical case).

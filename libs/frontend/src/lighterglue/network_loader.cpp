@@ -34,8 +34,9 @@ CreateLighterGlueBackendFn backendFactory()
     core::require(factory != nullptr, QUASILOC_LIGHTERGLUE_MODULE, error);
     return factory;
 #else
-    throw core::InputError("LighterGlue", "this build has no libtorch (install libtorch-dev, then configure with "
-                                          "-DQUASILOC_WITH_TORCH=ON)");
+    throw core::InputError("LighterGlue",
+                           "this build has no libtorch (install libtorch-dev, then configure with "
+                           "-DQUASILOC_WITH_TORCH=ON)");
 #endif
 }
 }  // namespace

@@ -73,8 +73,7 @@ class TorchLighterGlue : public LighterGlueBackend
         {
             const FlushDenormalScope flush_denormals;
             const c10::InferenceMode inference;
-            torch::Tensor scores =
-                module_.forward({view3(kpts0), view3(kpts1), view3(desc0), view3(desc1)}).toTensor();
+            torch::Tensor scores = module_.forward({view3(kpts0), view3(kpts1), view3(desc0), view3(desc1)}).toTensor();
             scores = scores.to(torch::kFloat32).contiguous();
             const int rows = kpts0.rows + 1, cols = kpts1.rows + 1;
             if (scores.dim() != 3 || scores.size(1) != rows || scores.size(2) != cols)

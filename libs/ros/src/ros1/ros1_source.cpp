@@ -21,8 +21,7 @@ class Ros1Message : public BagMessage
    public:
     Ros1Message(const rosbag::MessageInstance& m, const std::string& file, const std::string& type)
         : m_(m), file_(file), topic_(m.getTopic()), type_(type)
-    {
-    }
+    {}
     const std::string& topic() const override { return topic_; }
     const std::string& type() const override { return type_; }
     std::int64_t timeNs() const override { return std::int64_t(m_.getTime().toNSec()); }
@@ -53,8 +52,9 @@ class Ros1Message : public BagMessage
     }
     std::vector<TransformMsg> transforms() const override
     {
-        throw InputError(where(), "tf2_msgs/TFMessage in a ROS 1 bag is not supported (Debian ships no ROS 1 "
-                                  "tf2_msgs): give the extrinsics with a Kalibr camchain");
+        throw InputError(where(),
+                         "tf2_msgs/TFMessage in a ROS 1 bag is not supported (Debian ships no ROS 1 "
+                         "tf2_msgs): give the extrinsics with a Kalibr camchain");
     }
 
    protected:
@@ -64,7 +64,8 @@ class Ros1Message : public BagMessage
     template <typename T>
     boost::shared_ptr<T> get(const char* expected) const
     {
-        if (type_ != expected) throw InputError(where(), "message type " + type_ + " where " + expected + " is expected");
+        if (type_ != expected)
+            throw InputError(where(), "message type " + type_ + " where " + expected + " is expected");
         try
         {
             auto p = m_.instantiate<T>();

@@ -45,8 +45,8 @@ class CameraModel
 
     /** Projects p_cam. Returns false (and leaves outputs unspecified) when z <= min_depth.
      *  J_px_p, if given, receives d(pixel)/d(p_cam), 2x3. Does not test image bounds. */
-    bool project(const Eigen::Vector3d& p_cam, Eigen::Vector2d& px,
-                 Eigen::Matrix<double, 2, 3>* J_px_p = nullptr, double min_depth = 1e-6) const;
+    bool project(const Eigen::Vector3d& p_cam, Eigen::Vector2d& px, Eigen::Matrix<double, 2, 3>* J_px_p = nullptr,
+                 double min_depth = 1e-6) const;
 
     /** Normalised (undistorted) coordinates (x/z, y/z) -> distorted normalised coordinates.
      *  J, if given, receives d(distorted)/d(undistorted). */
@@ -61,8 +61,8 @@ class CameraModel
 
     bool isInImage(const Eigen::Vector2d& px, double margin_px = 0) const
     {
-        return px.x() >= -0.5 + margin_px && px.y() >= -0.5 + margin_px &&
-               px.x() < width - 0.5 - margin_px && px.y() < height - 0.5 - margin_px;
+        return px.x() >= -0.5 + margin_px && px.y() >= -0.5 + margin_px && px.x() < width - 0.5 - margin_px &&
+               px.y() < height - 0.5 - margin_px;
     }
 
     cv::Matx33d K() const;

@@ -86,7 +86,8 @@ class OptionTable
             texts.push_back(names[i].first);
             if (current < 0 && names[i].second == value) current = int(i);
         }
-        addChoice(key, texts, current, [&value, names](size_t i) { value = names[i].second; }, doc);
+        addChoice(
+            key, texts, current, [&value, names](size_t i) { value = names[i].second; }, doc);
     }
 
     enum class Action

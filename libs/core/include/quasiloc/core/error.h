@@ -12,8 +12,7 @@ class InputError : public std::runtime_error
    public:
     InputError(const std::string& input, const std::string& problem)
         : std::runtime_error(input + ": " + problem), input_(input), problem_(problem)
-    {
-    }
+    {}
     const std::string& input() const { return input_; }
     const std::string& problem() const { return problem_; }
 

@@ -66,8 +66,7 @@ class OrderedTasks
     void wait(size_t i, bool help = false)
     {
         while (!done(i) && (help || queued(i)) && runNext())
-        {
-        }
+        {}
         std::unique_lock<std::mutex> lock(mutex_);
         finished_.wait(lock, [&] { return tasks_.at(i).state == State::Done; });
         if (tasks_[i].error) std::rethrow_exception(tasks_[i].error);
@@ -77,8 +76,7 @@ class OrderedTasks
     void waitAll()
     {
         while (runNext())
-        {
-        }
+        {}
         std::unique_lock<std::mutex> lock(mutex_);
         finished_.wait(lock, [&] {
             for (const Task& t : tasks_)

@@ -20,7 +20,7 @@ struct CommandLine
     std::string program;
     std::string config_path;  ///< empty when the program was run with plain flags only
     std::vector<std::pair<std::string, std::string>> overrides;  ///< ("Section.key", "value")
-    std::vector<std::string> flags;  ///< everything else, in order (program-specific)
+    std::vector<std::string> flags;                              ///< everything else, in order (program-specific)
     bool print_timing = false;
 };
 
@@ -58,7 +58,7 @@ void writeEffectiveConfig(const std::string& path, const std::vector<OptionsSect
 
 /** Runs a program body, turning any exception into "<program>: error: <message>" on stderr and exit
  *  code 1. Use from main(): `return quasiloc::core::runProgram(argc, argv, usage, body);` */
-int runProgram(int argc, char** argv, const std::string& usage,
-               const std::function<int(const CommandLine&)>& body, bool config_required = true);
+int runProgram(int argc, char** argv, const std::string& usage, const std::function<int(const CommandLine&)>& body,
+               bool config_required = true);
 
 }  // namespace quasiloc::core

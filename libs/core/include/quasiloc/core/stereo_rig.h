@@ -12,10 +12,10 @@ namespace quasiloc::core
 /** What OpenCV's stereoRectify gives, plus the undistort-rectify maps of both images. */
 struct StereoRectification
 {
-    cv::Matx33d R_left, R_right;   ///< rotation from the raw to the rectified camera frame
-    cv::Matx34d P_left, P_right;   ///< projection matrices of the rectified cameras
-    cv::Matx44d Q;                 ///< disparity-to-depth matrix
-    CameraModel rectified_left;    ///< ideal pinhole of the rectified left camera
+    cv::Matx33d R_left, R_right;  ///< rotation from the raw to the rectified camera frame
+    cv::Matx34d P_left, P_right;  ///< projection matrices of the rectified cameras
+    cv::Matx44d Q;                ///< disparity-to-depth matrix
+    CameraModel rectified_left;   ///< ideal pinhole of the rectified left camera
     double baseline_m = 0;
     cv::Mat map_left_x, map_left_y, map_right_x, map_right_y;  ///< for cv::remap, CV_32FC1
     /** The same maps in OpenCV's fixed-point form (cv::convertMaps: CV_16SC2 and CV_16UC1), what cv::remap turns
@@ -23,8 +23,7 @@ struct StereoRectification
     cv::Mat fixed_left_xy, fixed_left_frac, fixed_right_xy, fixed_right_frac;
 
     /** Both images through their maps (bilinear). */
-    void rectify(const cv::Mat& left_raw, const cv::Mat& right_raw, cv::Mat& left_rect,
-                 cv::Mat& right_rect) const;
+    void rectify(const cv::Mat& left_raw, const cv::Mat& right_raw, cv::Mat& left_rect, cv::Mat& right_rect) const;
 };
 
 class StereoRig

@@ -1,6 +1,7 @@
 #pragma once
-// The options of the bag converters bag2rawlog and rawlog2bag (libs/ros; ROS 1 bags and ROS 2 rosbag2 bags): plain data, here so that the options
-// reference (quasiloc-options) lists them whether or not the ROS bag library is installed.
+// The options of the bag converters bag2rawlog and rawlog2bag (libs/ros; ROS 1 bags and ROS 2 rosbag2 bags): plain
+// data, here so that the options reference (quasiloc-options) lists them whether or not the ROS bag library is
+// installed.
 #include <quasiloc/core/declared_options.h>
 #include <string>
 
@@ -15,18 +16,18 @@ enum class GroundTruthFrame
 /** How images are stored in a bag that we write. */
 enum class BagImageEncoding
 {
-    Mono8,  ///< sensor_msgs/Image, "mono8"
-    Mono16, ///< sensor_msgs/Image, "mono16", the 8-bit value times 256
-    Png,    ///< sensor_msgs/CompressedImage, "mono8; png compressed" (lossless)
-    Jpeg    ///< sensor_msgs/CompressedImage, "mono8; jpeg compressed" (lossy)
+    Mono8,   ///< sensor_msgs/Image, "mono8"
+    Mono16,  ///< sensor_msgs/Image, "mono16", the 8-bit value times 256
+    Png,     ///< sensor_msgs/CompressedImage, "mono8; png compressed" (lossless)
+    Jpeg     ///< sensor_msgs/CompressedImage, "mono8; jpeg compressed" (lossy)
 };
 
 enum class BagCompression
 {
     None,
-    Bz2,   ///< ROS 1 only
-    Lz4,   ///< ROS 1 chunks, or MCAP chunks (LZ4 frames)
-    Zstd   ///< MCAP only
+    Bz2,  ///< ROS 1 only
+    Lz4,  ///< ROS 1 chunks, or MCAP chunks (LZ4 frames)
+    Zstd  ///< MCAP only
 };
 
 /** The bag rawlog2bag writes. */
@@ -74,8 +75,8 @@ struct Bag2RawlogOptions : public core::DeclaredOptions
     bool calibrationFromBag() const { return calibration_ini.empty() && kalibr_camchain.empty(); }
     std::string leftCameraInfoTopic() const;   ///< left_camera_info_topic or <left_topic's namespace>/camera_info
     std::string rightCameraInfoTopic() const;  ///< likewise for the right camera
-    std::string calibOutPath() const;  ///< calib_out or <output stem>_calib.ini
-    std::string gtOutPath() const;     ///< gt_out or <output stem>_gt_cam0.tum
+    std::string calibOutPath() const;          ///< calib_out or <output stem>_calib.ini
+    std::string gtOutPath() const;             ///< gt_out or <output stem>_gt_cam0.tum
 };
 
 /** INI section [Rawlog2Bag]; each key's unit, range and meaning: declare() (bag_options.cpp). */
@@ -101,8 +102,8 @@ struct Rawlog2BagOptions : public core::DeclaredOptions
 
     std::string leftCameraInfoTopic() const;   ///< format=mcap: <left_topic's namespace>/camera_info
     std::string rightCameraInfoTopic() const;  ///< format=mcap: <right_topic's namespace>/camera_info
-    std::string camchainPath() const;  ///< <bag stem>_camchain.yaml beside the bag
-    std::string imuYamlPath() const;   ///< <bag stem>_imu.yaml beside the bag
+    std::string camchainPath() const;          ///< <bag stem>_camchain.yaml beside the bag
+    std::string imuYamlPath() const;           ///< <bag stem>_imu.yaml beside the bag
 };
 
 }  // namespace quasiloc::dataset

@@ -40,7 +40,7 @@ struct Euroc2RawlogResult
     std::vector<std::string> skipped_rows_report;  ///< from EurocSequence::skippedRowsReport()
     size_t skipped_rows = 0;
     std::string rawlog_path, images_folder, calib_path, gt_path;  ///< gt_path empty without ground truth
-    std::string imu_yaml;  ///< where the calibration's [imu] noise model came from
+    std::string imu_yaml;                  ///< where the calibration's [imu] noise model came from
     std::string gt_kind;                   ///< "TUM T_world_cam0" or "EuRoC body csv x T_body_cam0"
     size_t gt_poses_written = 0;           ///< poses in the written TUM file
     size_t gt_duplicate_rows_dropped = 0;  ///< rows of the whole input file repeating an earlier timestamp

@@ -19,7 +19,7 @@
 
 namespace quasiloc::dataset
 {
-constexpr double kEurocImuRateHz = 200;   ///< the ADIS16448 of every EuRoC sequence
+constexpr double kEurocImuRateHz = 200;    ///< the ADIS16448 of every EuRoC sequence
 constexpr double kMaxImuGapPeriods = 2.5;  ///< an interval above this many nominal periods is an error
 
 struct EurocImuCsv
@@ -32,7 +32,7 @@ struct EurocImuCsv
 struct EurocBiasCsv
 {
     std::string path;
-    std::vector<std::int64_t> t_ns;  ///< strictly increasing
+    std::vector<std::int64_t> t_ns;                    ///< strictly increasing
     std::vector<Eigen::Vector3d> gyro_bias, acc_bias;  ///< b_w [rad/s], b_a [m/s^2], body (IMU) frame
 };
 

@@ -82,7 +82,7 @@ class FaultInjectingSource : public FrameSource
     std::unique_ptr<FrameSource> inner_;
     FaultInjectionOptions o_;
     std::mt19937_64 rng_;
-    std::deque<StereoFrame> ahead_;       ///< read from inner_, not yet yielded (reorder)
+    std::deque<StereoFrame> ahead_;                ///< read from inner_, not yet yielded (reorder)
     std::vector<Eigen::Vector3d> right_bearings_;  ///< desync: every right pixel's bearing (row-major)
     Eigen::Vector3d last_gyro_ = Eigen::Vector3d::Zero();
     std::vector<ImuSample> carried_imu_;  ///< the samples of dropped frames, for the next frame yielded

@@ -19,9 +19,9 @@ struct ImuSample
 
 struct StereoFrame
 {
-    size_t index = 0;       ///< 0, 1, 2, ... in the order yielded
-    double timestamp = 0;   ///< seconds (left image time)
-    cv::Mat left, right;    ///< CV_8UC1, raw (not rectified) images
+    size_t index = 0;      ///< 0, 1, 2, ... in the order yielded
+    double timestamp = 0;  ///< seconds (left image time)
+    cv::Mat left, right;   ///< CV_8UC1, raw (not rectified) images
     /** IMU samples with previous frame's timestamp < t <= this frame's timestamp (for the first frame:
      *  all samples up to its timestamp). */
     std::vector<ImuSample> imu;

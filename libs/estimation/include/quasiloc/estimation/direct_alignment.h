@@ -68,9 +68,9 @@ struct DirectAlignmentModel
  *  camera's resolution (`camera` is the downscaled one); the blocks are model_block_px / downscale of their
  *  pixels, which it must divide, so that the model is found on the same image blocks. Deterministic. */
 DirectAlignmentModel buildDirectAlignmentModel(const DirectAlignmentOptions& options, const cv::Mat& depth,
-                                               const cv::Mat& reflectivity, const cv::Mat& valid,
-                                               const cv::Mat& sparse, const core::CameraModel& camera,
-                                               const Eigen::Isometry3d& T_world_cam, int downscale = 1);
+                                               const cv::Mat& reflectivity, const cv::Mat& valid, const cv::Mat& sparse,
+                                               const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam,
+                                               int downscale = 1);
 
 /** Map points with reflectivity for the NMI measure: sparse pixels (exact map points) of a quasi-image rendered
  *  at T_world_cam, at most max_nmi_points spread over the image. Kept apart from the edge model because no stage
@@ -81,7 +81,8 @@ struct NmiSamples
     std::vector<float> reflectivity;  ///< [0, 1], one per point
 };
 NmiSamples buildNmiSamples(const DirectAlignmentOptions& options, const cv::Mat& depth, const cv::Mat& reflectivity,
-                           const cv::Mat& sparse, const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam);
+                           const cv::Mat& sparse, const core::CameraModel& camera,
+                           const Eigen::Isometry3d& T_world_cam);
 
 /** Orientation classes of image normal directions (gx, gy): the angle mod 180 deg in `bins` classes centred on
  *  multiples of 180 / bins deg. */
@@ -103,7 +104,7 @@ class OrientationClasses
     int classOfSector(int sector, int* second) const;
 
     int bins_;
-    std::vector<float> cos_, sin_;  ///< the sector borders up to 90 deg: k * 90 / bins deg, k = 1 .. bins
+    std::vector<float> cos_, sin_;      ///< the sector borders up to 90 deg: k * 90 / bins deg, k = 1 .. bins
     std::vector<uint8_t> sector_bits_;  ///< per sector (2 * bins of them, bins <= 8): the bits pairBits gives
 };
 
@@ -115,7 +116,7 @@ struct CameraEdgeLevel
      *  its gradient is taken by central differences where needed). A camera edge belongs to the two classes
      *  nearest to its orientation. */
     std::vector<cv::Mat> distance;
-    cv::Mat edges;     ///< CV_8U Canny edges (255)
+    cv::Mat edges;  ///< CV_8U Canny edges (255)
 };
 
 /** The camera side, computed once per image. */
@@ -133,7 +134,8 @@ constexpr int kMaxFusedClasses = 8;
  *  truncation_px), with cv::distanceTransform's DIST_L2 / DIST_MASK_3 chamfer metric (weights to ~1e-4 px per
  *  step: the same field within rounding). A class with no pixel gets truncation_px everywhere. InputError for an
  *  empty or non-CV_8UC1 image, classes outside [1, 8], truncation_px outside [1, 1000]. */
-void classDistanceTransforms(const cv::Mat& class_bits, int classes, double truncation_px, std::vector<cv::Mat>& distance);
+void classDistanceTransforms(const cv::Mat& class_bits, int classes, double truncation_px,
+                             std::vector<cv::Mat>& distance);
 
 /** InputError for an empty or non-8-bit image (1 or 3 channels accepted; colour is converted to gray). */
 CameraEdgeField buildCameraEdgeField(const DirectAlignmentOptions& options, const cv::Mat& image);
@@ -143,7 +145,7 @@ struct DirectAlignmentStats
     int iterations = 0;
     int edge_points = 0;
     double initial_edge_cost = 0, final_edge_cost = 0;  ///< mean Huber cost at the full-resolution level
-    double final_inlier_ratio = 0;  ///< share of edge points with DT < huber_px at full resolution
+    double final_inlier_ratio = 0;                      ///< share of edge points with DT < huber_px at full resolution
     double ms = 0;
     /** Gauss-Newton Hessian of the mean edge cost at the final pose, full resolution, prior excluded (tangent
      *  [dtheta; dp] of T_world_cam, camera frame): how well the map edges pin each direction down. */

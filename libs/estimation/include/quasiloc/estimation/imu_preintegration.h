@@ -39,7 +39,7 @@ struct ImuNoise
      *  relocalization take over: with the variance of a 1 s gap (0.5 m), the gate let through a wrong alignment
      *  whose velocity and biases the window then kept (docs/reliability.md). */
     double gap_max_s = 0.5;
-    double gap_acc_sigma = 1.0;   ///< m/s^2 (0: off)
+    double gap_acc_sigma = 1.0;    ///< m/s^2 (0: off)
     double gap_gyro_sigma = 0.25;  ///< rad/s (0: off)
     Eigen::Vector3d gravity() const { return Eigen::Vector3d(0, 0, -gravity_m_s2); }
 };

@@ -74,7 +74,7 @@ struct MapRefinementResult
 {
     bool success = false;  ///< the method produced a pose (features: PnP with >= min_inliers inliers)
     Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-    int matches = 0;      ///< 2D-3D correspondences given to PnP (guided: all candidates)
+    int matches = 0;                        ///< 2D-3D correspondences given to PnP (guided: all candidates)
     std::vector<Eigen::Vector2d> points2d;  ///< those correspondences (camera pixel, lifted map point), for
     std::vector<Eigen::Vector3d> points3d;  ///<   diagnostics (e.g. counting correct ones at a known pose)
     int inliers = 0;

@@ -32,8 +32,8 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Matrix26d = Eigen::Matrix<double, 2, 6>;
 
-constexpr int kPoseSize = 7;     ///< ambient size of a pose block
-constexpr int kPoseDof = 6;      ///< tangent size [dtheta; dp]
+constexpr int kPoseSize = 7;       ///< ambient size of a pose block
+constexpr int kPoseDof = 6;        ///< tangent size [dtheta; dp]
 constexpr int kSpeedBiasSize = 9;  ///< [v_map (3); gyro bias (3); accelerometer bias (3)]
 
 Eigen::Matrix3d hat(const Eigen::Vector3d& v);
@@ -53,7 +53,8 @@ Eigen::Isometry3d paramsToPose(const double* params);
 inline Vector6d poseInformationDiagonal(double sigma_rad, double sigma_m)
 {
     Vector6d info;
-    info << Eigen::Vector3d::Constant(1.0 / (sigma_rad * sigma_rad)), Eigen::Vector3d::Constant(1.0 / (sigma_m * sigma_m));
+    info << Eigen::Vector3d::Constant(1.0 / (sigma_rad * sigma_rad)),
+        Eigen::Vector3d::Constant(1.0 / (sigma_m * sigma_m));
     return info;
 }
 

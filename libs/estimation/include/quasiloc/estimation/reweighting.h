@@ -39,10 +39,10 @@ enum class ReweightingMode
 struct ReweightingOptions : public core::DeclaredOptions
 {
     ReweightingMode mode = ReweightingMode::Full;
-    double tau = 1000.0;   ///< a_k = max(0, 1 - sqrt(lambda_k) / tau); same unit as sqrt(lambda)
-    double beta = 4.0;     ///< W* = (1 + beta q) W_meas
-    double kappa = 1.0;    ///< g^ = max(0, mu - kappa sigma) (full mode only)
-    double epsilon = 1e-9; ///< regulariser of q's denominator
+    double tau = 1000.0;    ///< a_k = max(0, 1 - sqrt(lambda_k) / tau); same unit as sqrt(lambda)
+    double beta = 4.0;      ///< W* = (1 + beta q) W_meas
+    double kappa = 1.0;     ///< g^ = max(0, mu - kappa sigma) (full mode only)
+    double epsilon = 1e-9;  ///< regulariser of q's denominator
 
     void declare(core::OptionTable& t) override;
     /** InputError naming `input` and the key for a value out of its declared range (no two keys relate). */

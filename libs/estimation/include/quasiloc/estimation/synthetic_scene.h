@@ -34,18 +34,18 @@ std::string toString(SceneLayout layout);
 struct SceneOptions
 {
     SceneLayout layout = SceneLayout::Room;
-    int num_points = 60;           ///< map-point matches (Room; the degenerate layouts use fewer)
-    int num_lines = 20;            ///< structural line factors
-    int num_planes = 6;            ///< structural plane factors (patches of stereo points)
-    int candidates = 3;            ///< hypotheses per structural factor
-    int support_points = 8;        ///< LiDAR points per map line
-    int plane_points = 12;         ///< stereo points per plane patch
-    double pixel_noise = 1.0;      ///< keypoint and line-endpoint noise, pixels
-    double lidar_noise_m = 0.01;   ///< noise of map points and line support
+    int num_points = 60;             ///< map-point matches (Room; the degenerate layouts use fewer)
+    int num_lines = 20;              ///< structural line factors
+    int num_planes = 6;              ///< structural plane factors (patches of stereo points)
+    int candidates = 3;              ///< hypotheses per structural factor
+    int support_points = 8;          ///< LiDAR points per map line
+    int plane_points = 12;           ///< stereo points per plane patch
+    double pixel_noise = 1.0;        ///< keypoint and line-endpoint noise, pixels
+    double lidar_noise_m = 0.01;     ///< noise of map points and line support
     double stereo_noise_rel = 0.01;  ///< stereo point noise along the ray, relative to depth
     double point_outlier_rate = 0.05;
     double wrong_nominal_rate = 0.2;  ///< share of structural factors whose argmax is a wrong candidate
-    double init_sigma_m = 0.05;    ///< the guess (IMU prediction) is truth (+) N(0, sigma); prior has this sigma
+    double init_sigma_m = 0.05;       ///< the guess (IMU prediction) is truth (+) N(0, sigma); prior has this sigma
     double init_sigma_deg = 1.0;
     // Misspecification (what a real tracker lives with): the prior's stated sigma is the true one divided
     // by prior_overconfidence; map-point matches are noisier than their sigma_px by point_noise_factor
@@ -56,10 +56,10 @@ struct SceneOptions
 
 struct SyntheticFrame
 {
-    StereoGeometry stereo;              ///< 640x480, f = 400, 0.11 m baseline, body = left camera
+    StereoGeometry stereo;  ///< 640x480, f = 400, 0.11 m baseline, body = left camera
     Eigen::Isometry3d T_map_body_true;
-    FrameState guess;                   ///< the initial value
-    StatePrior prior;                   ///< pose prior centred on the guess
+    FrameState guess;  ///< the initial value
+    StatePrior prior;  ///< pose prior centred on the guess
     std::vector<PointMatch> points;
     std::vector<LineFactorInput> lines;
     std::vector<PlaneFactorInput> planes;

@@ -73,17 +73,17 @@ struct WindowInput
 {
     const StereoGeometry* stereo = nullptr;  ///< required; its left camera observes the map factors
     bool has_previous = false;
-    FrameState previous;  ///< initial value of the previous frame (has_previous)
-    StatePrior prior;     ///< on the previous frame if has_previous, else on the current one
+    FrameState previous;                     ///< initial value of the previous frame (has_previous)
+    StatePrior prior;                        ///< on the previous frame if has_previous, else on the current one
     const ImuPreintegration* imu = nullptr;  ///< previous -> current (requires has_previous)
-    FrameState current;   ///< initial guess of the current frame (e.g. the IMU prediction)
+    FrameState current;                      ///< initial guess of the current frame (e.g. the IMU prediction)
     std::vector<PointMatch> points;
     std::vector<LineFactorInput> lines;
     std::vector<PlaneFactorInput> planes;
-    std::vector<TemporalLandmark> landmarks;  ///< used only with a previous frame
-    std::vector<PoseMeasurement> pose_measurements;  ///< on the current frame (map measurements: part of H_0)
-    std::vector<DirectEdgeTerm> direct_terms;        ///< on the current frame (the left camera's image)
-    std::vector<MapDistanceTerm> map_distance_terms; ///< on the current frame (its stereo points)
+    std::vector<TemporalLandmark> landmarks;          ///< used only with a previous frame
+    std::vector<PoseMeasurement> pose_measurements;   ///< on the current frame (map measurements: part of H_0)
+    std::vector<DirectEdgeTerm> direct_terms;         ///< on the current frame (the left camera's image)
+    std::vector<MapDistanceTerm> map_distance_terms;  ///< on the current frame (its stereo points)
 };
 
 struct WindowStats
@@ -99,8 +99,8 @@ struct WindowStats
 struct WindowResult
 {
     FrameState previous, current;
-    StatePrior marginal;             ///< Gaussian on the current state: the next window's prior
-    ReweightingResult reweighting;   ///< of the last round
+    StatePrior marginal;            ///< Gaussian on the current state: the next window's prior
+    ReweightingResult reweighting;  ///< of the last round
     WindowStats stats;
 };
 

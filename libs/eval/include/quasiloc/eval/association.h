@@ -18,10 +18,10 @@ struct Match
 
 struct Association
 {
-    std::vector<Match> matches;        ///< sorted by est_index
-    std::vector<size_t> unmatched_est; ///< estimate indices with no partner, sorted
-    size_t unmatched_gt = 0;           ///< ground-truth poses not used by any match
-    double max_abs_dt_s = 0;           ///< largest |dt| among the matches (0 when none)
+    std::vector<Match> matches;         ///< sorted by est_index
+    std::vector<size_t> unmatched_est;  ///< estimate indices with no partner, sorted
+    size_t unmatched_gt = 0;            ///< ground-truth poses not used by any match
+    double max_abs_dt_s = 0;            ///< largest |dt| among the matches (0 when none)
 };
 
 /** Times need not be sorted. max_dt_s must be >= 0 (InputError otherwise). Cost O(N log N + K log K)

@@ -33,7 +33,7 @@ struct QueryResult
 {
     double t = 0;  ///< the query timestamp
     QueryStatus status = QueryStatus::NotLocalized;
-    bool localized = false;  ///< the localizer gave a pose (also for NoGroundTruth queries)
+    bool localized = false;        ///< the localizer gave a pose (also for NoGroundTruth queries)
     mrpt::poses::CPose3D est, gt;  ///< T_map_cam; gt valid unless NoGroundTruth, est valid if localized
     double trans_err_m = std::numeric_limits<double>::quiet_NaN();  ///< Localized only
     double rot_err_deg = std::numeric_limits<double>::quiet_NaN();
@@ -48,9 +48,9 @@ struct RecallThreshold
 struct RecallEntry
 {
     RecallThreshold threshold;
-    size_t count = 0;       ///< localized queries within the threshold
-    double recall = 0;      ///< count / num_evaluated (NaN when nothing is evaluated)
-    ErrorStats trans_m;     ///< translation errors of those within the threshold (mean = "inlier mATE")
+    size_t count = 0;    ///< localized queries within the threshold
+    double recall = 0;   ///< count / num_evaluated (NaN when nothing is evaluated)
+    ErrorStats trans_m;  ///< translation errors of those within the threshold (mean = "inlier mATE")
 };
 
 struct LocalizationResult
@@ -60,16 +60,16 @@ struct LocalizationResult
     size_t num_evaluated = 0;          ///< queries with ground truth: the denominator of recall
     size_t num_localized = 0;          ///< evaluated queries that got a pose
     size_t num_no_ground_truth = 0;
-    ErrorStats trans_m, rot_deg;       ///< over the evaluated localized queries; trans_m.mean = mATE
-    std::vector<RecallEntry> recall;   ///< one per threshold, in the given order
+    ErrorStats trans_m, rot_deg;      ///< over the evaluated localized queries; trans_m.mean = mATE
+    std::vector<RecallEntry> recall;  ///< one per threshold, in the given order
 };
 
 /** Query timestamps are matched to estimate timestamps within `query_match_tol_s` (they come from the same
  *  program, so the default is tight) and to ground truth within `max_dt_s`, both one-to-one.
  *  InputError (naming `estimate_name`) when an estimate pose matches no query. */
 LocalizationResult evaluateLocalization(const core::Trajectory& est, const core::Trajectory& gt,
-                                        const std::vector<double>& query_times, bool have_query_list,
-                                        double max_dt_s, const std::vector<RecallThreshold>& thresholds,
+                                        const std::vector<double>& query_times, bool have_query_list, double max_dt_s,
+                                        const std::vector<RecallThreshold>& thresholds,
                                         const std::string& estimate_name, double query_match_tol_s = 1e-3);
 
 }  // namespace quasiloc::eval

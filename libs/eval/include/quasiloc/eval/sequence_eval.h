@@ -14,10 +14,10 @@ struct TrackingReport
 {
     GroundTruthLookup lookup = GroundTruthLookup::Nearest;
     Association association;
-    std::vector<PosePair> pairs;        ///< associated poses, raw (map frame)
-    AteResult ate;                      ///< unaligned (map frame), always
-    std::optional<AteResult> ate_se3;   ///< SE(3)-aligned, when >= 3 poses are associated
-    std::optional<AteResult> ate_sim3;  ///< Sim(3)-aligned, when >= 3 poses are associated
+    std::vector<PosePair> pairs;                ///< associated poses, raw (map frame)
+    AteResult ate;                              ///< unaligned (map frame), always
+    std::optional<AteResult> ate_se3;           ///< SE(3)-aligned, when >= 3 poses are associated
+    std::optional<AteResult> ate_sim3;          ///< Sim(3)-aligned, when >= 3 poses are associated
     Alignment rpe_alignment = Alignment::None;  ///< the estimate the RPE is computed on ([Eval] align)
     std::vector<RpeResult> rpe;                 ///< one per [Eval] RPE delta (EvalOptions::rpeDeltas)
 };
@@ -26,7 +26,7 @@ struct SequenceReport
 {
     NamedSequence sequence;
     SequenceKind kind = SequenceKind::Tracking;
-    size_t num_est = 0, num_gt = 0;  ///< poses read (after dropping duplicates)
+    size_t num_est = 0, num_gt = 0;                ///< poses read (after dropping duplicates)
     size_t duplicates_est = 0, duplicates_gt = 0;  ///< poses with a repeated timestamp, dropped
     bool have_query_list = false;
     TrackingReport tracking;          ///< kind == Tracking

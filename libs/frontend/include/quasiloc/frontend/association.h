@@ -34,15 +34,15 @@ struct AssociationOptions : public core::DeclaredOptions
 
 struct AssociationCandidate
 {
-    int index = -1;          ///< feature index on the map side (quasi-image keypoint or line)
+    int index = -1;  ///< feature index on the map side (quasi-image keypoint or line)
     float similarity = 0;
-    float probability = 0;   ///< p_ic
+    float probability = 0;  ///< p_ic
 };
 
 struct Association
 {
-    int query = -1;                               ///< camera-side feature index
-    std::vector<AssociationCandidate> candidates; ///< candidates[0] is the nominal association, then by similarity
+    int query = -1;                                ///< camera-side feature index
+    std::vector<AssociationCandidate> candidates;  ///< candidates[0] is the nominal association, then by similarity
 };
 
 /** candidates[0] is the nominal association and stays first; the others are sorted by similarity, those below

@@ -8,8 +8,8 @@
 // Dense maps (point branch): XFeat: its `feats` output (64 channels, stride 8), L2-normalised per cell.
 // Classical (orb, sift, akaze): a DAISY-like map computed at quarter resolution (stride 4): image gradients
 // soft-binned into 8 unsigned orientations (magnitude-weighted), pooled by Gaussians of sigma 1 and 2 cells
-// (4 and 8 image pixels; 16 channels), L2-normalised per cell. It describes the local gradient layout around a position, which is
-// what a segment's neighbourhood looks like; it is not rotation invariant (neither is XFeat's).
+// (4 and 8 image pixels; 16 channels), L2-normalised per cell. It describes the local gradient layout around a
+// position, which is what a segment's neighbourhood looks like; it is not rotation invariant (neither is XFeat's).
 #include <memory>
 #include <opencv2/core.hpp>
 #include <quasiloc/core/declared_options.h>
@@ -102,8 +102,8 @@ std::unique_ptr<FeatureExtractor> createFeatureExtractor(const FeatureOptions& o
 
 /** Keeps at most `budget` keypoints spread over a grid_cols x grid_rows grid of the image (see [Features]).
  *  Stable: among equal responses the earlier keypoint wins. */
-std::vector<cv::KeyPoint> spreadKeypoints(const std::vector<cv::KeyPoint>& keypoints, cv::Size image_size,
-                                          int budget, int grid_cols, int grid_rows);
+std::vector<cv::KeyPoint> spreadKeypoints(const std::vector<cv::KeyPoint>& keypoints, cv::Size image_size, int budget,
+                                          int grid_cols, int grid_rows);
 /** spreadKeypoints as indices into `keypoints` (same selection, same order). */
 std::vector<int> spreadKeypointIndices(const std::vector<cv::KeyPoint>& keypoints, cv::Size image_size, int budget,
                                        int grid_cols, int grid_rows);

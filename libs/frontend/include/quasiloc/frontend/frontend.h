@@ -86,7 +86,8 @@ class Frontend
     // Working images reused from frame to frame (see DenseMapScratch).
     DenseMapScratch dense_scratch_;
     LineDescriptorScratch describe_scratch_;
-    std::unique_ptr<core::WorkerThread> worker_;  ///< the thread of the line branch, started by the first concurrent extract
+    std::unique_ptr<core::WorkerThread>
+        worker_;  ///< the thread of the line branch, started by the first concurrent extract
     mrpt::system::CTimeLogger* timer_ = nullptr;
 };
 

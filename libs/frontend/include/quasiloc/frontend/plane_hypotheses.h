@@ -17,7 +17,7 @@ struct PlaneFit
     Eigen::Vector3d normal{0, 0, 1};  ///< unit; n . p_world + d = 0
     double d = 0;
     double rms_m = 0;
-    double extent_ratio = 0;          ///< sqrt(lambda_2 / lambda_1)
+    double extent_ratio = 0;  ///< sqrt(lambda_2 / lambda_1)
     size_t num_points = 0;
 };
 
@@ -34,7 +34,7 @@ PlaneFit fitPlane(const std::vector<Eigen::Vector3f>& points, const AssociationO
 
 struct PlaneHypothesis
 {
-    int side = 0;                  ///< +1: left of the oriented segment (y down: (d.y, -d.x)), -1: right
+    int side = 0;  ///< +1: left of the oriented segment (y down: (d.y, -d.x)), -1: right
     PlaneFit plane;
     std::vector<int> map_indices;  ///< the support the plane was fitted to
 };
@@ -42,8 +42,8 @@ struct PlaneHypothesis
 /** One candidate of a line association, lifted: the map-side segment, its LiDAR support, its planes. */
 struct LineHypothesis
 {
-    int line_index = -1;       ///< map-side (quasi-image) line
-    float probability = 0;     ///< p_ic of the association
+    int line_index = -1;    ///< map-side (quasi-image) line
+    float probability = 0;  ///< p_ic of the association
     LineSupport support;
     std::vector<PlaneHypothesis> planes;  ///< 0, 1 or 2 accepted side planes
 };

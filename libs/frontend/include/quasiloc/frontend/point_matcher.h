@@ -47,9 +47,9 @@ struct PointMatchingOptions : public core::DeclaredOptions
 
 struct PointCandidate
 {
-    int index = -1;         ///< keypoint index in the other image
-    float distance = 0;     ///< L2 or Hamming
-    float similarity = 0;   ///< descriptorSimilarity(distance)
+    int index = -1;        ///< keypoint index in the other image
+    float distance = 0;    ///< L2 or Hamming
+    float similarity = 0;  ///< descriptorSimilarity(distance)
 };
 
 struct PointMatch

@@ -16,9 +16,9 @@ using BoolMatrix = Eigen::Matrix<bool, Eigen::Dynamic, Eigen::Dynamic>;
 
 struct SinkhornResult
 {
-    Eigen::MatrixXd plan;            ///< (M+1) x (N+1)
+    Eigen::MatrixXd plan;  ///< (M+1) x (N+1)
     int iterations = 0;
-    double max_marginal_error = 0;   ///< largest |row sum - target| after the last column update
+    double max_marginal_error = 0;  ///< largest |row sum - target| after the last column update
 };
 
 /** InputError for a non-finite cost, epsilon < 0.01, or an `allowed` mask of another size. M or N may be 0. */

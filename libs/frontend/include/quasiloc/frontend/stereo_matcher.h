@@ -32,8 +32,8 @@ struct StereoOptions : public core::DeclaredOptions
 
 struct StereoPoint
 {
-    int left = -1, right = -1;   ///< keypoint indices
-    float disparity_px = 0;      ///< rectified
+    int left = -1, right = -1;  ///< keypoint indices
+    float disparity_px = 0;     ///< rectified
     float similarity = 0;
     Eigen::Vector3d p_left{0, 0, 0};  ///< in the (raw) left camera frame, metres
 };

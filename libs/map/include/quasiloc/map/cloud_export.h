@@ -11,9 +11,9 @@ namespace quasiloc::map
 enum class CloudEncoding
 {
     Ascii,
-    Binary,            ///< PLY: binary_little_endian; PCD: binary
-    BinaryBigEndian,   ///< PLY only
-    BinaryCompressed   ///< PCD only (LZF)
+    Binary,           ///< PLY: binary_little_endian; PCD: binary
+    BinaryBigEndian,  ///< PLY only
+    BinaryCompressed  ///< PCD only (LZF)
 };
 
 /** "ascii" "binary" (also "binary_little_endian") "binary_big_endian" "binary_compressed". */

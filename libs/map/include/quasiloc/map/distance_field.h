@@ -31,7 +31,7 @@ namespace quasiloc::map
 {
 enum class DistanceFieldLayout
 {
-    Auto,   ///< dense up to dense_max_voxels, sparse beyond
+    Auto,  ///< dense up to dense_max_voxels, sparse beyond
     Dense,
     Sparse
 };
@@ -39,11 +39,11 @@ enum class DistanceFieldLayout
 struct DistanceFieldOptions
 {
     double voxel_m = 0.04;
-    double margin_m = 1.0;          ///< the grid extends this far beyond the map's bounds
-    double max_distance_m = 0.5;    ///< distances are truncated here (and this is the value outside the grid)
-    size_t max_voxels = 150'000'000;            ///< a dense grid's cap
+    double margin_m = 1.0;            ///< the grid extends this far beyond the map's bounds
+    double max_distance_m = 0.5;      ///< distances are truncated here (and this is the value outside the grid)
+    size_t max_voxels = 150'000'000;  ///< a dense grid's cap
     DistanceFieldLayout layout = DistanceFieldLayout::Auto;
-    size_t dense_max_voxels = 50'000'000;       ///< layout = auto: dense up to this many voxels (200 MB)
+    size_t dense_max_voxels = 50'000'000;  ///< layout = auto: dense up to this many voxels (200 MB)
 
     /** InputError naming `input` for a value that cannot be used. */
     void check(const std::string& input) const;
@@ -82,7 +82,8 @@ class DistanceField
     static DistanceField buildSparse(const LidarMap& map, DistanceField f);
     float sparseVoxel(int i, int j, int k) const
     {
-        const int b = brick_of_[(size_t(k / kBrick) * size_t(by_) + size_t(j / kBrick)) * size_t(bx_) + size_t(i / kBrick)];
+        const int b =
+            brick_of_[(size_t(k / kBrick) * size_t(by_) + size_t(j / kBrick)) * size_t(bx_) + size_t(i / kBrick)];
         if (b < 0) return max_distance_;
         return value(bricks_[size_t(b)][size_t(((k % kBrick) * kBrick + j % kBrick) * kBrick + i % kBrick)]);
     }

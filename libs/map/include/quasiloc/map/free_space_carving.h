@@ -44,9 +44,9 @@ struct CarveVoxel
     uint16_t hit_scans = 0, pass_scans = 0;
     int32_t last_hit_scan = -1, last_pass_scan = -1;
     float moments[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};  ///< n, sum x y z, sum xx xy xz yy yz zz (offsets)
-    float normal[3] = {0, 0, 0};                          ///< unit; zero: no plane around this voxel
+    float normal[3] = {0, 0, 0};                         ///< unit; zero: no plane around this voxel
     float plane_offset = 0;  ///< normal . (the voxel's own points' mean, relative to its corner)
-    uint64_t cells = 0;  ///< bit (i * 4 + j) * 4 + k: sub-cell (i, j, k) of the 4 x 4 x 4 holds a point
+    uint64_t cells = 0;      ///< bit (i * 4 + j) * 4 + k: sub-cell (i, j, k) of the 4 x 4 x 4 holds a point
 };
 
 struct CarvingStats

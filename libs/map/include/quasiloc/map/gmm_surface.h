@@ -53,7 +53,7 @@ struct GmmComponentSurface
     Eigen::Vector3d axis_v = Eigen::Vector3d::UnitY();  ///< unit, along sigma_mid
     Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, along sigma_min
     Eigen::Vector3d sigmas = Eigen::Vector3d::Zero();   ///< sigma_min, sigma_mid, sigma_max (metres)
-    double semi_u_m = 0, semi_v_m = 0;                   ///< truncation_sigma * sigma_max, * sigma_mid
+    double semi_u_m = 0, semi_v_m = 0;                  ///< truncation_sigma * sigma_max, * sigma_mid
     double flatness = 1;  ///< sigma_min / sigma_mid (infinite when sigma_mid = 0: no surface)
     double areaM2() const;
 };
@@ -64,11 +64,11 @@ GmmComponentSurface componentSurface(const GmmComponent& c, double truncation_si
 struct GmmSurfaceStats
 {
     size_t components = 0;
-    size_t sampled = 0;          ///< components that were sampled (some may have drawn no point)
+    size_t sampled = 0;           ///< components that were sampled (some may have drawn no point)
     size_t skipped_not_flat = 0;  ///< sigma_min / sigma_mid > max_flatness
-    size_t degenerated = 0;      ///< GMMLoc's is_degenerated flag set (counted only)
+    size_t degenerated = 0;       ///< GMMLoc's is_degenerated flag set (counted only)
     size_t points = 0;
-    double area_m2 = 0;          ///< summed area of the sampled ellipses (overlaps counted twice)
+    double area_m2 = 0;  ///< summed area of the sampled ellipses (overlaps counted twice)
 };
 
 /** Samples every surface-like component (see above). InputError naming `input` and the component for a

@@ -81,17 +81,17 @@ struct MapBuildOptions : public core::DeclaredOptions
 
 struct MapBuildResult
 {
-    LidarMap map;              ///< the static map
-    LidarMap removed;          ///< the fused points the carving removed
+    LidarMap map;      ///< the static map
+    LidarMap removed;  ///< the fused points the carving removed
     size_t scans = 0, points_read = 0, points_used = 0, deskewed_scans = 0;
     size_t fused_voxels = 0, fusion_bytes = 0;
     CarvingStats carving;
     IntensityNormalisation intensity;  ///< raw -> [0, 1] divisor
     ReflectivityConsistency consistency;
-    std::string reflectivity_model;    ///< ReflectivityModel::summary()
+    std::string reflectivity_model;  ///< ReflectivityModel::summary()
     size_t reflectivity_clamped = 0;
-    double seconds[3] = {0, 0, 0};     ///< wall time per pass
-    double cpu_seconds[3] = {0, 0, 0}; ///< CPU time per pass (single-threaded: about the wall time)
+    double seconds[3] = {0, 0, 0};      ///< wall time per pass
+    double cpu_seconds[3] = {0, 0, 0};  ///< CPU time per pass (single-threaded: about the wall time)
 };
 
 /** Called after each scan of each pass: pass (1..3), scans done, scans in all. */

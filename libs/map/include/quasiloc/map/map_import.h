@@ -75,7 +75,7 @@ struct RawCloud
     std::vector<double> time;     ///< per point, as stored (units: timeFieldRank); empty: the cloud has no time field
     std::vector<uint16_t> ring;   ///< per point; empty: the cloud has no ring field
     std::string time_field, ring_field;
-    std::string encoding;         ///< e.g. "binary_little_endian", "binary_compressed", "ascii"
+    std::string encoding;  ///< e.g. "binary_little_endian", "binary_compressed", "ascii"
     size_t size() const { return x.size(); }
     void reserve(size_t n);
     void push(float px, float py, float pz, float pi)
@@ -100,10 +100,10 @@ RawCloud readCloudBytes(const std::vector<uint8_t>& bytes, CloudFormat format, c
 
 struct IntensityNormalisation
 {
-    double divisor = 1.0;      ///< reflectivity = clamp(raw / divisor, 0, 1)
-    std::string rule;          ///< human-readable: which rule was applied
+    double divisor = 1.0;  ///< reflectivity = clamp(raw / divisor, 0, 1)
+    std::string rule;      ///< human-readable: which rule was applied
     float raw_min = 0, raw_max = 0;
-    size_t clamped = 0;        ///< values clamped into [0, 1] (filled by normaliseIntensities)
+    size_t clamped = 0;  ///< values clamped into [0, 1] (filled by normaliseIntensities)
 };
 
 /** Chooses the divisor by the rule above (intensity_scale = 0: automatic). InputError naming `input`

@@ -86,10 +86,7 @@ class ReflectivityModel
     /** Fits g and h to the observed offsets. */
     void fit();
     /** raw / (g(ring) * h(range)). */
-    float correct(float raw, int ring, float range_m) const
-    {
-        return raw * ringFactor(ring) * rangeFactor(range_m);
-    }
+    float correct(float raw, int ring, float range_m) const { return raw * ringFactor(ring) * rangeFactor(range_m); }
     float ringFactor(int ring) const { return ring >= 0 && ring < int(inv_g_.size()) ? inv_g_[size_t(ring)] : 1.f; }
     float rangeFactor(float range_m) const
     {

@@ -34,9 +34,9 @@ struct ScanPoseOptions
     TrajectoryFormat format = TrajectoryFormat::Tum;
     ScanTimeSource times = ScanTimeSource::FileNames;
     std::string times_file;
-    double time_scale = 1.0;           ///< seconds per unit of the names' / times file's numbers (TUM)
-    double frame_period_s = 0.1;       ///< KITTI poses: time between lines
-    double max_pose_gap_s = 0.5;       ///< TUM: longest interval between two poses a time may fall into
+    double time_scale = 1.0;      ///< seconds per unit of the names' / times file's numbers (TUM)
+    double frame_period_s = 0.1;  ///< KITTI poses: time between lines
+    double max_pose_gap_s = 0.5;  ///< TUM: longest interval between two poses a time may fall into
     Eigen::Isometry3d T_body_lidar = Eigen::Isometry3d::Identity();
 };
 

@@ -18,7 +18,7 @@ struct ScanFilter
 {
     double min_range_m = 3.0;  ///< nearer points (the vehicle itself) are dropped
     double max_range_m = 80.0;
-    bool deskew = true;        ///< use per-point times where the scan has them
+    bool deskew = true;  ///< use per-point times where the scan has them
     RingSource rings = RingSource::Field;
 };
 
@@ -28,7 +28,7 @@ struct WorldScan
     std::vector<Eigen::Vector3f> origins;  ///< the LiDAR's position when the point was measured
     std::vector<float> intensity;          ///< raw
     std::vector<float> range_m;
-    std::vector<uint16_t> ring;            ///< empty: none
+    std::vector<uint16_t> ring;  ///< empty: none
     bool deskewed = false;
     size_t dropped_by_range = 0;
     size_t size() const { return points.size(); }

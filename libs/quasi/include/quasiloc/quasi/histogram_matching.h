@@ -14,6 +14,7 @@ namespace quasiloc::quasi
 cv::Mat reflectivityMatchedToImage(const QuasiImage& q, const cv::Mat& camera_gray);
 
 /** The look-up table alone: lut[b] is the camera grey level for reflectivity bin b of 256 over [0, 1]. */
-std::vector<uint8_t> reflectivityToGrayTable(const cv::Mat& reflectivity, const cv::Mat& valid, const cv::Mat& camera_gray);
+std::vector<uint8_t> reflectivityToGrayTable(const cv::Mat& reflectivity, const cv::Mat& valid,
+                                             const cv::Mat& camera_gray);
 
 }  // namespace quasiloc::quasi

@@ -14,12 +14,12 @@ namespace quasiloc::quasi
 /** Counts and wall-clock milliseconds of one render() (the split asked for by the benchmark). */
 struct RenderStats
 {
-    size_t candidate_points = 0;   ///< points in the culled ranges of the VisibilityIndex
-    size_t projected_points = 0;   ///< of those, in depth range and inside the image
-    size_t splatted_pixels = 0;    ///< empty pixels covered by a point's splat (QuasiOptions::point_size_m)
-    size_t sparse_pixels = 0;      ///< pixels won by a point (after the see-through filter)
-    size_t occluded_pixels = 0;    ///< pixels dropped by the see-through filter
-    size_t completed_pixels = 0;   ///< pixels filled by completion
+    size_t candidate_points = 0;        ///< points in the culled ranges of the VisibilityIndex
+    size_t projected_points = 0;        ///< of those, in depth range and inside the image
+    size_t splatted_pixels = 0;         ///< empty pixels covered by a point's splat (QuasiOptions::point_size_m)
+    size_t sparse_pixels = 0;           ///< pixels won by a point (after the see-through filter)
+    size_t occluded_pixels = 0;         ///< pixels dropped by the see-through filter
+    size_t completed_pixels = 0;        ///< pixels filled by completion
     size_t scanline_filled_pixels = 0;  ///< pixels filled between scan lines (QuasiOptions::scanline_gap_px)
     double ms_culling = 0, ms_projection = 0, ms_completion = 0, ms_encoding = 0;
     /** CPU time of the whole process during each stage (all threads): the work done, which unlike the wall

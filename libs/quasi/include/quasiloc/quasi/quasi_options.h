@@ -33,9 +33,9 @@ enum class EdgeOperator
 };
 enum class GrayMode
 {
-    Luminance,           ///< luminance of the BGR quasi-image
-    Value,               ///< V alone (depth edges only)
-    ShadedReflectivity   ///< V * (0.25 + 0.75 * h(I)): monotonic in reflectivity, with the edges
+    Luminance,          ///< luminance of the BGR quasi-image
+    Value,              ///< V alone (depth edges only)
+    ShadedReflectivity  ///< V * (0.25 + 0.75 * h(I)): monotonic in reflectivity, with the edges
 };
 
 struct QuasiOptions : public core::DeclaredOptions

@@ -67,17 +67,17 @@ std::vector<size_t> shardViews(const std::vector<mrpt::poses::CPose3D>& poses, d
 struct DatabaseShard
 {
     ShardSelection selection;
-    MapIdentity map;              ///< set by the program from the map file (empty in an in-memory build)
-    std::string map_file;         ///< the map's path as the shard's program was given it (informative)
+    MapIdentity map;       ///< set by the program from the map file (empty in an in-memory build)
+    std::string map_file;  ///< the map's path as the shard's program was given it (informative)
     uint64_t map_points = 0;
-    std::string options;          ///< resultOptionsText() of the build
-    uint64_t sampled_views = 0;   ///< views sampled over the whole map (every shard samples the same)
-    uint64_t rendered = 0;        ///< views this shard rendered (shardSize())
+    std::string options;         ///< resultOptionsText() of the build
+    uint64_t sampled_views = 0;  ///< views sampled over the whole map (every shard samples the same)
+    uint64_t rendered = 0;       ///< views this shard rendered (shardSize())
     uint64_t dropped_valid = 0, dropped_lifted = 0;
-    double build_seconds = 0;     ///< the shard's wall time (informative; the merged database does not keep it)
+    double build_seconds = 0;  ///< the shard's wall time (informative; the merged database does not keep it)
 
-    core::CameraModel camera;             ///< what Database keeps of the build, set as the single-process build
-    frontend::FeatureOptions features;    ///< sets it
+    core::CameraModel camera;           ///< what Database keeps of the build, set as the single-process build
+    frontend::FeatureOptions features;  ///< sets it
     double image_blur_sigma_px = 0;
     /** The kept views in ascending sample order, id = the view's index among the sampled views; no words, no BoW
      *  vector (they need the merged vocabulary). */
@@ -99,9 +99,9 @@ struct ShardExpectation
 {
     int count = 1;
     MapIdentity map;
-    std::string map_file;      ///< for the messages
-    std::string options;       ///< resultOptionsText() of the merge's configuration
-    std::string config_name;   ///< the merge's configuration file, for the messages
+    std::string map_file;     ///< for the messages
+    std::string options;      ///< resultOptionsText() of the merge's configuration
+    std::string config_name;  ///< the merge's configuration file, for the messages
 };
 
 /** Loads the `expected.count` shard files of the database `output` (shardPath()) after checking all of them;

@@ -13,9 +13,11 @@
 //     Gauss-Newton on the distance field, with the truncation shrinking (refine_truncations_m): query points the
 //     map does not explain (people, clutter, stereo errors) stop pulling;
 //  4. the best refined pose is polished by point-to-point ICP against the map points themselves (those near the query,
-//     gathered through the visibility index, near_points.h; polish_truncations_m): the field's trilinear interpolant has its minima at voxel centres, which biased the
-//     answer by a fraction of a voxel (simulated room, 4 cm voxels: 2 cm / 1 deg before polishing);
-//  5. decision: the refined pose with the most inliers (points within inlier_m + 2 depth sigmas of the map) is the answer when
+//     gathered through the visibility index, near_points.h; polish_truncations_m): the field's trilinear interpolant
+//     has its minima at voxel centres, which biased the answer by a fraction of a voxel (simulated room, 4 cm voxels: 2
+//     cm / 1 deg before polishing);
+//  5. decision: the refined pose with the most inliers (points within inlier_m + 2 depth sigmas of the map) is the
+//  answer when
 //     their share is >= min_inlier_ratio and no refined pose farther than 0.3 m or 5 deg from it reaches
 //     ambiguity_ratio of its inliers; otherwise "not localized" with the reason (never a weak guess).
 //
@@ -77,10 +79,10 @@ struct SearchSphere
 struct GeometricLocalization
 {
     bool localized = false;
-    std::string reason;  ///< why not localized (empty when localized)
+    std::string reason;                                             ///< why not localized (empty when localized)
     Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< the best refined pose (also when rejected)
-    double inlier_ratio = 0;         ///< of the best refined pose
-    double runner_up_inlier_ratio = 0;  ///< best refined pose that is a different place (0: none)
+    double inlier_ratio = 0;                                        ///< of the best refined pose
+    double runner_up_inlier_ratio = 0;                        ///< best refined pose that is a different place (0: none)
     double runner_up_offset_m = 0, runner_up_offset_deg = 0;  ///< how far that place is from the answer
     bool ambiguous = false;  ///< rejected (only) because other places explain the points nearly as well
     /** Those places (refined poses, best first): a caller with another cue (e.g. the image) may pick among the
@@ -136,7 +138,6 @@ class GeometricLocalizer
 
    private:
     std::vector<double> pointWeights(const std::vector<Eigen::Vector3f>& points_cam) const;
-
 
     GeometricLocalizationOptions options_;
     std::shared_ptr<const map::DistanceField> field_;

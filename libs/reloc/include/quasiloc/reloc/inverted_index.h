@@ -45,8 +45,8 @@ class InvertedIndex
         int32_t slot;  // index into image_ids_
         float weight;
     };
-    std::vector<int> image_ids_;                           // by slot, in insertion order
-    std::unordered_map<int, int32_t> slot_of_image_;       // image id -> slot
+    std::vector<int> image_ids_;                            // by slot, in insertion order
+    std::unordered_map<int, int32_t> slot_of_image_;        // image id -> slot
     std::unordered_map<WordId, std::vector<Entry>> lists_;  // word -> entries, slots increasing
 };
 

@@ -95,10 +95,10 @@ struct RetrievedView
 
 struct GroupReport
 {
-    std::vector<int> views;   ///< database view ids, best retrieval score first
-    float score = 0;          ///< summed retrieval score
-    int matched = 0;          ///< query keypoints with a 3D correspondence after voting (-1: not re-ranked)
-    int inliers = -1;         ///< PnP inliers (-1: no PnP)
+    std::vector<int> views;  ///< database view ids, best retrieval score first
+    float score = 0;         ///< summed retrieval score
+    int matched = 0;         ///< query keypoints with a 3D correspondence after voting (-1: not re-ranked)
+    int inliers = -1;        ///< PnP inliers (-1: no PnP)
     Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();  ///< its PnP pose (if inliers >= 0)
 };
 

@@ -40,7 +40,7 @@ struct StereoDisparity
 {
     cv::Mat left_rect, right_rect;  ///< the rectified pair at full resolution, CV_8UC1
     cv::Mat disparity;              ///< CV_16S, 16 x the disparity in pixels of the scaled pair (<= 0: none)
-    int scale = 1;                  ///< downscale: disparity pixel (x, y) covers full-resolution pixels s x .. s x + s - 1
+    int scale = 1;  ///< downscale: disparity pixel (x, y) covers full-resolution pixels s x .. s x + s - 1
 };
 
 /** A box of voxel indices, [x0, x0 + nx) x [y0, y0 + ny) x [z0, z0 + nz) (empty: nx = 0): where the voxels of
@@ -67,7 +67,10 @@ class StereoCloud
     const core::StereoRectification& rectification() const { return rect_; }
 
     /** Depth noise [m] of a point at depth z [m] (disparity_sigma_px through z = f b / d). */
-    double depthSigma(double z_m) const { return z_m * z_m / (rect_.P_left(0, 0) * rect_.baseline_m) * options_.disparity_sigma_px; }
+    double depthSigma(double z_m) const
+    {
+        return z_m * z_m / (rect_.P_left(0, 0) * rect_.baseline_m) * options_.disparity_sigma_px;
+    }
 
    private:
     StereoCloudOptions options_;

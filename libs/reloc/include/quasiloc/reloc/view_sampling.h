@@ -38,12 +38,12 @@ struct ViewSamplingOptions : public core::DeclaredOptions
 
 struct ViewSamplingStats
 {
-    size_t grid_positions = 0;    ///< horizontal grid cells tried
-    size_t no_floor = 0;          ///< no map point below the cell
-    size_t not_clear = 0;         ///< (position, height) too close to geometry
-    size_t not_enclosed = 0;      ///< (position, height) outside the map's enclosure
-    size_t positions = 0;         ///< (position, height) kept
-    size_t views = 0;             ///< positions x headings x pitches
+    size_t grid_positions = 0;  ///< horizontal grid cells tried
+    size_t no_floor = 0;        ///< no map point below the cell
+    size_t not_clear = 0;       ///< (position, height) too close to geometry
+    size_t not_enclosed = 0;    ///< (position, height) outside the map's enclosure
+    size_t positions = 0;       ///< (position, height) kept
+    size_t views = 0;           ///< positions x headings x pitches
 };
 
 /** T_world_cam of a camera at p_world looking along heading (rad, about world +z, 0 = +x) and pitch (rad,

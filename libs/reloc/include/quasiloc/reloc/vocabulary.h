@@ -17,11 +17,11 @@ namespace quasiloc::reloc
 /** Training options; INI section [Vocabulary] (VocabularyOptions::declare, vocabulary.cpp). */
 struct VocabularyOptions : public core::DeclaredOptions
 {
-    int branching = 10;                      ///< k of the hierarchical k-means
-    int depth = 4;                           ///< levels below the root (at most branching^depth words)
-    int max_training_descriptors = 200000;   ///< random (seeded) subsample of the training descriptors
-    int kmeans_iterations = 10;              ///< Lloyd iterations per node (fewer when assignments settle)
-    int seed = 1;                            ///< the only source of randomness: same input + seed = same tree
+    int branching = 10;                     ///< k of the hierarchical k-means
+    int depth = 4;                          ///< levels below the root (at most branching^depth words)
+    int max_training_descriptors = 200000;  ///< random (seeded) subsample of the training descriptors
+    int kmeans_iterations = 10;             ///< Lloyd iterations per node (fewer when assignments settle)
+    int seed = 1;                           ///< the only source of randomness: same input + seed = same tree
 
     void declare(core::OptionTable& t) override;
     /** InputError "<input>: [Vocabulary] <key>" for a value out of its declared range, or (depth) when
@@ -80,9 +80,9 @@ class Vocabulary
     /** Word of one row; `row` is row_elements_ uint64 (binary, zero-padded) or floats. */
     WordId descend(const void* row) const;
 
-    int descriptor_type_ = -1;   // CV_8U or CV_32F
-    int descriptor_cols_ = 0;    // bytes (binary) or floats per descriptor
-    int row_elements_ = 0;       // stored elements per centre: uint64 words (binary, zero-padded) or floats
+    int descriptor_type_ = -1;  // CV_8U or CV_32F
+    int descriptor_cols_ = 0;   // bytes (binary) or floats per descriptor
+    int row_elements_ = 0;      // stored elements per centre: uint64 words (binary, zero-padded) or floats
     std::vector<int32_t> first_child_, num_children_, node_word_;
     std::vector<uint64_t> binary_centres_;  // numNodes() x row_elements_
     std::vector<float> float_centres_;      // numNodes() x row_elements_

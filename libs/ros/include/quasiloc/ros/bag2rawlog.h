@@ -1,7 +1,7 @@
 #pragma once
-// A ROS 1 or ROS 2 bag (message_source.h) -> the stereo + IMU rawlog quasiloc-track reads (+ <name>_Images/), the calibration INI and, with a
-// ground-truth topic, a TUM file of T_world_cam0. The work of the program bag2rawlog, in the library so that
-// tests can run it.
+// A ROS 1 or ROS 2 bag (message_source.h) -> the stereo + IMU rawlog quasiloc-track reads (+ <name>_Images/), the
+// calibration INI and, with a ground-truth topic, a TUM file of T_world_cam0. The work of the program bag2rawlog, in
+// the library so that tests can run it.
 #include <mrpt/system/CTimeLogger.h>
 
 #include <cstdint>

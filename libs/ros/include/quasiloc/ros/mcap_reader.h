@@ -42,7 +42,7 @@ struct MessageView
 
 struct Summary
 {
-    bool present = false;         ///< the footer points at a summary section
+    bool present = false;  ///< the footer points at a summary section
     bool has_statistics = false;
     std::uint64_t message_count = 0;  ///< from Statistics
     std::map<std::uint16_t, std::uint64_t> channel_message_counts;

@@ -18,7 +18,7 @@ class Writer
     {
         std::string profile = "ros2";
         std::string library = "quasiloc rawlog2bag";
-        std::string compression = "zstd";  ///< "", "zstd" or "lz4"
+        std::string compression = "zstd";   ///< "", "zstd" or "lz4"
         std::size_t chunk_bytes = 4 << 20;  ///< a chunk is closed when its records exceed this
         int zstd_level = 3;
     };

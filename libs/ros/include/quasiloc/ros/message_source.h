@@ -57,8 +57,7 @@ class MessageSource
     /** The messages of `topics` in time order (a storage's own order where it has none: MCAP chunks one after
      *  another, each chunk's messages by log time); visit returns false to stop. Corrupt or truncated storage is
      *  an InputError naming the file. */
-    virtual void read(const std::vector<std::string>& topics,
-                      const std::function<bool(const BagMessage&)>& visit) = 0;
+    virtual void read(const std::vector<std::string>& topics, const std::function<bool(const BagMessage&)>& visit) = 0;
 };
 
 /** Opens a ROS 1 bag (.bag), a rosbag2 folder (metadata.yaml names the storage: sqlite3 or mcap), or one rosbag2

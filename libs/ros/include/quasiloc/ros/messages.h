@@ -42,9 +42,9 @@ struct ImuMsg
     MsgHeader header;
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
     std::array<double, 9> orientation_covariance{};
-    Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();      ///< rad/s
+    Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< rad/s
     std::array<double, 9> angular_velocity_covariance{};
-    Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();   ///< m/s^2
+    Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();  ///< m/s^2
     std::array<double, 9> linear_acceleration_covariance{};
 };
 

@@ -15,7 +15,7 @@ struct Rosbag2Metadata
         std::uint64_t message_count = 0;
     };
     int version = 5;
-    std::string storage_identifier;               ///< "sqlite3" or "mcap"
+    std::string storage_identifier;                ///< "sqlite3" or "mcap"
     std::vector<std::string> relative_file_paths;  ///< as written (relative to the folder)
     std::int64_t starting_time_ns = 0, duration_ns = 0;
     std::uint64_t message_count = 0;

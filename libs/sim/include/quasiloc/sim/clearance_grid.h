@@ -19,7 +19,10 @@ class ClearanceGrid
     bool empty() const { return positions_.empty(); }
 
    private:
-    int64_t key(int x, int y, int z) const { return (int64_t(x) * 73856093) ^ (int64_t(y) * 19349663) ^ (int64_t(z) * 83492791); }
+    int64_t key(int x, int y, int z) const
+    {
+        return (int64_t(x) * 73856093) ^ (int64_t(y) * 19349663) ^ (int64_t(z) * 83492791);
+    }
     std::vector<Eigen::Vector3f> positions_;
     float cell_;
     std::unordered_map<int64_t, std::vector<uint32_t>> cells_;

@@ -69,7 +69,7 @@ struct ImuNoiseOptions : public core::DeclaredOptions
     Eigen::Vector3d initial_acc_bias{-0.021, 0.122, 0.079};      ///< EuRoC's (header comment)
     double gyro_bias_max_rad_s = 0.00873;  ///< bias = random_draw: per-axis magnitude bound (0.5 deg/s)
     double acc_bias_max_m_s2 = 0.08;       ///< bias = random_draw: per-axis magnitude bound
-    std::string kalibr_yaml;  ///< a Kalibr imu.yaml: rate and the four densities from it
+    std::string kalibr_yaml;               ///< a Kalibr imu.yaml: rate and the four densities from it
 
     void declare(core::OptionTable& t) override;
     /** The declared ranges; real_imu_csv only with source = real, bias_file only with bias = euroc_groundtruth. */
@@ -124,7 +124,8 @@ dataset::EurocImuCsv selectRealImu(const dataset::EurocImuCsv& real, std::int64_
 
 /** source = real: EuRoC's camera and IMU share clock ticks, but a frame time taken from the ground truth's decimal
  *  seconds is off its tick by up to ~130 ns. Moves each of `t_ns` that lies within `tolerance_ns` of a tick of
- *  `imu_t_ns` (sorted) onto it, so the IMU sample of a frame's instant belongs to that frame. Returns how many moved. */
+ *  `imu_t_ns` (sorted) onto it, so the IMU sample of a frame's instant belongs to that frame. Returns how many moved.
+ */
 size_t snapToImuTicks(std::vector<std::int64_t>& t_ns, const std::vector<std::int64_t>& imu_t_ns,
                       std::int64_t tolerance_ns = 1000);
 
@@ -142,10 +143,10 @@ class ImuSynthesizer
      *  the biases follow it; without, the random walk from the initial biases. */
     ImuSynthesizer(const TrajectorySpline& spline, const ImuNoiseOptions& options,
                    std::optional<ImuBiasTrajectory> biases = std::nullopt);
-    /** Samples at t0, t0 + 1/rate, ... <= t1 (t0, t1 within the spline, else std::out_of_range). Continues the bias random walk
-     *  across calls (call with consecutive, non-overlapping intervals); a sample less than half a period after
-     *  the last one already generated is skipped, so calls on [a, b], [b, c] do not repeat the sample at b.
-     *  For the most accurate IMU start t0 on the spline's knot grid (tStart() + i * knotSpacing()). */
+    /** Samples at t0, t0 + 1/rate, ... <= t1 (t0, t1 within the spline, else std::out_of_range). Continues the bias
+     * random walk across calls (call with consecutive, non-overlapping intervals); a sample less than half a period
+     * after the last one already generated is skipped, so calls on [a, b], [b, c] do not repeat the sample at b. For
+     * the most accurate IMU start t0 on the spline's knot grid (tStart() + i * knotSpacing()). */
     std::vector<dataset::ImuSample> generate(double t0, double t1, std::vector<ImuTruth>* truth = nullptr);
 
    private:

@@ -1,9 +1,9 @@
 #pragma once
-// A large test world (docs/large_maps.md): the simulated room the camera flies in, unchanged at the centre of a square grid of
-// cells, and in every other cell another simulated room (v1 or v2, each with its own procedural clutter from its own
-// seed) turned by a random yaw: a campus of rooms that are alike but not copies, so a search over the whole world is
-// a real search. The cells are spacing_m apart; there is nothing between them (no ground: a 4 cm distance field over
-// a square kilometre of ground would hold some 40 GB of bricks).
+// A large test world (docs/large_maps.md): the simulated room the camera flies in, unchanged at the centre of a square
+// grid of cells, and in every other cell another simulated room (v1 or v2, each with its own procedural clutter from
+// its own seed) turned by a random yaw: a campus of rooms that are alike but not copies, so a search over the whole
+// world is a real search. The cells are spacing_m apart; there is nothing between them (no ground: a 4 cm distance
+// field over a square kilometre of ground would hold some 40 GB of bricks).
 //
 // Options: [LargeWorld] (LargeWorldOptions::declare, large_world.cpp); the rooms use [World] and [Lidar].
 #include <functional>
@@ -18,11 +18,11 @@ namespace quasiloc::sim
 {
 struct LargeWorldOptions : public core::DeclaredOptions
 {
-    std::string base_map;     ///< the room the camera flies in (its own frame is the world frame)
+    std::string base_map;  ///< the room the camera flies in (its own frame is the world frame)
     std::string output = "out/large_world/world.map";
     std::string shared_dir = "../shared";
-    int grid_cells = 7;       ///< cells per side (odd: the base map takes the centre)
-    double spacing_m = 170;   ///< between cell centres
+    int grid_cells = 7;      ///< cells per side (odd: the base map takes the centre)
+    double spacing_m = 170;  ///< between cell centres
     int seed = 100;
 
     void declare(core::OptionTable& t) override;
@@ -32,10 +32,10 @@ struct LargeWorldOptions : public core::DeclaredOptions
 
 struct LargeWorldStats
 {
-    size_t rooms = 0;          ///< rooms added around the base map
-    size_t base_points = 0;    ///< the base map's points (the world's first points, in its order)
+    size_t rooms = 0;                 ///< rooms added around the base map
+    size_t base_points = 0;           ///< the base map's points (the world's first points, in its order)
     std::vector<size_t> room_points;  ///< the other rooms' points, in the order they follow the base map
-    double area_km2 = 0;       ///< of the world's horizontal bounding box
+    double area_km2 = 0;              ///< of the world's horizontal bounding box
     double generation_s = 0;
 };
 

@@ -48,16 +48,16 @@ struct LidarOptions : public core::DeclaredOptions
 
 struct LidarStats
 {
-    size_t sampled = 0;          ///< points sampled on surfaces
-    size_t kept = 0;             ///< points in the map
-    size_t not_visible = 0;      ///< dropped: no station sees them
+    size_t sampled = 0;      ///< points sampled on surfaces
+    size_t kept = 0;         ///< points in the map
+    size_t not_visible = 0;  ///< dropped: no station sees them
     std::vector<Eigen::Vector3f> stations;
 };
 
 /** Per-point extras for tests and statistics (same order as the map). */
 struct LidarPointInfo
 {
-    std::vector<float> albedo;        ///< camera albedo (level 0) at the point
+    std::vector<float> albedo;  ///< camera albedo (level 0) at the point
     std::vector<uint16_t> material;
 };
 

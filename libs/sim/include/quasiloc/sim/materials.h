@@ -45,9 +45,9 @@ class Material
    public:
     std::string name;
     float tile_size_m = 1;
-    int size_px = 0;                       ///< level-0 texture side (power of two)
-    std::vector<cv::Mat> albedo_mips;      ///< CV_8UC1, level 0 .. log2(size_px); albedo * 255
-    cv::Mat reflectivity;                  ///< CV_32FC1, size_px x size_px, intrinsic reflectivity [0,1]
+    int size_px = 0;                   ///< level-0 texture side (power of two)
+    std::vector<cv::Mat> albedo_mips;  ///< CV_8UC1, level 0 .. log2(size_px); albedo * 255
+    cv::Mat reflectivity;              ///< CV_32FC1, size_px x size_px, intrinsic reflectivity [0,1]
 
     /** Bilinear albedo in [0,1] at texture coordinates uv (metres), mip level chosen from the footprint of
      *  one pixel on the surface (metres). */
@@ -93,8 +93,7 @@ float Material::albedo(const Eigen::Vector2f& uv_m, float footprint_m) const
     if (texels_per_pixel >= 2.f)  // exponent of the float = floor(log2), without calling log2
         level = std::min(static_cast<int>(albedo_mips.size()) - 1, std::ilogb(texels_per_pixel));
     const float scale = texels_per_m / static_cast<float>(1 << level);
-    return bilinearWrap<uint8_t>(albedo_mips[level], uv_m.x() * scale - 0.5f, uv_m.y() * scale - 0.5f) *
-           (1.f / 255.f);
+    return bilinearWrap<uint8_t>(albedo_mips[level], uv_m.x() * scale - 0.5f, uv_m.y() * scale - 0.5f) * (1.f / 255.f);
 }
 
 }  // namespace quasiloc::sim

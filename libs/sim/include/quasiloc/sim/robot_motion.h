@@ -36,13 +36,13 @@ struct GroundRobotOptions
     double stop_min_s = 0.5, stop_max_s = 2.5;
     double standing_s = 2.0;
     bool start_moving = false;
-    bool start_in_corridor = false;  ///< the tour starts at the corridor's west end instead of inside a room
-    double camera_height_m = 0.45;   ///< of cam0 above the floor
-    double camera_forward_m = 0.20;  ///< of cam0 ahead of the rotation centre
-    double vibration_z_mm = 2.0;     ///< amplitude of the largest bounce term at full effort
-    double vibration_tilt_deg = 0.3; ///< amplitude of the largest roll / pitch term at full effort
+    bool start_in_corridor = false;   ///< the tour starts at the corridor's west end instead of inside a room
+    double camera_height_m = 0.45;    ///< of cam0 above the floor
+    double camera_forward_m = 0.20;   ///< of cam0 ahead of the rotation centre
+    double vibration_z_mm = 2.0;      ///< amplitude of the largest bounce term at full effort
+    double vibration_tilt_deg = 0.3;  ///< amplitude of the largest roll / pitch term at full effort
     double pitch_per_accel_deg = 0.3;
-    double sample_rate_hz = 200;     ///< of the generated poses
+    double sample_rate_hz = 200;  ///< of the generated poses
 };
 
 /** Planar state of the base (before vibration) at one sample. */
@@ -55,7 +55,7 @@ struct PlanarState
 
 struct GroundRobotMotion
 {
-    core::Trajectory T_world_base;    ///< base frame: x forward, y left, z up; origin on the floor at the rotation centre
+    core::Trajectory T_world_base;  ///< base frame: x forward, y left, z up; origin on the floor at the rotation centre
     std::vector<PlanarState> planar;  ///< parallel to T_world_base.poses
     std::vector<Eigen::Vector2d> waypoints;
     double first_frame_offset_s = 0;  ///< the first camera frame, after the motion's start
@@ -77,6 +77,6 @@ mrpt::poses::CPose3D baseToCamera(const GroundRobotOptions& options);
 
 /** The whole motion: tour (at least min_duration_s after the first frame) then drive. */
 GroundRobotMotion generateGroundRobotMotion(const FloorLayout& layout, const GroundRobotOptions& options,
-                                           double min_duration_s, double t0, uint64_t seed, const std::string& input);
+                                            double min_duration_s, double t0, uint64_t seed, const std::string& input);
 
 }  // namespace quasiloc::sim

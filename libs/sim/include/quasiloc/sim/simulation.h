@@ -19,9 +19,9 @@
 // TrajectorySpline), camera frames start at tStart() + start_offset_s; IMU samples are generated on the
 // spline from the first to the last camera frame, or with [IMU] source = real the real samples of that span
 // (imu_synthesizer.h). The spline keeps the trajectory's timestamps: EuRoC ground truth is on the EuRoC clock
-// (seconds since 1970), the clock of the ground-truth bias files and of the real imu0/data.csv. The world keeps clear of every ground-truth trajectory of
-// its room and of the simulated one. Seeds: Simulation.seed drives world, textures, LiDAR and image noise;
-// the IMU's seed is [IMU] seed combined with Simulation.seed.
+// (seconds since 1970), the clock of the ground-truth bias files and of the real imu0/data.csv. The world keeps clear
+// of every ground-truth trajectory of its room and of the simulated one. Seeds: Simulation.seed drives world, textures,
+// LiDAR and image noise; the IMU's seed is [IMU] seed combined with Simulation.seed.
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <quasiloc/core/declared_options.h>
@@ -70,7 +70,7 @@ struct SimulationOptions : public core::DeclaredOptions
 struct SimulationResult
 {
     size_t frames = 0, imu_samples = 0, map_points = 0, beam_map_points = 0;
-    std::string imu_description;  ///< IMU source and bias model, one line
+    std::string imu_description;    ///< IMU source and bias model, one line
     bool imu_bias_written = false;  ///< gt_imu_bias.csv (not for source = real)
     WorldStats world;
     double world_time_s = 0, map_time_s = 0, render_time_s = 0, total_time_s = 0;

@@ -85,10 +85,10 @@ class StereoRenderer
     const core::StereoRig& rig() const { return rig_; }
 
    private:
-    void shadeInto(int cam, const Eigen::Isometry3f& T_cam_world, const std::vector<float>& shade,
-                   const Mesh& occ, const std::vector<float>& occ_shade, cv::Mat& radiance_acc);
-    void radianceDistorted(int cam, const std::vector<mrpt::poses::CPose3D>& T_world_cam0, double t_rel,
-                           cv::Mat& out, VisibilityBuffer* vis_out);
+    void shadeInto(int cam, const Eigen::Isometry3f& T_cam_world, const std::vector<float>& shade, const Mesh& occ,
+                   const std::vector<float>& occ_shade, cv::Mat& radiance_acc);
+    void radianceDistorted(int cam, const std::vector<mrpt::poses::CPose3D>& T_world_cam0, double t_rel, cv::Mat& out,
+                           VisibilityBuffer* vis_out);
     cv::Mat sensor(int cam, const cv::Mat& radiance, double t_rel, uint64_t frame_index) const;
 
     const World& world_;
@@ -96,8 +96,8 @@ class StereoRenderer
     AppearanceOptions opt_;
     uint64_t seed_;
     PinholeIntrinsics pinhole_[2];
-    cv::Mat map1_[2], map2_[2];   ///< remap from raw pixels to the internal pinhole (fixed point)
-    cv::Mat vignette_[2];         ///< CV_32FC1 gain per raw pixel
+    cv::Mat map1_[2], map2_[2];  ///< remap from raw pixels to the internal pinhole (fixed point)
+    cv::Mat vignette_[2];        ///< CV_32FC1 gain per raw pixel
     std::vector<float> normal_table_;
     std::vector<uint8_t> gamma_lut_;
     VisibilityBuffer vis_[2];

@@ -23,21 +23,21 @@ struct TrajectorySplineOptions
 struct BodyState
 {
     mrpt::poses::CPose3D T_world_body;
-    Eigen::Vector3d v_world = Eigen::Vector3d::Zero();      ///< velocity, world frame
-    Eigen::Vector3d a_world = Eigen::Vector3d::Zero();      ///< acceleration (no gravity), world frame
-    Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();   ///< angular rate, body frame
-    Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();   ///< angular acceleration d(omega_body)/dt
+    Eigen::Vector3d v_world = Eigen::Vector3d::Zero();           ///< velocity, world frame
+    Eigen::Vector3d a_world = Eigen::Vector3d::Zero();           ///< acceleration (no gravity), world frame
+    Eigen::Vector3d omega_body = Eigen::Vector3d::Zero();        ///< angular rate, body frame
+    Eigen::Vector3d alpha_body = Eigen::Vector3d::Zero();        ///< angular acceleration d(omega_body)/dt
     Eigen::Matrix3d R_world_body = Eigen::Matrix3d::Identity();  ///< rotation of T_world_body, unrounded
-    Eigen::Vector3d p_world = Eigen::Vector3d::Zero();      ///< translation of T_world_body
+    Eigen::Vector3d p_world = Eigen::Vector3d::Zero();           ///< translation of T_world_body
 };
 
 /** How well the spline reproduces the poses it was fitted to (body frame, at the distinct samples). */
 struct SplineFitStats
 {
-    size_t num_samples = 0;           ///< distinct poses used
+    size_t num_samples = 0;             ///< distinct poses used
     size_t num_duplicates_dropped = 0;  ///< rows dropped because the next row has the same timestamp
     size_t num_control_points = 0;
-    int rotation_iterations = 0;      ///< Gauss-Newton iterations of the SO(3) fit
+    int rotation_iterations = 0;  ///< Gauss-Newton iterations of the SO(3) fit
     double rms_position_m = 0, max_position_m = 0;
     double rms_rotation_rad = 0, max_rotation_rad = 0;
 };
