@@ -258,13 +258,12 @@ SessionSummary TrackingSession::run(const std::string& input)
     dataset::StereoFrame f;
     core::require(nextFrame(f), input, "no frame after the initial one");
     out_ << "IMU biases at the start: " << describe(start_biases_) << std::endl;
-    n_ = 1;
     bool have_frame = true;
     while (have_frame)
     {
         trackFrame(f);
         const int max_frames = options_.tracker.max_frames;
-        have_frame = (max_frames <= 0 || int(n_) < max_frames) && nextFrame(f);
+        have_frame = (max_frames <= 0 || int(history_.size()) < max_frames) && nextFrame(f);
         if (!have_frame) finishSearch(f, have_frame);
     }
     if (search_ && search_->searching())
@@ -276,7 +275,7 @@ SessionSummary TrackingSession::run(const std::string& input)
              << std::setprecision(3) << last_verified_t << ")" << std::endl;
     }
     monitor_.ended();
-    summary_.frames = n_;
+    summary_.frames = history_.size();
     summary_.map = context_.figures();
     summary_.localizer_setup_s = starter_ ? starter_->setupSeconds() : 0;
     return summary_;
@@ -295,28 +294,30 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
     TrackStep step = tracker_->step(f, monitor_.stereoGate());
     FrameReport& r = step.report;
     r.lost = monitor_.lostByMisses(r);
-    ++n_;
+    // The frame's place in the trajectory: a restart forgets the poses after its fix, so frames tracked again
+    // take the numbers they had.
+    const size_t number = history_.size() + 1;
     monitor_.frameTracked(r);
     double ms_check = 0, ms_search = 0;
-    const double explained = checkTrack(f, step, ms_check);
+    const double explained = checkTrack(f, step, number, ms_check);
     latest_ = step.estimate;
     if (frame_hook_) frame_hook_(r, *this);
     if (relocalize(f, r, ms_search)) return;  // this frame is among those tracked again
     log_.addFrame(f, r, explained, ms_check, ms_search);
     history_.add(r.t, r.T_world_cam0);
     recordTiming(r, ms_check, ms_search);
-    if (n_ % 50 == 0)
+    if (number % 50 == 0)
     {
-        out_ << "frame " << n_ << ": " << toString(monitor_.health());
+        out_ << "frame " << number << ": " << toString(monitor_.health());
         if (log_.hasGroundTruth())
             out_ << ", error " << std::fixed << std::setprecision(3) << log_.lastErrorM() << " m";
         out_ << std::endl;
     }
 }
 
-double TrackingSession::checkTrack(const dataset::StereoFrame& f, const TrackStep& step, double& ms)
+double TrackingSession::checkTrack(const dataset::StereoFrame& f, const TrackStep& step, size_t number, double& ms)
 {
-    if (!search_ || !monitor_.checkDue(n_)) return NAN;
+    if (!search_ || !monitor_.checkDue(number)) return NAN;
     const FrameReport& r = step.report;
     const auto t0 = std::chrono::steady_clock::now();
     const auto c = starter_->checkTrack(f, r.T_world_cam0, options_.monitor.lost_explained_ratio, step.denseCloud());
@@ -401,12 +402,11 @@ bool TrackingSession::settle(const GlobalInitialState& found, double t_now)
     history_.forgetFrom(t_fix);
     log_.addStart(found.anchor, found.T_world_cam0);
     history_.add(t_fix, found.T_world_cam0);
-    for (auto it = since_loss_.rbegin(); it != since_loss_.rend(); ++it)
-        if (it->first.timestamp > t_fix)
-        {
-            queued_.push_front(std::move(it->first));
-            --n_;  // tracked again
-        }
+    // The frames after the fix are tracked again from it, before any unread frame.
+    std::deque<dataset::StereoFrame> again;
+    for (auto& [frame, state] : since_loss_)
+        if (frame.timestamp > t_fix) again.push_back(std::move(frame));
+    queued_.insert(queued_.begin(), std::make_move_iterator(again.begin()), std::make_move_iterator(again.end()));
     since_loss_.clear();
     return true;
 }

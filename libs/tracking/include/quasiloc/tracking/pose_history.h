@@ -17,6 +17,8 @@ class PoseHistory
     std::optional<Eigen::Isometry3d> at(double t) const;
     /** Forgets every pose at or after time t. */
     void forgetFrom(double t);
+    /** Poses held: the trajectory's frames so far. */
+    size_t size() const { return poses_.size(); }
 
    private:
     std::vector<core::TimedPose> poses_;

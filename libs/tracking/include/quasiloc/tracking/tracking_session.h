@@ -108,7 +108,7 @@ class TrackingSession
     void trackFrame(dataset::StereoFrame& f);
     /** The geometry check of the tracked pose, when the monitor says it is due; returns its explained share (NaN
      *  when not checked). */
-    double checkTrack(const dataset::StereoFrame& f, const TrackStep& step, double& ms);
+    double checkTrack(const dataset::StereoFrame& f, const TrackStep& step, size_t number, double& ms);
     /** A loss begins a relocalization search; a search under way gets the frame. True when it restarted the track. */
     bool relocalize(const dataset::StereoFrame& f, const FrameReport& r, double& ms);
     /** A fix: the loss is withdrawn when it agrees with the track, else the tracker restarts there. */
@@ -134,14 +134,14 @@ class TrackingSession
     TrackEstimate latest_;  ///< the tracker's latest estimate (what a restart takes its biases from)
     mutable mrpt::system::CTimeLogger timer_{true, "quasiloc-track"};
     SessionSummary summary_;
-    std::deque<dataset::StereoFrame> queued_;  ///< read but not yet tracked (the start's, or to track again)
+    /** Frames to track before reading more: the start's, or, after a restart, those after the fix. */
+    std::deque<dataset::StereoFrame> queued_;
     /** Frames tracked since the search began, with the track's state at each (a restart tracks the later ones
      *  again, from the biases the track had at the fix). */
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
     ImuBiasPrior start_biases_;
     double t_start_ = 0;
     FrameHook frame_hook_;
-    size_t n_ = 0;  ///< frames tracked (and started from)
 };
 
 }  // namespace quasiloc::tracking
