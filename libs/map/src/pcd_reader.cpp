@@ -5,6 +5,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/map/lzf.h>
 #include <quasiloc/map/map_import.h>
+#include <quasiloc/map/point_records.h>
 
 #include "file_bytes.h"
 #include "scalar_types.h"
@@ -137,42 +138,21 @@ PcdHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path
     return h;
 }
 
-/** Indices of the x, y, z and intensity fields. */
-struct FieldChoice
-{
-    int x = -1, y = -1, z = -1, intensity = -1;
-    int time = -1, ring = -1;  ///< optional (-1: absent)
-};
+using FieldChoice = CloudFieldRoles;
 
 FieldChoice chooseFields(const PcdHeader& h, const std::string& path, std::string& intensity_name)
 {
-    FieldChoice c;
-    int best_rank = 0, best_time_rank = 0;
-    std::string names;
-    for (size_t k = 0; k < h.fields.size(); ++k)
-    {
-        const std::string& n = h.fields[k].name;
-        names += (names.empty() ? "" : " ") + n;
-        const int time_rank = timeFieldRank(n);
-        if (time_rank > 0 && (best_time_rank == 0 || time_rank < best_time_rank))
-            best_time_rank = time_rank, c.time = static_cast<int>(k);
-        if (isRingField(n) && c.ring < 0) c.ring = static_cast<int>(k);
-        if (n == "x") c.x = static_cast<int>(k);
-        if (n == "y") c.y = static_cast<int>(k);
-        if (n == "z") c.z = static_cast<int>(k);
-        const int rank = intensityFieldRank(n);
-        if (rank > 0 && (best_rank == 0 || rank < best_rank))
-        {
-            best_rank = rank;
-            c.intensity = static_cast<int>(k);
-            intensity_name = n;
-        }
-    }
-    core::require(c.x >= 0 && c.y >= 0 && c.z >= 0, path, "PCD fields lack x, y or z (fields: " + names + ")");
+    std::vector<std::string> names;
+    for (const PcdField& f : h.fields) names.push_back(f.name);
+    const FieldChoice c = cloudFieldRoles(names);
+    std::string list;
+    for (const std::string& n : names) list += (list.empty() ? "" : " ") + n;
+    core::require(c.hasXyz(), path, "PCD fields lack x, y or z (fields: " + list + ")");
     core::require(c.intensity >= 0, path,
                   "no intensity field: the PCD has no field named intensity, reflectivity, reflectance, i or "
                   "scalar_* (fields: " +
-                      names + ")");
+                      list + ")");
+    intensity_name = names[size_t(c.intensity)];
     return c;
 }
 
@@ -194,7 +174,7 @@ void readAscii(const std::vector<uint8_t>& bytes, const PcdHeader& h, const Fiel
         cloud.push(static_cast<float>(first[c.x]), static_cast<float>(first[c.y]), static_cast<float>(first[c.z]),
                    static_cast<float>(first[c.intensity]));
         if (c.time >= 0) cloud.time.push_back(first[c.time]);
-        if (c.ring >= 0) cloud.ring.push_back(static_cast<uint16_t>(std::clamp(first[c.ring], 0.0, 65535.0)));
+        if (c.ring >= 0) cloud.ring.push_back(ringNumber(first[c.ring]));
     }
 }
 
@@ -225,8 +205,7 @@ void decodeFields(const uint8_t* data, const PcdHeader& h, const FieldChoice& c,
         cloud.push(v[0], v[1], v[2], v[3]);
         if (c.time >= 0) cloud.time.push_back(detail::decodeScalar(data + base[4] + i * stride[4], t[4], swap));
         if (c.ring >= 0)
-            cloud.ring.push_back(static_cast<uint16_t>(
-                std::clamp(detail::decodeScalar(data + base[5] + i * stride[5], t[5], swap), 0.0, 65535.0)));
+            cloud.ring.push_back(ringNumber(detail::decodeScalar(data + base[5] + i * stride[5], t[5], swap)));
     }
 }
 

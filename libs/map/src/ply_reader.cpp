@@ -4,6 +4,7 @@
 #include <cmath>
 #include <quasiloc/core/error.h>
 #include <quasiloc/map/map_import.h>
+#include <quasiloc/map/point_records.h>
 
 #include "file_bytes.h"
 #include "scalar_types.h"
@@ -129,44 +130,28 @@ PlyHeader parseHeader(const std::vector<uint8_t>& bytes, const std::string& path
     return h;
 }
 
-/** Which properties of the vertex element hold x, y, z and the intensity. */
-struct VertexLayout
-{
-    int x = -1, y = -1, z = -1, intensity = -1;
-    int time = -1, ring = -1;  ///< optional (-1: absent)
-};
+/** Which properties of the vertex element hold x, y, z, the intensity, the time and the ring (list properties take
+ *  no role). */
+using VertexLayout = CloudFieldRoles;
 
 VertexLayout findVertexLayout(const PlyElement& vertex, const std::string& path, std::string& intensity_name)
 {
-    VertexLayout L;
-    int best_rank = 0, best_time_rank = 0;
-    std::string names;
-    for (size_t k = 0; k < vertex.properties.size(); ++k)
+    std::vector<std::string> names;
+    std::vector<bool> usable;
+    std::string list;
+    for (const auto& p : vertex.properties)
     {
-        const auto& p = vertex.properties[k];
-        names += (names.empty() ? "" : " ") + p.name;
-        if (p.is_list) continue;
-        const int time_rank = timeFieldRank(p.name);
-        if (time_rank > 0 && (best_time_rank == 0 || time_rank < best_time_rank))
-            best_time_rank = time_rank, L.time = static_cast<int>(k);
-        if (isRingField(p.name) && L.ring < 0) L.ring = static_cast<int>(k);
-        if (p.name == "x") L.x = static_cast<int>(k);
-        if (p.name == "y") L.y = static_cast<int>(k);
-        if (p.name == "z") L.z = static_cast<int>(k);
-        const int rank = intensityFieldRank(p.name);
-        if (rank > 0 && (best_rank == 0 || rank < best_rank))
-        {
-            best_rank = rank;
-            L.intensity = static_cast<int>(k);
-            intensity_name = p.name;
-        }
+        names.push_back(p.name);
+        usable.push_back(!p.is_list);
+        list += (list.empty() ? "" : " ") + p.name;
     }
-    core::require(L.x >= 0 && L.y >= 0 && L.z >= 0, path,
-                  "the vertex element lacks x, y or z (properties: " + names + ")");
+    const VertexLayout L = cloudFieldRoles(names, usable);
+    core::require(L.hasXyz(), path, "the vertex element lacks x, y or z (properties: " + list + ")");
     core::require(L.intensity >= 0, path,
                   "no intensity field: the vertex element has no property named intensity, reflectivity, "
                   "reflectance, scalar_* or i (properties: " +
-                      names + ")");
+                      list + ")");
+    intensity_name = names[size_t(L.intensity)];
     return L;
 }
 
@@ -243,8 +228,7 @@ void readBinary(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ve
         cloud.push(val[0], val[1], val[2], val[3]);
         if (L.time >= 0) cloud.time.push_back(detail::decodeScalar(record_base + off[L.time], P[L.time].type, swap));
         if (L.ring >= 0)
-            cloud.ring.push_back(static_cast<uint16_t>(
-                std::clamp(detail::decodeScalar(record_base + off[L.ring], P[L.ring].type, swap), 0.0, 65535.0)));
+            cloud.ring.push_back(ringNumber(detail::decodeScalar(record_base + off[L.ring], P[L.ring].type, swap)));
     };
     if (v.count == 0) return;
     if (!hasList(v))
@@ -299,7 +283,7 @@ void readAscii(const std::vector<uint8_t>& bytes, const PlyHeader& h, size_t ver
             cloud.push(static_cast<float>(values[L.x]), static_cast<float>(values[L.y]),
                        static_cast<float>(values[L.z]), static_cast<float>(values[L.intensity]));
             if (L.time >= 0) cloud.time.push_back(values[L.time]);
-            if (L.ring >= 0) cloud.ring.push_back(static_cast<uint16_t>(std::clamp(values[L.ring], 0.0, 65535.0)));
+            if (L.ring >= 0) cloud.ring.push_back(ringNumber(values[L.ring]));
         }
     }
 }

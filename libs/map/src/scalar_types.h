@@ -3,23 +3,13 @@
 // PLY and PCD readers and by the test writers (which encode the same types).
 #include <cstdint>
 #include <cstring>
+#include <quasiloc/map/point_records.h>
 #include <string>
 
 namespace quasiloc::map::detail
 {
-enum class ScalarType
-{
-    Int8,
-    UInt8,
-    Int16,
-    UInt16,
-    Int32,
-    UInt32,
-    Int64,
-    UInt64,
-    Float32,
-    Float64
-};
+/** The type itself is public (point_records.h): PointCloud2 decoding names its fields' types with it. */
+using ScalarType = quasiloc::map::ScalarType;
 
 inline size_t sizeOf(ScalarType t)
 {
