@@ -71,6 +71,11 @@ FolderScanSource::FolderScanSource(const std::string& folder, CloudFormat format
     }
 }
 
+void ScanSource::forEach(const std::function<void(size_t, LidarScan&&)>& visit) const
+{
+    for (size_t i = 0; i < size(); ++i) visit(i, read(i));
+}
+
 LidarScan FolderScanSource::read(size_t i) const { return scanFromCloud(readCloud(files_.at(i), format_), files_[i]); }
 
 }  // namespace quasiloc::map

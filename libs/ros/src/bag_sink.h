@@ -1,9 +1,11 @@
 #pragma once
 // Where rawlog2bag writes its messages (rawlog2bag.cpp builds them, a sink serialises them): a ROS 1 bag
 // (ros1/ros1_bag_sink.cpp) or a rosbag2 MCAP folder (mcap_bag_sink.cpp). Messages come in time order per topic.
+// BagWriter (bag_writer.h) is the public face of the same sinks.
 #include <memory>
 #include <quasiloc/dataset/bag_options.h>
 #include <quasiloc/ros/messages.h>
+#include <quasiloc/ros/point_cloud2.h>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@ class BagSink
     virtual void pose(const std::string& topic, const PoseMsg& m) = 0;
     virtual void cameraInfo(const std::string& topic, const CameraInfoMsg& m) = 0;
     virtual void tfStatic(const std::string& topic, const std::vector<TransformMsg>& transforms) = 0;
+    virtual void pointCloud2(const std::string& topic, const PointCloud2Msg& m) = 0;
     /** Completes the bag (index, summary, metadata). */
     virtual void close() = 0;
 };

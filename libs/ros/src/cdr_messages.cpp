@@ -78,13 +78,7 @@ struct Encode
     {
         for (double v : {q.x(), q.y(), q.z(), q.w()}) w.f64(v);
     }
-    void operator()(const MsgHeader& h)
-    {
-        const std::int64_t sec = h.stamp_ns >= 0 ? h.stamp_ns / 1000000000 : (h.stamp_ns - 999999999) / 1000000000;
-        w.i32(std::int32_t(sec));
-        w.u32(std::uint32_t(h.stamp_ns - sec * 1000000000));
-        w.string(h.frame_id);
-    }
+    void operator()(const MsgHeader& h) { writeHeader(w, h); }
     void unusedU32() { w.u32(0); }
     void unusedBool() { w.boolean(false); }
 };
@@ -165,6 +159,14 @@ MsgHeader readHeader(Reader& r)
     h.stamp_ns = std::int64_t(sec) * 1000000000 + nanosec;
     h.frame_id = r.string();
     return h;
+}
+
+void writeHeader(Writer& w, const MsgHeader& h)
+{
+    const std::int64_t sec = h.stamp_ns >= 0 ? h.stamp_ns / 1000000000 : (h.stamp_ns - 999999999) / 1000000000;
+    w.i32(std::int32_t(sec));
+    w.u32(std::uint32_t(h.stamp_ns - sec * 1000000000));
+    w.string(h.frame_id);
 }
 
 template <class M, void (*Fields)(Decode&, M&)>

@@ -4,6 +4,7 @@
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/ros/cdr.h>
 #include <quasiloc/ros/mcap_writer.h>
+#include <quasiloc/ros/point_cloud2.h>
 #include <quasiloc/ros/rosbag2_metadata.h>
 
 #include "bag_sink.h"
@@ -47,6 +48,10 @@ class McapBagSink : public BagSink
     void tfStatic(const std::string& topic, const std::vector<TransformMsg>& t) override
     {
         put(topic, "tf2_msgs/msg/TFMessage", t.at(0).header, cdr::encodeTFMessage(t));
+    }
+    void pointCloud2(const std::string& topic, const PointCloud2Msg& m) override
+    {
+        put(topic, "sensor_msgs/msg/PointCloud2", m.header, cdr::encode(m));
     }
     void close() override
     {

@@ -1,5 +1,5 @@
 // ROS 2 message definitions for MCAP schemas (ros2_msg_definitions.h), as the .msg files of sensor_msgs,
-// geometry_msgs, std_msgs, builtin_interfaces and tf2_msgs declare the fields (comments left out).
+// geometry_msgs, std_msgs, builtin_interfaces and tf2_msgs declare the fields (comments and constants left out).
 #include <map>
 #include <vector>
 
@@ -35,6 +35,10 @@ const std::map<std::string, std::string>& definitions()
          "std_msgs/Header header\nuint32 height\nuint32 width\nstring distortion_model\nfloat64[] d\nfloat64[9] k\n"
          "float64[9] r\nfloat64[12] p\nuint32 binning_x\nuint32 binning_y\nRegionOfInterest roi\n"},
         {"tf2_msgs/TFMessage", "geometry_msgs/TransformStamped[] transforms\n"},
+        {"sensor_msgs/PointField", "string name\nuint32 offset\nuint8 datatype\nuint32 count\n"},
+        {"sensor_msgs/PointCloud2",
+         "std_msgs/Header header\nuint32 height\nuint32 width\nPointField[] fields\nbool is_bigendian\n"
+         "uint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n"},
     };
     return d;
 }
@@ -51,6 +55,7 @@ const std::map<std::string, std::vector<std::string>>& dependencies()
         {"geometry_msgs/PoseStamped",
          {"std_msgs/Header", "builtin_interfaces/Time", "geometry_msgs/Pose", "geometry_msgs/Point",
           "geometry_msgs/Quaternion"}},
+        {"sensor_msgs/PointCloud2", {"std_msgs/Header", "builtin_interfaces/Time", "sensor_msgs/PointField"}},
         {"tf2_msgs/TFMessage",
          {"geometry_msgs/TransformStamped", "std_msgs/Header", "builtin_interfaces/Time", "geometry_msgs/Transform",
           "geometry_msgs/Vector3", "geometry_msgs/Quaternion"}},

@@ -10,6 +10,7 @@
 #include <quasiloc/ros/cdr.h>
 #include <quasiloc/ros/compression.h>
 #include <quasiloc/ros/mcap_reader.h>
+#include <quasiloc/ros/point_cloud2.h>
 #include <quasiloc/ros/rosbag2_metadata.h>
 #include <quasiloc/ros/rosbag2_source.h>
 #include <quasiloc/ros/sqlite_bag.h>
@@ -69,6 +70,7 @@ class CdrMessage : public BagMessage
         return PoseMsg{t.header, t.translation, t.rotation};
     }
     std::vector<TransformMsg> transforms() const override { return cdr::readTFMessage(*reader(types::kTFMessage)); }
+    PointCloud2Msg pointCloud2() const override { return cdr::readPointCloud2(*reader(types::kPointCloud2)); }
 
    protected:
     const std::string& file() const override { return file_; }

@@ -6,6 +6,7 @@
 
 #include "../bag_sink.h"
 #include "ros1_messages.h"
+#include "ros1_point_cloud2.h"
 
 namespace quasiloc::ros
 {
@@ -39,6 +40,10 @@ class Ros1BagSink : public BagSink
     void pose(const std::string& topic, const PoseMsg& m) override { put(topic, ros1::toRos1(m, seq(topic))); }
     void cameraInfo(const std::string&, const CameraInfoMsg&) override {}
     void tfStatic(const std::string&, const std::vector<TransformMsg>&) override {}
+    void pointCloud2(const std::string& topic, const PointCloud2Msg& m) override
+    {
+        put(topic, ros1::toRos1(m, seq(topic)));
+    }
     void close() override
     {
         try

@@ -8,6 +8,7 @@
 #include <quasiloc/core/error.h>
 
 #include "ros1_messages.h"
+#include "ros1_point_cloud2.h"
 
 namespace fs = std::filesystem;
 using quasiloc::core::InputError;
@@ -55,6 +56,11 @@ class Ros1Message : public BagMessage
         throw InputError(where(),
                          "tf2_msgs/TFMessage in a ROS 1 bag is not supported (Debian ships no ROS 1 "
                          "tf2_msgs): give the extrinsics with a Kalibr camchain");
+    }
+
+    PointCloud2Msg pointCloud2() const override
+    {
+        return ros1::fromRos1(std::move(*get<sensor_msgs::PointCloud2>(types::kPointCloud2)));
     }
 
    protected:

@@ -5,11 +5,12 @@
 // one scan in memory at a time, and so that a pass can read them again (map_build.h reads every scan two or three
 // times rather than keep any).
 //
-// Sources: FolderScanSource (a folder of KITTI .bin, PCD or PLY files, one scan per file, in file-name order).
-// PointCloud2 messages from ROS 1 / ROS 2 bags are not a source yet: a BagScanSource would implement the same
-// interface over libs/ros's readers (the scan's stamp is the message header's).
+// Sources: FolderScanSource (a folder of KITTI .bin, PCD or PLY files, one scan per file, in file-name order), and
+// ros::BagScanSource (libs/ros bag_scan_source.h: the PointCloud2 messages of one topic of a ROS 1 or ROS 2 bag, which
+// it reads front to back in one pass per forEach).
 #include <Eigen/Core>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <quasiloc/map/map_import.h>
 #include <string>
@@ -26,6 +27,7 @@ struct LidarScan
                                           ///< empty: none stored
     bool time_absolute = false;           ///< time_s holds absolute times (a "timestamp" field), not offsets
     std::vector<uint16_t> ring;           ///< per point laser index; empty: none stored or estimated
+    size_t invalid_points = 0;            ///< points without a position (NaN in organised clouds), dropped
     size_t size() const { return points.size(); }
 };
 
@@ -55,6 +57,9 @@ class ScanSource
     virtual std::string name(size_t i) const = 0;
     /** Reads scan i. InputError naming the scan when it does not parse, is empty or holds a non-finite value. */
     virtual LidarScan read(size_t i) const = 0;
+    /** Reads every scan in index order, one at a time: visit(i, scan). This default calls read(i) for each; a source
+     *  that can only be read front to back (a bag) reads it once. */
+    virtual void forEach(const std::function<void(size_t, LidarScan&&)>& visit) const;
 };
 
 /** The files of `folder` with the format's extension (Auto: every .bin .pcd .ply; one format per folder), sorted by

@@ -92,6 +92,9 @@ TransformMsg readTransformStamped(Reader& r);
 PoseMsg readOdometry(Reader& r);
 std::vector<TransformMsg> readTFMessage(Reader& r);
 
+/** std_msgs/Header: builtin_interfaces/Time (int32 sec, uint32 nanosec), then frame_id. */
+void writeHeader(Writer& w, const MsgHeader& h);
+
 // Encoders (a complete message with its encapsulation header).
 std::vector<std::uint8_t> encode(const ImageMsg& m);
 std::vector<std::uint8_t> encode(const CompressedImageMsg& m);

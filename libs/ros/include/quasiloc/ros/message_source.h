@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <quasiloc/ros/messages.h>
+#include <quasiloc/ros/point_cloud2.h>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,7 @@ class BagMessage
     virtual PoseMsg pose() const = 0;
     /** tf2_msgs/TFMessage (tf/tfMessage in ROS 1). */
     virtual std::vector<TransformMsg> transforms() const = 0;
+    virtual PointCloud2Msg pointCloud2() const = 0;
 
    protected:
     virtual const std::string& file() const = 0;

@@ -1,0 +1,23 @@
+// BagWriter (bag_writer.h) over rawlog2bag's sinks.
+#include <filesystem>
+#include <quasiloc/ros/bag_writer.h>
+
+#include "bag_sink.h"
+
+namespace quasiloc::ros
+{
+BagWriter::BagWriter(const std::string& path, dataset::BagFormat format, dataset::BagCompression compression)
+    : sink_(format == dataset::BagFormat::Mcap
+                ? makeMcapBagSink(path, std::filesystem::path(path).filename().string(), compression)
+                : makeRos1BagSink(path, compression))
+{}
+
+BagWriter::~BagWriter() = default;
+
+void BagWriter::pointCloud2(const std::string& topic, const PointCloud2Msg& m) { sink_->pointCloud2(topic, m); }
+
+void BagWriter::pose(const std::string& topic, const PoseMsg& m) { sink_->pose(topic, m); }
+
+void BagWriter::close() { sink_->close(); }
+
+}  // namespace quasiloc::ros
