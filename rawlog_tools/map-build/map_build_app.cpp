@@ -4,9 +4,11 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <memory>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/map/map_build.h>
+#include <quasiloc/ros/bag_scan_source.h>
 #include <sstream>
 
 namespace quasiloc::map_build
@@ -30,6 +32,38 @@ std::string megabytes(double bytes)
     std::ostringstream s;
     s << std::fixed << std::setprecision(1) << bytes / 1.0e6 << " MB";
     return s.str();
+}
+
+/** The scans: a folder's files, or a bag topic's PointCloud2 messages with their header stamps. */
+struct Scans
+{
+    std::unique_ptr<map::ScanSource> source;
+    std::vector<std::string> names;
+    std::vector<double> stamps;  ///< bag scans: their stamps (scan_times = stamps)
+    std::string description;
+};
+
+Scans openScans(const map::MapBuildOptions& opt, const std::string& config_path)
+{
+    Scans s;
+    if (opt.source == map::ScanSourceKind::Bag)
+    {
+        core::requireInputFiles(config_path, "MapBuild", {{"bag", opt.bag}});
+        auto bag = std::make_unique<ros::BagScanSource>(opt.bag, opt.bag_lidar_topic);
+        if (opt.scan_times == map::ScanTimeSource::Auto || opt.scan_times == map::ScanTimeSource::Stamps)
+            s.stamps = bag->stampsSeconds();
+        s.description = bag->describe();
+        s.source = std::move(bag);
+    }
+    else
+    {
+        auto folder = std::make_unique<map::FolderScanSource>(opt.scan_folder, opt.scan_format);
+        s.description =
+            std::to_string(folder->size()) + " " + map::toString(folder->format()) + " files in " + opt.scan_folder;
+        s.source = std::move(folder);
+    }
+    for (size_t i = 0; i < s.source->size(); ++i) s.names.push_back(s.source->name(i));
+    return s;
 }
 
 /** One line per pass at 0, 10, 20 ... 100 % of its scans. */
@@ -65,16 +99,21 @@ int run(const core::CommandLine& cmd)
     map::MapBuildOptions opt;
     core::loadOptionsChecked(opt, cfg, "MapBuild", cmd.config_path);
     opt.check(cmd.config_path);
-    core::requireInputFiles(cmd.config_path, "MapBuild", {{"trajectory", opt.trajectory}});
+    if (opt.trajectory_format != map::TrajectoryFormat::Bag)
+        core::requireInputFiles(cmd.config_path, "MapBuild", {{"trajectory", opt.trajectory}});
     core::requireInputFiles(cmd.config_path, "MapBuild",
                             {{"scan_times_file", opt.scan_times_file}, {"extrinsic_file", opt.extrinsic_file}}, false);
 
-    const map::FolderScanSource source(opt.scan_folder, opt.scan_format);
-    std::vector<std::string> names;
-    for (size_t i = 0; i < source.size(); ++i) names.push_back(source.name(i));
-    const map::ScanPoses poses(opt.poseOptions(), names);
-    std::cout << "scans       " << source.size() << " " << map::toString(source.format()) << " files in "
-              << opt.scan_folder << ", poses from " << opt.trajectory << "\n";
+    const Scans scans = openScans(opt, cmd.config_path);
+    const map::ScanSource& source = *scans.source;
+    map::ScanPoseOptions pose_options = opt.poseOptions();
+    if (opt.trajectory_format == map::TrajectoryFormat::Bag)
+        pose_options.poses = ros::readBagTrajectory(opt.trajectoryBag(), opt.bag_pose_topic);
+    const map::ScanPoses poses(pose_options, scans.names, scans.stamps);
+    std::cout << "scans       " << scans.description << ", poses from " << pose_options.trajectory;
+    if (opt.trajectory_format == map::TrajectoryFormat::Bag)
+        std::cout << " (" << pose_options.poses.poses.size() << " poses)";
+    std::cout << "\n";
 
     const map::MapBuildResult r = map::buildMap(opt, source, poses, printProgress);
 
@@ -98,9 +137,10 @@ int run(const core::CommandLine& cmd)
 
     const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::cout << std::fixed << std::setprecision(3);
-    std::cout << "points      " << r.points_read << " read, " << r.points_used << " within " << opt.min_range_m << ".."
-              << opt.max_range_m << " m; " << r.deskewed_scans << " of " << r.scans
-              << " scans deskewed (per-point times)\n"
+    std::cout << "points      " << r.points_read << " read";
+    if (r.points_invalid > 0) std::cout << " (" << r.points_invalid << " without a position dropped)";
+    std::cout << ", " << r.points_used << " within " << opt.min_range_m << ".." << opt.max_range_m << " m; "
+              << r.deskewed_scans << " of " << r.scans << " scans deskewed (per-point times)\n"
               << "fusion      " << r.fused_voxels << " voxels of " << opt.voxel_size_m << " m ("
               << megabytes(double(r.fusion_bytes)) << ")\n";
     if (opt.carve)

@@ -32,10 +32,10 @@ check_rejected "too few poses" "0000000004.bin: needs pose line 5" --set MapBuil
 printf '0 0 0 0 0 0 0 1\n0.3 1 0 0 0 0 0 1\n' > "$WORK/traj.tum"
 check_rejected "trajectory does not cover" "0000000002.bin: its time 2 s has no pose" \
   --set MapBuild.trajectory="$WORK/traj.tum" --set MapBuild.trajectory_format=tum
-# Options: a typo'd key, an extrinsic that is not there, bags (not implemented yet).
+# Options: a typo'd key, an extrinsic that is not there, a bag source without its bag (bags' own bad inputs:
+# map_build_bag_bad_input.sh).
 check_rejected "unknown key" "[MapBuild] voxel_size: unknown key" --set MapBuild.voxel_size=0.1
 check_rejected "missing extrinsic" "calib.txt: no line 'T_lidar: ...'" --set MapBuild.extrinsic_key=T_lidar
-check_rejected "bag source" "[MapBuild] source: bag: PointCloud2 from ROS bags is not implemented yet" \
-  --set MapBuild.source=bag
+check_rejected "bag source without a bag" "[MapBuild] bag: is required with source = bag" --set MapBuild.source=bag
 check_rejected "no scans" "holds no scan file" --set MapBuild.scan_folder="$WORK"
 echo "OK"

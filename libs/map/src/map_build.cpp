@@ -19,18 +19,16 @@ struct PassClock
     }
 };
 
-/** Every pass reads each scan the same way. */
+/** Every pass reads each scan the same way: f(world scan, index, points read, points without a position). */
 template <class F>
 void forEachScan(const ScanSource& source, const ScanPoses& poses, const ScanFilter& filter, int pass,
                  const MapBuildProgress& progress, F&& f)
 {
-    for (size_t i = 0; i < source.size(); ++i)
-    {
-        LidarScan scan = source.read(i);
-        const size_t read = scan.size();
-        f(toWorld(std::move(scan), poses, i, filter), i, read);
+    source.forEach([&](size_t i, LidarScan&& scan) {
+        const size_t read = scan.size(), invalid = scan.invalid_points;
+        f(toWorld(std::move(scan), poses, i, filter), i, read, invalid);
         if (progress) progress(pass, i + 1, source.size());
-    }
+    });
 }
 }  // namespace
 
@@ -46,15 +44,16 @@ MapBuildResult buildMap(const MapBuildOptions& o, const ScanSource& source, cons
     float raw_min = std::numeric_limits<float>::infinity(), raw_max = -raw_min;
 
     PassClock clock;
-    forEachScan(source, poses, filter, 1, progress, [&](const WorldScan& w, size_t i, size_t read) {
+    forEachScan(source, poses, filter, 1, progress, [&](const WorldScan& w, size_t i, size_t read, size_t invalid) {
         r.points_read += read;
+        r.points_invalid += invalid;
         r.points_used += w.size();
         r.deskewed_scans += w.deskewed;
         fusion.addGeometry(w, source.name(i));
         if (o.carve) carver.addHits(w, int(i));
         for (float v : w.intensity) raw_min = std::min(raw_min, v), raw_max = std::max(raw_max, v);
     });
-    core::require(r.points_used > 0, o.scan_folder, "no point within the range limits in any scan");
+    core::require(r.points_used > 0, o.scansName(), "no point within the range limits in any scan");
     clock.stop(r, 0);
 
     const bool per_ring = o.reflectivity_normalisation == ReflectivityNormalisation::Ring ||
@@ -65,7 +64,7 @@ MapBuildResult buildMap(const MapBuildOptions& o, const ScanSource& source, cons
     clock = PassClock();
     if (o.carve) carver.finishHits();
     if (o.carve || per_ring || per_range)
-        forEachScan(source, poses, filter, 2, progress, [&](const WorldScan& w, size_t i, size_t) {
+        forEachScan(source, poses, filter, 2, progress, [&](const WorldScan& w, size_t i, size_t, size_t) {
             if (o.carve) carver.castRays(w, int(i));
             model.observe(w, fusion);
         });
@@ -77,7 +76,7 @@ MapBuildResult buildMap(const MapBuildOptions& o, const ScanSource& source, cons
     const bool normalised = per_ring || per_range;
     if (normalised)
         forEachScan(source, poses, filter, 3, progress,
-                    [&](const WorldScan& w, size_t, size_t) { fusion.addReflectivity(w, model); });
+                    [&](const WorldScan& w, size_t, size_t, size_t) { fusion.addReflectivity(w, model); });
     clock.stop(r, 2);
     r.intensity = chooseIntensityNormalisation({raw_min, raw_max}, o.intensity_scale, "[MapBuild] intensity_scale");
     const float inv_divisor = float(1.0 / r.intensity.divisor);

@@ -10,8 +10,8 @@ using core::Range;
 void MapBuildOptions::declare(core::OptionTable& t)
 {
     t.addEnum("source", source, {{"folder", ScanSourceKind::Folder}, {"bag", ScanSourceKind::Bag}},
-              "where the scans come from: folder = one file per scan (scan_folder); bag = PointCloud2 messages "
-              "(not implemented yet)");
+              "where the scans come from: folder = one file per scan (scan_folder); bag = one sensor_msgs/PointCloud2 "
+              "message per scan (bag, bag_lidar_topic)");
     t.add("scan_folder", scan_folder, "the folder of scans (KITTI .bin, .pcd or .ply), read in file-name order");
     t.addEnum("scan_format", scan_format,
               {{"auto", CloudFormat::Auto},
@@ -19,15 +19,29 @@ void MapBuildOptions::declare(core::OptionTable& t)
                {"pcd", CloudFormat::Pcd},
                {"ply", CloudFormat::Ply}},
               "the scans' format; auto = from the extensions (one format per folder)");
-    t.add("trajectory", trajectory, "the LiDAR-carrying body's poses T_world_body: a TUM file or KITTI poses");
+    t.add("bag", bag,
+          "source = bag: a ROS 1 .bag file, a rosbag2 folder (sqlite3 or mcap storage), or one .db3 / .mcap file");
+    t.add("bag_lidar_topic", bag_lidar_topic,
+          "source = bag: the sensor_msgs/PointCloud2 topic of the scans; empty: the bag's only PointCloud2 topic");
+    t.add("trajectory", trajectory,
+          "the LiDAR-carrying body's poses T_world_body: a TUM file, KITTI poses, or a bag (trajectory_format = bag; "
+          "empty: the scans' bag)");
     t.addEnum("trajectory_format", trajectory_format,
-              {{"tum", TrajectoryFormat::Tum}, {"kitti", TrajectoryFormat::Kitti}},
-              "tum: t x y z qx qy qz qw per line; kitti: a 3x4 row-major matrix per line, line k = frame k");
-    t.addEnum(
-        "scan_times", scan_times,
-        {{"names", ScanTimeSource::FileNames}, {"file", ScanTimeSource::TimesFile}, {"order", ScanTimeSource::Order}},
-        "a scan's time (TUM) or frame (KITTI): the number its file name spells, scan_times_file's line, or "
-        "its index in file-name order");
+              {{"tum", TrajectoryFormat::Tum}, {"kitti", TrajectoryFormat::Kitti}, {"bag", TrajectoryFormat::Bag}},
+              "tum: t x y z qx qy qz qw per line; kitti: a 3x4 row-major matrix per line, line k = frame k; bag: the "
+              "poses of bag_pose_topic (header stamps), interpolated as TUM poses are");
+    t.add("bag_pose_topic", bag_pose_topic,
+          "trajectory_format = bag: a geometry_msgs/PoseStamped, nav_msgs/Odometry or geometry_msgs/TransformStamped "
+          "topic of T_world_body (LiDAR-inertial odometry's output)");
+    t.addEnum("scan_times", scan_times,
+              {{"auto", ScanTimeSource::Auto},
+               {"names", ScanTimeSource::FileNames},
+               {"file", ScanTimeSource::TimesFile},
+               {"order", ScanTimeSource::Order},
+               {"stamps", ScanTimeSource::Stamps}},
+              "a scan's time (TUM, bag poses) or frame (KITTI): the number its file name spells, scan_times_file's "
+              "line, its index in scan order, or its PointCloud2 header stamp; auto = names for files, stamps for a "
+              "bag");
     t.add("scan_times_file", scan_times_file, "scan_times = file: one time per line, in the scans' file-name order");
     t.add("scan_time_scale", scan_time_scale, "s", Range::above(0),
           "TUM: seconds per unit of the names' or times file's numbers (1e-9 for nanoseconds)");
@@ -84,11 +98,28 @@ void MapBuildOptions::check(const std::string& config_name) const
 {
     const std::string at = config_name + " [MapBuild] ";
     checkRanges(config_name + " [MapBuild]");
-    core::require(source == ScanSourceKind::Folder, at + "source",
-                  "bag: PointCloud2 from ROS bags is not implemented yet (extract the scans to PCD files and a "
-                  "TUM trajectory, then use source = folder)");
-    core::require(!scan_folder.empty(), at + "scan_folder", "is required");
-    core::require(!trajectory.empty(), at + "trajectory", "is required");
+    const bool from_bag = source == ScanSourceKind::Bag;
+    if (from_bag)
+    {
+        core::require(!bag.empty(), at + "bag", "is required with source = bag");
+        core::require(scan_times != ScanTimeSource::FileNames, at + "scan_times",
+                      "names: bag scans have no file names (stamps, the default for a bag, uses their header stamps)");
+    }
+    else
+    {
+        core::require(!scan_folder.empty(), at + "scan_folder",
+                      bag.empty() ? "is required" : "is required (bag is set: for scans from a bag set source = bag)");
+        core::require(scan_times != ScanTimeSource::Stamps, at + "scan_times",
+                      "stamps: only bag scans carry stamps (source = bag)");
+    }
+    if (trajectory_format == TrajectoryFormat::Bag)
+    {
+        core::require(!bag_pose_topic.empty(), at + "bag_pose_topic", "is required with trajectory_format = bag");
+        core::require(!trajectoryBag().empty(), at + "trajectory",
+                      "is required with trajectory_format = bag (the bag of the poses) when the scans are files");
+    }
+    else
+        core::require(!trajectory.empty(), at + "trajectory", "is required");
     core::require(!output.empty(), at + "output", "is required");
     core::require(scan_times != ScanTimeSource::TimesFile || !scan_times_file.empty(), at + "scan_times_file",
                   "is required with scan_times = file");
@@ -105,9 +136,12 @@ void MapBuildOptions::check(const std::string& config_name) const
 ScanPoseOptions MapBuildOptions::poseOptions() const
 {
     ScanPoseOptions p;
-    p.trajectory = trajectory;
+    p.trajectory =
+        trajectory_format == TrajectoryFormat::Bag ? trajectoryBag() + " topic " + bag_pose_topic : trajectory;
     p.format = trajectory_format;
     p.times = scan_times;
+    if (p.times == ScanTimeSource::Auto)
+        p.times = source == ScanSourceKind::Bag ? ScanTimeSource::Stamps : ScanTimeSource::FileNames;
     p.times_file = scan_times_file;
     p.time_scale = scan_time_scale;
     p.frame_period_s = kitti_frame_period_s;
@@ -117,6 +151,12 @@ ScanPoseOptions MapBuildOptions::poseOptions() const
     else if (!extrinsic_file.empty())
         p.T_body_lidar = readCalibrationMatrix(extrinsic_file, extrinsic_key);
     return p;
+}
+
+std::string MapBuildOptions::scansName() const
+{
+    return source == ScanSourceKind::Bag ? bag + (bag_lidar_topic.empty() ? "" : " topic " + bag_lidar_topic)
+                                         : scan_folder;
 }
 
 CarvingOptions MapBuildOptions::carvingOptions() const

@@ -108,11 +108,21 @@ double numberFromFileName(const std::string& path)
     return v;
 }
 
-ScanPoses::ScanPoses(const ScanPoseOptions& options, const std::vector<std::string>& scan_names)
+ScanPoses::ScanPoses(const ScanPoseOptions& options, const std::vector<std::string>& scan_names,
+                     const std::vector<double>& stamps)
     : options_(options), names_(scan_names)
 {
     const size_t n = scan_names.size();
+    core::require(options.times != ScanTimeSource::Auto, "ScanPoses", "scan_times = auto must be resolved first");
     std::vector<double> raw(n);
+    if (options.times == ScanTimeSource::Stamps)
+    {
+        core::require(stamps.size() == n, "ScanPoses", "one stamp per scan expected");
+        core::require(options.format != TrajectoryFormat::Kitti, options.trajectory,
+                      "KITTI poses are numbered by frame, not by time: with stamped scans use a TUM trajectory (or "
+                      "scan_times = order / file)");
+        raw = stamps;
+    }
     if (options.times == ScanTimeSource::TimesFile)
     {
         const std::vector<double> times = readScanTimes(options.times_file);
@@ -145,9 +155,17 @@ ScanPoses::ScanPoses(const ScanPoseOptions& options, const std::vector<std::stri
     }
     else
     {
-        trajectory_ = core::readTum(options.trajectory);
+        if (options.format == TrajectoryFormat::Bag)
+        {
+            trajectory_ = options.poses;
+            std::stable_sort(trajectory_.poses.begin(), trajectory_.poses.end(),
+                             [](const core::TimedPose& a, const core::TimedPose& b) { return a.t < b.t; });
+        }
+        else
+            trajectory_ = core::readTum(options.trajectory);
         core::require(!trajectory_.poses.empty(), options.trajectory, "holds no pose");
-        for (size_t i = 0; i < n; ++i) stamps_.push_back(raw[i] * options.time_scale);
+        const double scale = options.times == ScanTimeSource::Stamps ? 1.0 : options.time_scale;
+        for (size_t i = 0; i < n; ++i) stamps_.push_back(raw[i] * scale);
         max_gap_s_ = options.max_pose_gap_s;
     }
     for (size_t i = 0; i < n; ++i)
@@ -157,7 +175,7 @@ ScanPoses::ScanPoses(const ScanPoseOptions& options, const std::vector<std::stri
             s.precision(15);
             s << "its time " << stamps_[i] << " s has no pose in " << options.trajectory << " (which spans "
               << trajectory_.poses.front().t << " .. " << trajectory_.poses.back().t << " s";
-            if (options.format == TrajectoryFormat::Tum)
+            if (options.format != TrajectoryFormat::Kitti)
                 s << ", with gaps of at most max_pose_gap_s = " << max_gap_s_ << " s bridged";
             throw core::InputError(scan_names[i], s.str() + ")");
         }

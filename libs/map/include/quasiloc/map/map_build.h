@@ -24,7 +24,7 @@ namespace quasiloc::map
 enum class ScanSourceKind
 {
     Folder,  ///< scan_folder: one file per scan
-    Bag      ///< PointCloud2 from a ROS 1 / ROS 2 bag: not implemented yet (InputError)
+    Bag      ///< bag, bag_lidar_topic: one PointCloud2 message per scan (read by libs/ros BagScanSource)
 };
 
 enum class ReflectivityNormalisation
@@ -41,9 +41,12 @@ struct MapBuildOptions : public core::DeclaredOptions
     ScanSourceKind source = ScanSourceKind::Folder;
     std::string scan_folder;
     CloudFormat scan_format = CloudFormat::Auto;
+    std::string bag;
+    std::string bag_lidar_topic;
     std::string trajectory;
     TrajectoryFormat trajectory_format = TrajectoryFormat::Tum;
-    ScanTimeSource scan_times = ScanTimeSource::FileNames;
+    std::string bag_pose_topic;
+    ScanTimeSource scan_times = ScanTimeSource::Auto;
     std::string scan_times_file;
     double scan_time_scale = 1.0;
     double kitti_frame_period_s = 0.1;
@@ -74,7 +77,13 @@ struct MapBuildOptions : public core::DeclaredOptions
     void declare(core::OptionTable& t) override;
     /** The declared ranges, then the rules between keys: InputError naming the key. */
     void check(const std::string& config_name) const;
+    /** The options of ScanPoses, scan_times = auto resolved. With trajectory_format = bag the caller fills `poses`
+     *  from the bag (libs/ros readBagTrajectory: trajectoryBag(), bag_pose_topic). */
     ScanPoseOptions poseOptions() const;
+    /** trajectory_format = bag: the bag holding the poses (trajectory, or the scans' bag when trajectory is empty). */
+    std::string trajectoryBag() const { return trajectory.empty() ? bag : trajectory; }
+    /** What the scans are, for messages: the folder, or "<bag> topic <topic>". */
+    std::string scansName() const;
     CarvingOptions carvingOptions() const;
     ScanFilter scanFilter() const;
 };
@@ -84,6 +93,7 @@ struct MapBuildResult
     LidarMap map;      ///< the static map
     LidarMap removed;  ///< the fused points the carving removed
     size_t scans = 0, points_read = 0, points_used = 0, deskewed_scans = 0;
+    size_t points_invalid = 0;  ///< points without a position (NaN in organised clouds), dropped on reading
     size_t fused_voxels = 0, fusion_bytes = 0;
     CarvingStats carving;
     IntensityNormalisation intensity;  ///< raw -> [0, 1] divisor
