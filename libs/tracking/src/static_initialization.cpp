@@ -117,24 +117,6 @@ ImuBiasPrior withStaticEstimate(const ImuBiasPrior& calibration, const std::opti
     return p;
 }
 
-bool StaticInitializer::leavesStandstill() const
-{
-    // A start shows in the newest samples a block or two before a block of its own deviates: while the detector
-    // waits for that block, the standing estimate would hold the velocity at zero on a platform already moving.
-    // Half a block still averages a rotor's or a motor's vibration out.
-    if (!estimate_ || samples_.empty()) return false;
-    const double t_recent = samples_.back().t - 0.5 * options_.block_s;
-    Eigen::Vector3d g = Eigen::Vector3d::Zero(), a = Eigen::Vector3d::Zero();
-    size_t n = 0;
-    for (auto it = samples_.rbegin(); it != samples_.rend() && it->t > t_recent; ++it, ++n)
-    {
-        g += it->gyro;
-        a += it->acc;
-    }
-    return (g / double(n) - estimate_->gyro_bias).cwiseAbs().maxCoeff() > options_.max_gyro_block_dev_rad_s ||
-           (a / double(n) - estimate_->mean_specific_force).cwiseAbs().maxCoeff() > options_.max_acc_block_dev_m_s2;
-}
-
 void StaticInitializer::add(const std::vector<dataset::ImuSample>& samples)
 {
     if (moved_ || samples.empty()) return;
@@ -142,9 +124,8 @@ void StaticInitializer::add(const std::vector<dataset::ImuSample>& samples)
     const double t_oldest = samples_.back().t - options_.max_span_s;
     samples_.erase(samples_.begin(), std::find_if(samples_.begin(), samples_.end(),
                                                   [t_oldest](const dataset::ImuSample& x) { return x.t >= t_oldest; }));
-    const bool started_moving = leavesStandstill();
-    auto e = started_moving ? std::nullopt : staticImuEstimate(samples_, gyro_noise_density_, options_);
-    if (!e && (started_moving || samples_.back().t - samples_.front().t >= options_.min_still_s))
+    auto e = staticImuEstimate(samples_, gyro_noise_density_, options_);
+    if (!e && samples_.back().t - samples_.front().t >= options_.min_still_s)
     {
         // Moving: the estimate of the standing span before (if any) stays; no later span is a start.
         moved_ = true;

@@ -69,17 +69,12 @@ class StaticInitializer
     StaticInitializer(double gyro_noise_density, const StandstillOptions& options = {})
         : gyro_noise_density_(gyro_noise_density), options_(options)
     {}
-    /** A frame's samples (in time order, after those added before). */
     void add(const std::vector<dataset::ImuSample>& samples);
     /** The estimate over the samples so far, if they stand still and span min_still_s. */
     std::optional<StaticImuEstimate> estimate() const;
     bool moved() const { return moved_; }
 
    private:
-    /** The means of the newest half block of samples leave the standing means by more than a block's may: the
-     *  platform started to move. */
-    bool leavesStandstill() const;
-
     double gyro_noise_density_;
     StandstillOptions options_;
     std::vector<dataset::ImuSample> samples_;
