@@ -40,6 +40,7 @@
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/map/lzf.h>
 #include <quasiloc/reloc/database.h>
+#include <quasiloc/ros/point_cloud2.h>
 #include <sstream>
 
 #include "map_import_app.h"
@@ -320,6 +321,79 @@ void rawlog()
     gps.setMsg(gga);
     arch << actions << frame << scan << gps << *imuSeed(1) << *stereoSeed(r, 1);
 }
+
+/** PointCloud2 messages (CDR) of the layouts map-build reads from bags: Velodyne (float32 x y z intensity, uint16
+ *  ring, float32 time), Ouster (t uint32 ns, reflectivity), float64 big-endian organised with a NaN point and padded
+ *  rows, and a truncated one. */
+void pointCloud2()
+{
+    using ros::PointFieldMsg;
+    using F = PointFieldMsg;
+    struct Layout
+    {
+        std::string name;
+        std::vector<PointFieldMsg> fields;
+        std::uint32_t point_step, height, width, row_pad;
+        bool big_endian;
+    };
+    const std::vector<Layout> layouts = {
+        {"velodyne",
+         {{"x", 0, F::kFloat32, 1},
+          {"y", 4, F::kFloat32, 1},
+          {"z", 8, F::kFloat32, 1},
+          {"intensity", 12, F::kFloat32, 1},
+          {"ring", 16, F::kUInt16, 1},
+          {"time", 18, F::kFloat32, 1}},
+         22,
+         1,
+         4,
+         0,
+         false},
+        {"ouster",
+         {{"x", 0, F::kFloat32, 1},
+          {"y", 4, F::kFloat32, 1},
+          {"z", 8, F::kFloat32, 1},
+          {"t", 16, F::kUInt32, 1},
+          {"reflectivity", 20, F::kUInt16, 1},
+          {"ring", 22, F::kUInt8, 1}},
+         24,
+         2,
+         2,
+         0,
+         false},
+        {"organised64_be",
+         {{"x", 0, F::kFloat64, 1},
+          {"y", 8, F::kFloat64, 1},
+          {"z", 16, F::kFloat64, 1},
+          {"intensity", 24, F::kUInt8, 1},
+          {"timestamp", 32, F::kFloat64, 1}},
+         40,
+         2,
+         2,
+         8,
+         true},
+    };
+    for (const Layout& L : layouts)
+        for (bool truncated : {false, true})
+        {
+            ros::PointCloud2Msg m;
+            m.header = {1317000000123456789, "lidar"};
+            m.fields = L.fields;
+            m.point_step = L.point_step;
+            m.height = L.height;
+            m.width = L.width;
+            m.row_step = L.width * L.point_step + L.row_pad;
+            m.is_bigendian = L.big_endian;
+            m.data.resize(std::size_t(m.row_step) * m.height);
+            for (std::size_t k = 0; k < m.data.size(); ++k) m.data[k] = std::uint8_t(k * 37 + 11);
+            if (L.big_endian)  // the first point without a position: x = NaN (big-endian float64)
+                for (int k = 0; k < 8; ++k) m.data[std::size_t(k)] = k == 0 ? 0x7f : k == 1 ? 0xf8 : 0;
+            if (truncated) m.data.resize(m.data.size() - 3);
+            const std::vector<std::uint8_t> bytes = ros::cdr::encode(m);
+            writeBytes("fuzz_point_cloud2", L.name + (truncated ? "_truncated" : ""),
+                       std::string(bytes.begin(), bytes.end()));
+        }
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -339,6 +413,7 @@ int main(int argc, char** argv)
         database();
         rawlog();
         programIni();
+        pointCloud2();
     }
     catch (const std::exception& e)
     {

@@ -113,6 +113,7 @@ DecodedRecords decodePointRecords(const PointRecords& r, const std::string& inpu
     if (c.time >= 0) cloud.time_field = r.fields[size_t(c.time)].name;
     if (c.ring >= 0) cloud.ring_field = r.fields[size_t(c.ring)].name;
     const size_t n = r.rows * r.columns;  // checkSizes: no overflow
+    if (n == 0) return d;                 // (without this, 0 columns of 2^32 - 1 rows would loop over the rows)
     cloud.reserve(n);
     if (c.time >= 0) cloud.time.reserve(n);
     if (c.ring >= 0) cloud.ring.reserve(n);

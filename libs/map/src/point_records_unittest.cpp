@@ -64,3 +64,19 @@ TEST(PointRecords, DecodesRowsWithPaddingAndDropsPointsWithoutPosition)
     r.bytes = 71;  // the last point needs bytes 56..72
     expectInputError([&] { decodePointRecords(r, "cloud"); }, "cloud", "truncated point data: 71 bytes");
 }
+
+TEST(PointRecords, NoColumnsIsAnEmptyCloudWhateverTheRows)
+{
+    // Found by fuzz_point_cloud2: 0 points per row of 2^31 rows walked every row (a timeout).
+    PointRecords r;
+    r.fields = {{"x", 0, ScalarType::Float32, 1},
+                {"y", 4, ScalarType::Float32, 1},
+                {"z", 8, ScalarType::Float32, 1},
+                {"i", 12, ScalarType::Float32, 1}};
+    r.rows = size_t(1) << 31;
+    r.columns = 0;
+    r.point_step = 16;
+    const DecodedRecords d = decodePointRecords(r, "cloud");
+    EXPECT_EQ(d.cloud.size(), 0u);
+    EXPECT_EQ(d.invalid, 0u);
+}

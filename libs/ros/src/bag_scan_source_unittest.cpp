@@ -168,4 +168,25 @@ TEST(BagScanSource, SecondsFromNanosecondsAreCorrectlyRounded)
     EXPECT_EQ(secondsFromNs(1317000000100000000), 1317000000.1);
 }
 
+TEST(BagScanSource, BagsWrittenByAnotherLibrary)
+{
+    // rosbags (Python) wrote these SQLite3 and MCAP bags; their PointCloud2 has x y z only: no intensity to map.
+    QUASILOC_REQUIRE_ROS2_DATA();
+    for (const std::string bag :
+         {"rosbags_rs_all_types_sqlite3/test_bag_sqlite3.db3", "rosbags_rs_all_types_mcap/test_bag_mcap.mcap"})
+    {
+        const std::string path = test::ros2Data(bag);
+        std::string e = test::errorOf([&] { BagScanSource(path, ""); });
+        EXPECT_NE(e.find(path + " topic /test/sensor_msgs/point_cloud2 message 0: no intensity field"),
+                  std::string::npos)
+            << e;
+        e = test::errorOf([&] { BagScanSource(path, "/test/sensor_msgs/imu"); });
+        EXPECT_NE(e.find("topic /test/sensor_msgs/imu holds sensor_msgs/Imu messages, not sensor_msgs/PointCloud2"),
+                  std::string::npos)
+            << e;
+        const core::Trajectory t = readBagTrajectory(path, "/test/nav_msgs/odometry");
+        EXPECT_EQ(t.poses.size(), 2u);
+    }
+}
+
 }  // namespace quasiloc::ros
