@@ -298,7 +298,7 @@ World buildFloorWorld(const WorldOptions& o, const FloorLayout& l, uint64_t seed
     WorldStats st;
     w.name = "floor";
     w.room = l.extent.cast<float>();
-    w.materials = makeProceduralMaterials(seed, o.texture_size_px);
+    w.materials = makeMaterials(o.materials, seed, o.texture_size_px);
     w.ambient = static_cast<float>(o.ambient);
     const ClearanceGrid grid(keep_clear, 0.5f);
     addShell(l, static_cast<float>(o.max_cell_m), rng, w.mesh);

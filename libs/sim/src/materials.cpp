@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 #include <quasiloc/core/error.h>
 #include <quasiloc/sim/materials.h>
+#include <quasiloc/sim/spectral_materials.h>
 #include <random>
 
 namespace quasiloc::sim
@@ -256,7 +257,40 @@ Layers makeLayers(MaterialId id, int n, Rng& rng)
     }
 }
 
-Material buildMaterial(const Layers& l, int n, Rng& rng)
+/** Mean and standard deviation of a CV_32F texture. */
+std::pair<float, float> meanStd(const cv::Mat& m)
+{
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(m, mean, stddev);
+    return {static_cast<float>(mean[0]), static_cast<float>(stddev[0])};
+}
+
+/** The spectral set's textures (spectral_materials.h) from the procedural camera texture and NIR-only detail. */
+void spectralTextures(const SpectralMaterial& sp, const Recipe& r, const Layers& l, const cv::Mat& own_noise,
+                      cv::Mat& albedo, cv::Mat& refl)
+{
+    const int n = albedo.rows;
+    cv::Mat nir_detail(n, n, CV_32F);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            nir_detail.at<float>(y, x) =
+                r.r_lidar * (l.lidar.at<float>(y, x) - 0.5f) + r.r_noise * (own_noise.at<float>(y, x) - 0.5f);
+    const auto [a_mean, a_std] = meanStd(albedo);
+    const auto [d_mean, d_std] = meanStd(nir_detail);
+    const float own = std::sqrt(std::max(0.f, 1.f - sp.coupling * sp.coupling));
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+        {
+            float& a = albedo.at<float>(y, x);
+            const float z_vis = a_std > 0 ? (a - a_mean) / a_std : 0.f;
+            const float z_nir = d_std > 0 ? (nir_detail.at<float>(y, x) - d_mean) / d_std : 0.f;
+            refl.at<float>(y, x) = std::clamp(
+                sp.nir_reflectance * (1 + sp.nir_variation * (sp.coupling * z_vis + own * z_nir)), 0.01f, 1.f);
+            a = std::clamp(a * sp.visible_albedo / std::max(a_mean, 1e-3f), 0.02f, 0.98f);
+        }
+}
+
+Material buildMaterial(const Layers& l, int n, Rng& rng, const SpectralMaterial* spectral)
 {
     const Recipe& r = l.recipe;
     Material m;
@@ -277,6 +311,7 @@ Material buildMaterial(const Layers& l, int n, Rng& rng)
                 r.r0 + r.r_shared * sn + r.r_lidar * (d - 0.5f) + r.r_noise * (own_noise.at<float>(y, x) - 0.5f);
             refl.at<float>(y, x) = std::pow(std::clamp(raw, 0.01f, 1.f), r.r_gamma);
         }
+    if (spectral) spectralTextures(*spectral, r, l, own_noise, albedo, refl);
     m.reflectivity = refl;
     cv::Mat level;
     albedo.convertTo(level, CV_8U, 255.0);
@@ -303,6 +338,11 @@ double Material::meanAlbedo() const { return cv::mean(albedo_mips[0])[0] / 255.0
 
 MaterialLibrary makeProceduralMaterials(uint64_t seed, int texture_size_px)
 {
+    return makeMaterials(MaterialSet::procedural, seed, texture_size_px);
+}
+
+MaterialLibrary makeMaterials(MaterialSet set, uint64_t seed, int texture_size_px)
+{
     const bool pow2 =
         texture_size_px >= 32 && texture_size_px <= 2048 && (texture_size_px & (texture_size_px - 1)) == 0;
     core::require(pow2, "texture_size_px",
@@ -312,7 +352,8 @@ MaterialLibrary makeProceduralMaterials(uint64_t seed, int texture_size_px)
     {
         Rng rng(seed * 1000003ull + static_cast<uint64_t>(id) * 7919ull + 17ull);
         const Layers layers = makeLayers(static_cast<MaterialId>(id), texture_size_px, rng);
-        lib.materials.push_back(buildMaterial(layers, texture_size_px, rng));
+        const SpectralMaterial* spectral = set == MaterialSet::spectral ? &spectralMaterial(uint16_t(id)) : nullptr;
+        lib.materials.push_back(buildMaterial(layers, texture_size_px, rng, spectral));
     }
     return lib;
 }

@@ -74,6 +74,8 @@ void SimulationOptions::declare(core::OptionTable& t)
     t.add("spline_knot_spacing_s", spline_knot_spacing_s, "s", Range::between(0.005, 2),
           "knot spacing of the spline fitted to the trajectory");
     t.add("write_map", write_map, "write lidar_map.map (and the 32-beam map with [Lidar] beam_map)");
+    t.add("write_map_materials", write_map_materials,
+          "with write_map: also lidar_map_materials.bin, the material of every survey map point (material_labels.h)");
     t.add("inspection_png", inspection_png,
           "write inspection.png (needs the LiDAR map, sampled even without write_map)");
     t.add("verbose", verbose, "progress on stdout");

@@ -35,6 +35,10 @@ void WorldOptions::declare(core::OptionTable& t)
     t.add("ambient", ambient, "", Range::between(0, 10), "irradiance without any light");
     t.add("texture_size_px", texture_size_px, "px", Range::between(32, 2048),
           "side of the procedural albedo textures (a power of two)");
+    t.addEnum("materials", materials, {{"procedural", MaterialSet::procedural}, {"spectral", MaterialSet::spectral}},
+              "procedural: albedo and LiDAR reflectivity share a structure layer by design; spectral: visible albedo "
+              "and ~905 nm reflectance of real surfaces, each with its own texture (spectral_materials.h, "
+              "docs/crossmodal_statistics.md)");
     t.add("shadow_map_px", shadow_map_px, "px", Range::between(0, 4096),
           "cube-map size for light shadows; 0 = no shadows, else >= 64");
     t.add("floor_corridor_length_m", floor.corridor_length_m, "m", Range::between(2, 500),

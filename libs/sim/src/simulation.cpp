@@ -16,6 +16,7 @@
 #include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/kalibr.h>
 #include <quasiloc/sim/floor_world.h>
+#include <quasiloc/sim/material_labels.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/sim/trajectory_spline.h>
 #include <sstream>
@@ -116,7 +117,11 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
       << "and the geometry: " << r.world.min_clearance_m << " m.\n\nFiles:\n"
       << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity "
          "[0,1]\n"
-      << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "") << "  " << o.sequence
+      << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "")
+      << (o.write_map && o.write_map_materials
+              ? "  lidar_map_materials.bin the material of every map point (sim/material_labels.h)\n"
+              : "")
+      << "  " << o.sequence
       << ".rawlog   MRPT rawlog: CObservationStereoImages 'stereo' + CObservationIMU 'imu', time order\n"
       << "  " << o.sequence << "_Images/  raw (distorted) " << rig.left.width << "x" << rig.left.height
       << " 8-bit PNG images referenced by the rawlog\n"
@@ -297,16 +302,22 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     clock = std::chrono::steady_clock::now();
     map::LidarMap lidar_map;
     LidarStats ls;
+    LidarPointInfo point_info;
     if (so.write_map || so.inspection_png)
     {
         timer.enter("lidar map");
-        lidar_map = sampleSurveyMap(world, lo, so.seed, &ls);
+        lidar_map = sampleSurveyMap(world, lo, so.seed, &ls, so.write_map_materials ? &point_info : nullptr);
         timer.leave("lidar map");
     }
     if (so.write_map)
     {
         lidar_map.save((dir / "lidar_map.map").string());
         r.files.push_back((out_final / "lidar_map.map").string());
+        if (so.write_map_materials)
+        {
+            saveMaterialLabels((dir / kMaterialLabelsFile).string(), point_info.material);
+            r.files.push_back((out_final / kMaterialLabelsFile).string());
+        }
         if (lo.beam_map)
         {
             const map::LidarMap beam = sampleBeamMap(world, lo, so.seed);

@@ -9,7 +9,9 @@
 #include <quasiloc/core/trajectory_io.h>
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/dataset/calibration.h>
+#include <quasiloc/sim/material_labels.h>
 #include <quasiloc/sim/simulation.h>
+#include <quasiloc/sim/spectral_materials.h>
 #include <sstream>
 
 using namespace quasiloc;
@@ -205,4 +207,46 @@ TEST(Simulation, BadInputLeavesNoOutput)
     cfg3.write("Simulation", "start_offset_s", 1e4);  // past the end of the trajectory
     EXPECT_THROW(sim::runSimulation(cfg3, "test"), core::InputError);
     EXPECT_FALSE(fs::exists(out));
+}
+
+/** write_map_materials: one material per map point, beside the map; with the spectral set the map's reflectivity per
+ *  material follows the table's near-infrared levels (times the sampler's range and incidence falloff, <= 1). */
+TEST(Simulation, MapMaterialsLabelEveryPointOfTheMap)
+{
+    const fs::path out = fs::temp_directory_path() / "quasiloc_sim_unittest_materials";
+    fs::remove_all(out);
+    auto cfg = shortRun(out.string());
+    cfg.write("Simulation", "duration_s", 0.2);
+    cfg.write("Simulation", "write_map_materials", true);
+    cfg.write("World", "materials", "spectral");
+    cfg.write("Lidar", "beam_map", false);
+    sim::runSimulation(cfg, "test");
+    const map::LidarMap m = map::LidarMap::load((out / "lidar_map.map").string());
+    const std::vector<uint16_t> labels = sim::loadMaterialLabels((out / sim::kMaterialLabelsFile).string(), m.size());
+    std::vector<double> sum(sim::kNumMaterials, 0.0);
+    std::vector<size_t> count(sim::kNumMaterials, 0);
+    for (size_t i = 0; i < labels.size(); ++i)
+    {
+        ASSERT_LT(labels[i], sim::kNumMaterials);
+        sum[labels[i]] += m.reflectivity(i);
+        ++count[labels[i]];
+    }
+    EXPECT_GT(count[sim::kFloorCarpet], 100u);
+    EXPECT_GT(count[sim::kWallPlaster] + count[sim::kConcrete] + count[sim::kCurtain] + count[sim::kWoodPanel], 100u);
+    for (int id = 0; id < sim::kNumMaterials; ++id)
+    {
+        if (count[id] < 200) continue;
+        const double mean = sum[id] / double(count[id]), level = sim::spectralMaterial(uint16_t(id)).nir_reflectance;
+        EXPECT_LT(mean, level * 1.1 + 0.03) << id;  // falloffs only lower it
+        EXPECT_GT(mean, level * 0.4) << id;         // within the room they lower it by less than this
+    }
+    EXPECT_NE(readText(out / "README.txt").find(sim::kMaterialLabelsFile), std::string::npos);
+    fs::remove_all(out);
+    // Without the key no label file is written (the default folder is unchanged).
+    auto plain = shortRun(out.string());
+    plain.write("Simulation", "duration_s", 0.1);
+    plain.write("Lidar", "beam_map", false);
+    sim::runSimulation(plain, "test");
+    EXPECT_FALSE(fs::exists(out / sim::kMaterialLabelsFile));
+    fs::remove_all(out);
 }

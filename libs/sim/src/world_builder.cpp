@@ -275,7 +275,7 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
     WorldStats st;
     w.name = room;
     w.room = roomExtent(gmm, lines);
-    w.materials = makeProceduralMaterials(seed, o.texture_size_px);
+    w.materials = makeMaterials(o.materials, seed, o.texture_size_px);
     w.ambient = static_cast<float>(o.ambient);
     const ClearanceGrid grid(keep_clear, 0.5f);
     addShell(w.room, static_cast<float>(o.max_cell_m), rng, w.mesh);

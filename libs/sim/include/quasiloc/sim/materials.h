@@ -68,6 +68,19 @@ struct MaterialLibrary
 /** Builds every MaterialId material; texture_size_px must be a power of two in [32, 2048]. */
 MaterialLibrary makeProceduralMaterials(uint64_t seed, int texture_size_px = 512);
 
+/** Which materials a world gets ([World] materials):
+ *  procedural: the recipes above (albedo and reflectivity share a structure layer by design);
+ *  spectral:   the same camera textures at the visible albedo of real surfaces, the NIR reflectivity at their
+ *              ~905 nm reflectance with its own texture (spectral_materials.h). */
+enum class MaterialSet
+{
+    procedural,
+    spectral
+};
+
+/** The library of `set` (same seeds, texture sizes and camera patterns in both). */
+MaterialLibrary makeMaterials(MaterialSet set, uint64_t seed, int texture_size_px = 512);
+
 /** Bilinear lookup with wrap-around of a square power-of-two texture; u, v in texels (texel centres at
  *  integers). Inline: the renderer calls it once per pixel. */
 template <typename T>

@@ -1,6 +1,7 @@
 #pragma once
 // sim-rawlog as a library call: one simulated EuRoC-like sequence written into [Simulation] output_dir:
 //   lidar_map.map            the survey LiDAR map (map::LidarMap file), [+ lidar_map_32beam.map]
+//   [lidar_map_materials.bin the material of every survey map point (material_labels.h), with write_map_materials]
 //   <sequence>.rawlog        stereo observations at camera_rate_hz and IMU observations, in time order
 //   <sequence>_Images/       the raw (distorted) 8-bit PNG images
 //   gt.tum                   T_world_cam0 at every camera frame
@@ -59,6 +60,7 @@ struct SimulationOptions : public core::DeclaredOptions
     GroundRobotOptions robot;  ///< motion = ground_robot (keys robot_*)
     double spline_knot_spacing_s = 0.1;
     bool write_map = true;
+    bool write_map_materials = false;
     bool inspection_png = true;
     bool verbose = true;
 

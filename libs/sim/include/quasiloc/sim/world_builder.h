@@ -50,6 +50,7 @@ struct WorldOptions : public core::DeclaredOptions
     double light_intensity = 1.2;
     double ambient = 0.05;
     int texture_size_px = 512;
+    MaterialSet materials = MaterialSet::procedural;
     int shadow_map_px = 512;
     FloorOptions floor;  ///< world = floor only (keys floor_*)
 
