@@ -177,7 +177,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
         pending_.push_back(frame);
         if (frame.timestamp - anchor_->timestamp < options_.velocity_interval_s) return std::nullopt;
     }
-    if (!localize_it) return std::nullopt;
+    if (!localize_it || waitsForMotion()) return std::nullopt;
     InitAttempt attempt;
     attempt.t = frame.timestamp;
     std::string appearance_note;
@@ -235,6 +235,8 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     else if (attempt.note.empty())
         attempt.note = "not localized: " + attempt.result.reason;
     attempt.note += bracketed(appearance_note);
+    ambiguous_standing_ = attempt.result.ambiguous && static_.estimate() && !static_.moved();
+    if (ambiguous_standing_) attempt.note += "; standing still: the next attempt waits for the platform to move";
     attempts_.push_back(attempt);
     return std::nullopt;
 }

@@ -146,7 +146,9 @@ class GlobalInitializer
 
     /** Feeds the next frame; returns the initial state once a pair closes. With localize_it = false the frame only
      *  carries its IMU samples (and is kept among the pending frames): a caller that cannot localize every frame
-     *  (a search behind the tracker) still gives the pair the whole IMU record between its fixes. */
+     *  (a search behind the tracker) still gives the pair the whole IMU record between its fixes. After an
+     *  ambiguous attempt on a platform standing still, no frame is localized until the IMU sees it move: the view
+     *  does not change, nor does the answer. */
     std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool localize_it = true);
 
     const std::vector<InitAttempt>& attempts() const { return attempts_; }
@@ -171,6 +173,8 @@ class GlobalInitializer
                         std::string& note) const;
     /** The IMU samples of the frames after the anchor. */
     std::vector<estimation::ImuMeasurement> pendingSamples() const;
+    /** The last attempt was ambiguous while the platform stood still, and it has not moved since. */
+    bool waitsForMotion() const { return ambiguous_standing_ && !static_.moved(); }
 
     const reloc::GeometricLocalizer& localizer_;
     Eigen::Isometry3d T_body_cam_;
@@ -184,6 +188,7 @@ class GlobalInitializer
     std::vector<InitAttempt> attempts_;
     AppearanceScore appearance_;
     std::optional<SearchPrior> prior_;
+    bool ambiguous_standing_ = false;
 };
 
 }  // namespace quasiloc::tracking
