@@ -79,7 +79,11 @@ StereoGate TrackMonitor::stereoGate() const
     StereoGate g;
     g.min_edge_ratio = options_.stereo_check_min_edge_ratio;
     g.usual_edge_ratio = usual_edge_ratio_;
-    if (options_.stereo_check_max_sigmas <= 0) return g;
+    // Lost, tracked by odometry: the search's prior is the track's position, which the stereo landmarks keep near
+    // the truth; the tracked pose the stereo would be measured against is the doubtful part.
+    const bool odometry = options_.odometry_while_lost && health_ == TrackHealth::Lost;
+    g.map_terms = !odometry;
+    if (options_.stereo_check_max_sigmas <= 0 || odometry) return g;
     if (stereo_held_until_)
         g.max_sigmas = options_.stereo_check_release_sigmas;
     else if (edgesTrusted() && !input_fault_t_)
@@ -122,14 +126,32 @@ void TrackMonitor::frameTracked(const FrameReport& r)
         edgesBecomeSuspect();
     }
     holdStereo(r);
-    // The usual edge fit: over the frames whose stereo was measured and agreed with the map at an edge pose that
-    // fit as usual.
-    if (!std::isnan(r.stereo_map_sigmas) && edgesAsUsual(r) && !r.stereo_rejected)
-    {
-        const double w = options_.usual_edge_ratio_weight;
-        usual_edge_ratio_ =
-            std::isnan(usual_edge_ratio_) ? r.edge_inlier_ratio : (1 - w) * usual_edge_ratio_ + w * r.edge_inlier_ratio;
-    }
+    watchStereoDrift(r);
+    updateUsualFit(r);
+}
+
+void TrackMonitor::watchStereoDrift(const FrameReport& r)
+{
+    if (options_.stereo_drift_ratio <= 0 || std::isnan(r.stereo_map_sigmas) || std::isnan(usual_stereo_sigmas_) ||
+        r.stereo_rejected || r.stereo_map_sigmas <= options_.stereo_drift_ratio * usual_stereo_sigmas_)
+        return;
+    if (!stereo_drifts_)
+        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo points lie "
+             << std::setprecision(1) << r.stereo_map_sigmas << " sigmas from the map (usually " << usual_stereo_sigmas_
+             << "): frames unverified until a check confirms the pose" << std::endl;
+    stereo_drifts_ = true;
+    flagUnverified(r.t - 1e-6);
+}
+
+void TrackMonitor::updateUsualFit(const FrameReport& r)
+{
+    // Over the frames whose stereo was measured and agreed with the map at an edge pose that fit as usual, while
+    // no drift is suspected.
+    if (std::isnan(r.stereo_map_sigmas) || !edgesAsUsual(r) || r.stereo_rejected || stereo_drifts_) return;
+    const double w = options_.usual_edge_ratio_weight;
+    const auto mean = [w](double usual, double x) { return std::isnan(usual) ? x : (1 - w) * usual + w * x; };
+    usual_edge_ratio_ = mean(usual_edge_ratio_, r.edge_inlier_ratio);
+    usual_stereo_sigmas_ = mean(usual_stereo_sigmas_, r.stereo_map_sigmas);
 }
 
 bool TrackMonitor::checkDue(size_t n) const
@@ -137,6 +159,8 @@ bool TrackMonitor::checkDue(size_t n) const
     if (health_ == TrackHealth::Lost || stereo_held_until_) return false;
     return n % size_t(options_.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
 }
+
+double TrackMonitor::checkAlignsBelow() const { return stereo_drifts_ ? 1.0 : options_.lost_explained_ratio; }
 
 CheckOutcome TrackMonitor::checked(const FrameReport& r, const CheckResult& c)
 {
@@ -151,6 +175,7 @@ CheckOutcome TrackMonitor::checked(const FrameReport& r, const CheckResult& c)
     // After a restart at a fix, the stereo that passes the check is the stereo the fix came from: the pose is
     // confirmed only when the edges (the left image alone) fit as usual too.
     if (health_ == TrackHealth::Restarted && !edgesAsUsual(r)) return CheckOutcome::PassedUnconfirmed;
+    stereo_drifts_ = false;
     health_ = TrackHealth::Verified;
     closeUnverified(r.t);
     last_verified_t_ = r.t;
@@ -161,7 +186,10 @@ bool TrackMonitor::lostByMisses(const FrameReport& r) const { return r.alignment
 
 bool TrackMonitor::lossDue(const FrameReport& r) const
 {
-    return health_ != TrackHealth::Lost && (lostByMisses(r) || failed_checks_ >= options_.lost_after_failed_checks);
+    const bool unconfirmed_restart = health_ == TrackHealth::Restarted && options_.lost_unconfirmed_restart_s > 0 &&
+                                     r.t - restarted_at_t_ > options_.lost_unconfirmed_restart_s;
+    return health_ != TrackHealth::Lost &&
+           (lostByMisses(r) || failed_checks_ >= options_.lost_after_failed_checks || unconfirmed_restart);
 }
 
 void TrackMonitor::searchBegun()
@@ -180,11 +208,13 @@ void TrackMonitor::fixFound(double t_fix, bool agrees_with_track)
     if (agrees_with_track)
     {
         health_ = before_loss_ == TrackHealth::Doubted ? TrackHealth::Verified : before_loss_;
+        if (health_ == TrackHealth::Restarted) restarted_at_t_ = t_fix;  // a second fix agrees: time to confirm anew
         return;
     }
     // A restart rests on one fix of the stereo geometry (wrong when the stereo is, e.g. desynchronized): the track
     // from it is unverified until a check confirms it.
     health_ = TrackHealth::Restarted;
+    restarted_at_t_ = t_fix;
     flagUnverified(t_fix);
 }
 

@@ -271,6 +271,85 @@ TEST(TrackMonitor, TheUsualEdgeFitIsARunningMeanOverAgreeingFrames)
     EXPECT_DOUBLE_EQ(h.monitor.stereoGate().usual_edge_ratio, usual);
 }
 
+TEST(TrackMonitor, AStereoDriftingFromTheMapIsCheckedByAligningUntilACheckPasses)
+{
+    // Usual stereo at 1 sigma; at 2.5 (above stereo_drift_ratio 2 x usual, below the gate's 3) the pose may be
+    // drifting where the explained share stays high: unverified, and every check aligns until one passes.
+    TrackMonitorOptions o = testOptions();
+    o.stereo_drift_ratio = 2;
+    Harness h(o);
+    const double align_below = h.options.lost_explained_ratio;
+    start(0)(h);
+    frame({0.1, true, 1.0})(h);
+    EXPECT_EQ(h.monitor.health(), H::Verified);
+    EXPECT_DOUBLE_EQ(h.monitor.checkAlignsBelow(), align_below);
+    frame({0.2, true, 2.5})(h);
+    EXPECT_EQ(h.monitor.health(), H::Doubted);
+    EXPECT_TRUE(h.monitor.checkDue(h.n));
+    EXPECT_DOUBLE_EQ(h.monitor.checkAlignsBelow(), 1.0);
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().max_sigmas, 3);  // the stereo stays in: it is what pulls the pose back
+    check(0.95, 0.97)(h);                                    // aligning gains little: the pose holds
+    EXPECT_EQ(h.monitor.health(), H::Verified);
+    EXPECT_DOUBLE_EQ(h.monitor.checkAlignsBelow(), align_below);
+    frame({0.3, true, 2.5})(h);  // the drifting frame did not raise the usual distance
+    EXPECT_EQ(h.monitor.health(), H::Doubted);
+    check(0.80, 0.95)(h);
+    frame({0.4, true, 2.6})(h);
+    check(0.80, 0.96)(h);
+    EXPECT_TRUE(h.monitor.lossDue(h.last));
+    ended()(h);
+    ASSERT_EQ(h.stretches.size(), 2u);
+    EXPECT_NEAR(h.stretches[0].first, 0.2, 1e-5);
+    EXPECT_EQ(h.stretches[0].second, 0.2);
+    EXPECT_EQ(h.stretches[1].first, 0.2);  // from the last confirmed pose
+    EXPECT_EQ(h.outcomes,
+              (std::vector<CheckOutcome>{CheckOutcome::Passed, CheckOutcome::Failed, CheckOutcome::Failed}));
+}
+
+TEST(TrackMonitor, ARestartNoCheckConfirmsIsLostAgain)
+{
+    // Restarted at a fix whose frames' edges keep fitting worse than usual: the checks pass unconfirmed, and after
+    // lost_unconfirmed_restart_s (3 s) the restart is a loss; a fix that agrees gives it another 3 s.
+    TrackMonitorOptions o = testOptions();
+    o.lost_unconfirmed_restart_s = 3;
+    runTable(o,
+             {
+                 {"start", start(0), H::Verified, 3, false, false},
+                 {"usual edges 0.5", frame({0.1, true, 1.0, 0.5}), H::Verified, 3, false, false},
+                 {"miss 1", frame({0.2, false, 1.0, 0.5, 1}), H::EdgesSuspect, 0, true, false},
+                 {"miss 2", frame({0.3, false, 1.0, 0.5, 2}), H::EdgesSuspect, 0, true, false},
+                 {"miss 3: lost", frame({0.4, false, 1.0, 0.5, 3}), H::EdgesSuspect, 0, true, true},
+                 {"search", searchBegun(), H::Lost, 0, false, false},
+                 {"restart at 0.5", fix(0.5, false), H::Restarted, 0, true, false},
+                 {"poor edges at 1.0", frame({1.0, true, 1.0, 0.3}), H::Restarted, 0, true, false},
+                 {"passes unconfirmed", check(0.9, 0.9), H::Restarted, 0, true, false},
+                 {"poor edges at 3.5", frame({3.5, true, 1.0, 0.3}), H::Restarted, 0, true, false},
+                 {"poor edges at 3.6: unconfirmed 3.1 s", frame({3.6, true, 1.0, 0.3}), H::Restarted, 0, true, true},
+                 {"search", searchBegun(), H::Lost, 0, false, false},
+                 {"a fix at 3.7 agrees", fix(3.7, true), H::Restarted, 0, false, false},
+                 {"poor edges at 6.6", frame({6.6, true, 1.0, 0.3}), H::Restarted, 0, false, false},
+                 {"poor edges at 6.8", frame({6.8, true, 1.0, 0.3}), H::Restarted, 0, true, true},
+             },
+             {{0.0, 0.5}, {0.5, 3.7}}, {CheckOutcome::PassedUnconfirmed});
+}
+
+TEST(TrackMonitor, ALostTrackIsTrackedByOdometryWithTheStereoUngated)
+{
+    TrackMonitorOptions o = testOptions();
+    o.odometry_while_lost = true;
+    Harness h(o);
+    start(0)(h);
+    frame({0.1})(h);
+    EXPECT_TRUE(h.monitor.stereoGate().map_terms);
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().max_sigmas, 3);
+    searchBegun()(h);
+    EXPECT_FALSE(h.monitor.stereoGate().map_terms);
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().max_sigmas, 0);
+    fix(0.3, true)(h);  // withdrawn: the map terms and the gate return
+    EXPECT_TRUE(h.monitor.stereoGate().map_terms);
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().max_sigmas, 3);
+}
+
 TEST(TrackMonitor, RejectsInconsistentOptions)
 {
     TrackMonitorOptions o;

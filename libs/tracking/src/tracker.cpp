@@ -289,8 +289,8 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     rep.standing = updateStandstill(frame);
     estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     const estimation::FrameState predicted = predict(frame, imu, rep);
-    rep.keyframe =
-        options_.map_updates && options_.map_term != MapTerm::None && frames_ % size_t(options_.keyframe_every) == 0;
+    rep.keyframe = gate.map_terms && options_.map_updates && options_.map_term != MapTerm::None &&
+                   frames_ % size_t(options_.keyframe_every) == 0;
 
     // 2. The frame's measurement starts on the measurement stage's thread; meanwhile the map alignment on keyframes
     // (its model stays alive until the window has used it).
@@ -305,7 +305,7 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     const FrameMeasurement& m = *result.measurement;
     if (rep.keyframe) rep.ms_image = m.ms_edge_field;
     const bool stereo_ok = gateStereo(m, alignment, gate, rep);
-    addVisualTerms(frame, result.measurement, alignment, stereo_ok, in, rep);
+    addVisualTerms(frame, result.measurement, alignment, stereo_ok, gate.map_terms, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;
 
     // 4. The two-frame window.

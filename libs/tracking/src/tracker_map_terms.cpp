@@ -213,7 +213,8 @@ bool Tracker::gateStereo(const FrameMeasurement& m, const MapAlignment& a, const
 }
 
 void Tracker::addVisualTerms(const dataset::StereoFrame& frame, const std::shared_ptr<const FrameMeasurement>& m,
-                             const MapAlignment& a, bool stereo_ok, estimation::WindowInput& in, FrameReport& rep)
+                             const MapAlignment& a, bool stereo_ok, bool map_terms, estimation::WindowInput& in,
+                             FrameReport& rep)
 {
     const MapFactorOptions& f = options_.factors;
     const bool points = options_.temporal_landmarks;
@@ -221,7 +222,8 @@ void Tracker::addVisualTerms(const dataset::StereoFrame& frame, const std::share
     if (a.T_world_cam && f.map_points && points) addMapPoints(frame, m->left, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_lines)
         addMapLines(m->lines, a.map_lines, *a.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
-    if (points && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok) addStereoMapTerm(*m, in);
+    if (points && map_terms && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok)
+        addStereoMapTerm(*m, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
     // A frame whose stereo was left out is not the next frame's landmarks either: they start again from the next
     // good frame.

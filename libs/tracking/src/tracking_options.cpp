@@ -158,9 +158,15 @@ void TrackMonitorOptions::declare(core::OptionTable& t)
     t.add("stereo_check_min_edge_ratio", stereo_check_min_edge_ratio, "", Range::atLeast(0),
           "the check trusts the edge-aligned pose only when its inlier ratio is at least this share of the usual one "
           "(aligned from a wrong pose the edges fit worse: then the stereo is believed)");
+    t.add("usual_edge_ratio_weight", usual_edge_ratio_weight, "", Range::strictlyBetween(0, 1),
+          "the usual edge inlier ratio and stereo distance to the map are running means over the frames whose stereo "
+          "agreed, the newest weighing this");
     t.add(
-        "usual_edge_ratio_weight", usual_edge_ratio_weight, "", Range::strictlyBetween(0, 1),
-        "the usual edge inlier ratio is a running mean over the frames whose stereo agreed, the newest weighing this");
+        "stereo_drift_ratio", stereo_drift_ratio, "", Range::atLeast(0),
+        "a frame whose stereo lies this many times farther from the map than usual (in point sigmas, the same "
+        "running mean) is unverified and every check aligns the stereo until one passes: a pose drifting where "
+        "the check's explained share stays high (along a corridor) is found; 0: no watch (the default: measured on the "
+        "simulated ground robot only, docs/benchmarks.md)");
     t.add("check_every", check_every, "frames", Range::atLeast(1), "the geometry check of the tracked pose");
     t.add("lost_explained_ratio", lost_explained_ratio, "", Range::fromUpTo(0, 1),
           "a check that explains this share of the stereo points confirms the pose");
@@ -175,6 +181,14 @@ void TrackMonitorOptions::declare(core::OptionTable& t)
           "this many failed checks in a row mark the track lost");
     t.add("lost_after_misses", lost_after_misses, "frames", Range::atLeast(1),
           "this many rejected map alignments in a row mark the track lost");
+    t.add("odometry_while_lost", odometry_while_lost,
+          "while lost, frames are tracked by odometry alone (IMU and stereo landmarks, no map term): the map terms at "
+          "a doubtful pose pull the track, and the search's prior, into a wrong place (off by default: measured on the "
+          "simulated ground robot only)");
+    t.add("lost_unconfirmed_restart_s", lost_unconfirmed_restart_s, "s", Range::atLeast(0),
+          "a restart at a fix that no check has confirmed after this long is a loss (a single fix in a view that "
+          "explains many places can be the wrong one, and the stereo of that view then passes every check); 0: never "
+          "(the default: measured on the simulated ground robot only)");
 }
 
 void TrackMonitorOptions::check(const std::string& input) const

@@ -320,7 +320,7 @@ double TrackingSession::checkTrack(const dataset::StereoFrame& f, const TrackSte
     if (!search_ || !monitor_.checkDue(number)) return NAN;
     const FrameReport& r = step.report;
     const auto t0 = std::chrono::steady_clock::now();
-    const auto c = starter_->checkTrack(f, r.T_world_cam0, options_.monitor.lost_explained_ratio, step.denseCloud());
+    const auto c = starter_->checkTrack(f, r.T_world_cam0, monitor_.checkAlignsBelow(), step.denseCloud());
     ms = msSince(t0);
     const CheckOutcome outcome = monitor_.checked(r, {c.explained, c.refined, c.refined_explained});
     if (c.refined)

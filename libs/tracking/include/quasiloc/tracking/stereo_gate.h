@@ -17,6 +17,9 @@ struct StereoGate
     double min_edge_ratio = 0;
     /** The usual edge inlier ratio (NaN: none yet, the edges count as usual). */
     double usual_edge_ratio = NAN;
+    /** False while the track is lost: the frame is tracked by odometry alone (IMU and stereo landmarks), since the
+     *  map terms at a doubtful pose pull it into a wrong place's optimum and the search's prior with it. */
+    bool map_terms = true;
 
     bool edgesAsUsual(double edge_inlier_ratio) const
     {

@@ -3,21 +3,27 @@
 // decides from it. It sees no image: it is driven by the tracker's frame reports, the loss check's results, the
 // relocalization's fixes and the input's faults, and it is unit-tested from tables of such events.
 //
-//   health        Verified -> Doubted        a check failed, or the stereo was left out (the edge pose still trusted)
+//   health        Verified -> Doubted        a check failed, the stereo was left out, or the stereo drifts from the
+//                                            map (stereo_drift_ratio times its usual distance; the edge pose still
+//                                            trusted)
 //                 Verified/Doubted
 //                          -> EdgesSuspect   an input fault, or a keyframe whose map alignment was rejected: the
 //                                            edge-aligned pose may be the wrong one
 //                 any      -> Verified       a check passed (in Restarted: on a frame whose edges fit as usual)
 //                 any      -> Lost           lost_after_failed_checks failed checks, or lost_after_misses rejected
-//                                            map alignments, in a row: a relocalization search begins
+//                                            map alignments, in a row, or a restart unconfirmed after
+//                                            lost_unconfirmed_restart_s: a relocalization search begins
 //                 Lost     -> (as before)    a fix agrees with the track: the loss is withdrawn
 //                 Lost     -> Restarted      a fix disagrees: the tracker restarts at it
 //   stereo gate   the bound the next frame's stereo is gated with (stereo_gate.h): stereo_check_max_sigmas while
 //                 the edge pose is trusted; stereo_check_release_sigmas while the stereo is held (rejected within
 //                 stereo_check_hold_s); none when the edge pose is suspect or an input fault is pending (after a
-//                 gap or a restart the stereo is what brings the track back).
+//                 gap or a restart the stereo is what brings the track back), nor while Lost with
+//                 odometry_while_lost (the map terms are off then, and the stereo landmarks keep the track, the
+//                 search's prior, near the truth).
 //   loss check    due every check_every frames, and on every frame while the track is unverified or a check has
-//                 failed; not while Lost or while the stereo is held (the check weighs the same stereo).
+//                 failed; not while Lost or while the stereo is held (the check weighs the same stereo). It aligns
+//                 the stereo to the map when too little of it is explained, and always while the stereo drifts.
 //   unverified    the stretches of the track no check confirmed, handed to the log as they close: from an input
 //                 fault, a missed map update, a held stereo or a restart to the next passed check; from the last
 //                 confirmed pose to a failed check's pass or to the fix that ended a loss (or to the end).
@@ -89,6 +95,8 @@ class TrackMonitor
     StereoGate stereoGate() const;
     /** Frame number n (counted from the start) is to be checked. */
     bool checkDue(size_t n) const;
+    /** The check aligns the stereo to the map when less than this share of it is explained. */
+    double checkAlignsBelow() const;
     /** The track is lost after frame r: a search is to begin. */
     bool lossDue(const FrameReport& r) const;
     /** Frame r's map alignments have been rejected lost_after_misses times in a row (the diagnostics' `lost`). */
@@ -107,6 +115,10 @@ class TrackMonitor
     void flagUnverified(double after_t);
     void closeUnverified(double up_to_t);
     void holdStereo(const FrameReport& r);
+    /** Frame r's stereo lies farther from the map than usual: unverified, and checks align until one passes. */
+    void watchStereoDrift(const FrameReport& r);
+    /** The running means of the edge fit and the stereo's distance to the map, over frames that agree. */
+    void updateUsualFit(const FrameReport& r);
 
     TrackMonitorOptions options_;
     std::ostream& out_;
@@ -117,7 +129,10 @@ class TrackMonitor
     std::optional<double> input_fault_t_;              ///< the frame read after an input fault, until it is tracked
     std::optional<double> stereo_held_until_;          ///< the stereo was left out: held until then
     double last_verified_t_ = 0;
-    int failed_checks_ = 0;  ///< in a row
+    double restarted_at_t_ = 0;  ///< the fix the track restarted at (Restarted)
+    int failed_checks_ = 0;      ///< in a row
     double usual_edge_ratio_ = NAN;
+    double usual_stereo_sigmas_ = NAN;
+    bool stereo_drifts_ = false;  ///< until a check passes
 };
 }  // namespace quasiloc::tracking

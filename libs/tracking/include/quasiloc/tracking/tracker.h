@@ -134,9 +134,10 @@ class Tracker
     bool gateStereo(const FrameMeasurement& m, const MapAlignment& a, const StereoGate& gate, FrameReport& rep) const;
     /** The factors on the frame's measurement: planes, points, lines, surfaces, landmarks. Without `stereo_ok` the
      *  stereo's factors (planes, surfaces, landmarks) are left out, and the frame's stereo is not the next frame's
-     *  landmarks either. */
+     *  landmarks either; without `map_terms` the stereo's distance to the map is left out. */
     void addVisualTerms(const dataset::StereoFrame& frame, const std::shared_ptr<const FrameMeasurement>& m,
-                        const MapAlignment& a, bool stereo_ok, estimation::WindowInput& in, FrameReport& rep);
+                        const MapAlignment& a, bool stereo_ok, bool map_terms, estimation::WindowInput& in,
+                        FrameReport& rep);
     /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
     void addStereoMapTerm(const FrameMeasurement& m, estimation::WindowInput& in) const;
     /** The points that term and the stereo gate use (the dense cloud, or the sparse matches) with their sigmas. */

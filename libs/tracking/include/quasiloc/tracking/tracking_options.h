@@ -118,10 +118,13 @@ struct TrackMonitorOptions : public core::DeclaredOptions
     double stereo_check_max_sigmas = 3, stereo_check_release_sigmas = 2, stereo_check_hold_s = 2;
     double stereo_check_min_edge_ratio = 0.8;
     double usual_edge_ratio_weight = 0.05;
+    double stereo_drift_ratio = 0;
     int check_every = 5;
     double lost_explained_ratio = 0.7, lost_min_gain = 0.05, lost_explained_floor = 0.45;
     int lost_after_failed_checks = 2;
     int lost_after_misses = 20;
+    double lost_unconfirmed_restart_s = 0;
+    bool odometry_while_lost = false;
     double input_gap_s = 0.15;  ///< three frame periods at 20 Hz
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;
