@@ -89,7 +89,10 @@ TEST(RobotMotion, SpeedBoundsPlanarityStopsAndTurnsInPlace)
         EXPECT_GT(max_tilt, 0.1 * kDeg) << seed;
         // Stop-and-go: a stop at every waypoint, and waits of at least robot_stop_min_s where one was drawn;
         // turns in place (at zero speed).
-        if (run.motion.stops > 0) EXPECT_GE(longest_wait, o.stop_min_s - 1e-9) << seed;
+        if (run.motion.stops > 0)
+        {
+            EXPECT_GE(longest_wait, o.stop_min_s - 1e-9) << seed;
+        }
         EXPECT_GT(turn_samples, 100u) << seed;
         EXPECT_GE(run.motion.turns_in_place, 3u) << seed;
         EXPECT_GE(run.motion.rooms_visited, 1u) << seed;
