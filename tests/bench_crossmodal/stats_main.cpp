@@ -230,13 +230,7 @@ const char* kUsage =
 
 int run(const core::CommandLine& cmd_in)
 {
-    core::CommandLine cmd = cmd_in;
-    if (cmd.config_path.empty() && !cmd.flags.empty())
-    {
-        cmd.config_path = cmd.flags.front();
-        cmd.flags.erase(cmd.flags.begin());
-    }
-    for (const auto& f : cmd.flags) throw core::InputError("command line", "unexpected argument '" + f + "'");
+    const core::CommandLine cmd = core::withOptionalConfig(cmd_in);
     const mrpt::config::CConfigFileMemory cfg = core::loadConfig(cmd);
     const std::string name = cmd.config_path.empty() ? "command line" : cmd.config_path;
     StatsOptions b;

@@ -29,6 +29,17 @@ std::string lower(std::string s)
 }
 }  // namespace
 
+CommandLine withOptionalConfig(CommandLine cmd)
+{
+    if (cmd.config_path.empty() && !cmd.flags.empty())
+    {
+        cmd.config_path = cmd.flags.front();
+        cmd.flags.erase(cmd.flags.begin());
+    }
+    for (const auto& f : cmd.flags) throw InputError("command line", "unexpected argument '" + f + "'");
+    return cmd;
+}
+
 CommandLine parseCommandLine(int argc, char** argv, bool config_required)
 {
     CommandLine cmd;

@@ -141,3 +141,15 @@ TEST(StagedOutputs, CommitReplacesAnExistingOutput)
     EXPECT_EQ(s, "two");
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1);
 }
+
+TEST(ProgramOptions, AnOptionalConfigIsTheFirstPlainArgumentAndNothingElseIsAccepted)
+{
+    CommandLine cmd;
+    EXPECT_TRUE(withOptionalConfig(cmd).config_path.empty());
+    cmd.flags = {"bench.ini"};
+    const CommandLine with = withOptionalConfig(cmd);
+    EXPECT_EQ(with.config_path, "bench.ini");
+    EXPECT_TRUE(with.flags.empty());
+    cmd.flags = {"bench.ini", "extra"};
+    EXPECT_THROW(withOptionalConfig(cmd), InputError);
+}

@@ -131,13 +131,7 @@ int run(const quasiloc::core::CommandLine& cmd_in)
 {
     using namespace quasiloc;
     // The INI file is optional: the first plain argument, if any.
-    core::CommandLine cmd = cmd_in;
-    if (cmd.config_path.empty() && !cmd.flags.empty())
-    {
-        cmd.config_path = cmd.flags.front();
-        cmd.flags.erase(cmd.flags.begin());
-    }
-    for (const auto& f : cmd.flags) throw core::InputError("command line", "unexpected argument '" + f + "'");
+    const core::CommandLine cmd = core::withOptionalConfig(cmd_in);
     const mrpt::config::CConfigFileMemory cfg = core::loadConfig(cmd);  // overrides alone without an INI file
     const std::string name = cmd.config_path.empty() ? "command line" : cmd.config_path;
     bench::BenchOptions bench;

@@ -27,6 +27,10 @@ struct CommandLine
 /** Parses argv. If `config_required`, the first positional argument must be an INI file. */
 CommandLine parseCommandLine(int argc, char** argv, bool config_required = true);
 
+/** For a program whose INI file is optional: the first plain argument, if any, is the INI file; any further plain
+ *  argument is an InputError. */
+CommandLine withOptionalConfig(CommandLine cmd);
+
 /** Reads the INI file (InputError if missing or unreadable) and applies the overrides.
  *  A malformed override ("--set foo", "--set .k=v") is an InputError. */
 mrpt::config::CConfigFileMemory loadConfig(const CommandLine& cmd);
