@@ -110,6 +110,10 @@ void AppearanceOptions::check(const std::string& in) const { checkRanges(in); }
 
 void LidarOptions::declare(core::OptionTable& t)
 {
+    t.addEnum("map_source", map_source, {{"exact", MapSource::exact}, {"sweeps", MapSource::sweeps}},
+              "exact: points sampled on the true surfaces from survey stations (the keys below up to beam_*); "
+              "sweeps: the map a user builds: simulated LiDAR sweeps of a mapping run (keys sweep_*, rosette_*) "
+              "fused by map-build with carving and ring/range normalisation (lidar_sweeps.h, docs/sim-rawlog.md)");
     t.add("density_per_m2", density_per_m2, "1/m^2", Range::between(1, 1e6), "points sampled per square metre");
     t.add("range_noise_mm", range_noise_mm, "mm", Range::between(0, 1000),
           "survey-grade range noise along the ray from the station that sees the point");
@@ -131,6 +135,57 @@ void LidarOptions::declare(core::OptionTable& t)
           "32-beam map: highest beam (>= beam_min_elevation_deg)");
     t.add("beam_range_noise_mm", beam_range_noise_mm, "mm", Range::between(0, 1000),
           "32-beam map: the beam sensor's range noise");
+    addSweepKeys(t);
+}
+
+void LidarOptions::addSweepKeys(core::OptionTable& t)
+{
+    t.addEnum("sweep_pattern", sweep_pattern,
+              {{"spinning", SweepPattern::spinning}, {"rosette", SweepPattern::rosette}},
+              "sweeps: spinning multi-beam LiDAR (sweep_beams rings), or a Livox-like forward-looking "
+              "non-repetitive rosette (two counter-rotating prisms, one emitter)");
+    t.add("sweep_beams", sweep_beams, "", Range::between(1, 128), "spinning: beams (rings), e.g. 32 or 64");
+    t.add("sweep_azimuth_steps", sweep_azimuth_steps, "", Range::between(16, 100000),
+          "spinning: firings per beam and turn (1800 = 0.2 deg)");
+    t.add("sweep_min_elevation_deg", sweep_min_elevation_deg, "deg", Range::between(-89, 89),
+          "spinning: lowest beam (beams evenly spread up to sweep_max_elevation_deg)");
+    t.add("sweep_max_elevation_deg", sweep_max_elevation_deg, "deg", Range::between(-89, 89),
+          "spinning: highest beam (>= sweep_min_elevation_deg)");
+    t.add("sweep_tilt_deg", sweep_tilt_deg, "deg", Range::between(-90, 90),
+          "mount pitch of the mapping LiDAR (a handheld mapper's tilt, so that the ceiling and floor are swept)");
+    t.add("sweep_rate_hz", sweep_rate_hz, "Hz", Range::between(1, 50), "sweeps (frames) per second");
+    t.add("sweep_every", sweep_every, "", Range::between(1, 100),
+          "every N-th sweep of the run goes to map-build (as KITTI's velodyne_even), to bound generation time");
+    t.add("rosette_points_per_s", rosette_points_per_s, "1/s", Range::between(1000, 2e6), "rosette: point rate");
+    t.add("rosette_fov_deg", rosette_fov_deg, "deg", Range::between(5, 120), "rosette: circular field of view");
+    t.add("sweep_speed_m_s", sweep_speed_m_s, "m/s", Range::between(0.05, 5), "walking speed of the mapping run");
+    t.add("sweep_min_height_m", sweep_min_height_m, "m", Range::between(0.2, 3),
+          "the mapping LiDAR's height above the floor varies between this and sweep_max_height_m");
+    t.add("sweep_max_height_m", sweep_max_height_m, "m", Range::between(0.2, 3), "(>= sweep_min_height_m)");
+    t.add("sweep_range_noise_mm", sweep_range_noise_mm, "mm", Range::between(0, 1000),
+          "std of the range noise of a return");
+    t.add("sweep_divergence_mrad", sweep_divergence_mrad, "mrad", Range::between(0, 50),
+          "full beam divergence: a footprint straddling a depth edge returns a mixed range");
+    t.add("sweep_mixed_max_gap_m", sweep_mixed_max_gap_m, "m", Range::between(0, 100),
+          "footprint depths further apart than this give the nearer return, not a mixed one");
+    t.add("sweep_ring_gain_error", sweep_ring_gain_error, "", Range::between(0, 1),
+          "std of the log of each ring's intensity gain (per-ring calibration error)");
+    t.add("sweep_glass_panes", sweep_glass_panes, "", Range::between(0, 50),
+          "window panes in the outer walls that return nothing to the LiDAR (the camera sees the wall as before)");
+    t.add("sweep_people", sweep_people, "", Range::between(0, 50),
+          "people walking back and forth while mapping (absent from the camera sequence)");
+    t.add("sweep_furniture", sweep_furniture, "", Range::between(0, 50),
+          "chairs, tables and cabinets present while mapping (half of them moved half-way through the run), gone "
+          "when the camera sequence runs");
+    t.add("sweep_drift_m", sweep_drift_m, "m", Range::between(0, 1),
+          "largest position error of the mapping poses handed to map-build (LiDAR-inertial drift, pulled back at "
+          "loop closures)");
+    t.add("sweep_drift_deg", sweep_drift_deg, "deg", Range::between(0, 10),
+          "largest orientation error of the mapping poses");
+    t.add("sweep_voxel_m", sweep_voxel_m, "m", Range::between(0.005, 1), "map-build voxel_size_m");
+    t.add("sweep_min_range_m", sweep_min_range_m, "m", Range::between(0, 100), "map-build min_range_m");
+    t.add("sweep_cubemap_px", sweep_cubemap_px, "px", Range::between(64, 4096),
+          "side of the per-sweep cube map the beams are cast through (1024: 0.09 deg at a face's centre)");
 }
 
 void LidarOptions::check(const std::string& in) const
@@ -138,6 +193,10 @@ void LidarOptions::check(const std::string& in) const
     checkRanges(in);
     core::require(beam_max_elevation_deg >= beam_min_elevation_deg, in + " beam_max_elevation_deg",
                   "must be >= beam_min_elevation_deg");
+    core::require(sweep_max_elevation_deg >= sweep_min_elevation_deg, in + " sweep_max_elevation_deg",
+                  "must be >= sweep_min_elevation_deg");
+    core::require(sweep_max_height_m >= sweep_min_height_m, in + " sweep_max_height_m",
+                  "must be >= sweep_min_height_m");
 }
 
 }  // namespace quasiloc::sim

@@ -16,6 +16,7 @@
 #include <quasiloc/dataset/calibration.h>
 #include <quasiloc/dataset/kalibr.h>
 #include <quasiloc/sim/floor_world.h>
+#include <quasiloc/sim/lidar_sweeps.h>
 #include <quasiloc/sim/material_labels.h>
 #include <quasiloc/sim/simulation.h>
 #include <quasiloc/sim/trajectory_spline.h>
@@ -95,8 +96,8 @@ std::string imuBiasCsv(const SimulatedImu& imu, const std::string& sequence)
     return text;
 }
 
-std::string readme(const SimulationOptions& o, const WorldOptions& wo, const SimulationResult& r, bool beam,
-                   const core::StereoRig& rig)
+std::string readme(const SimulationOptions& o, const WorldOptions& wo, const LidarOptions& lo,
+                   const SimulationResult& r, bool beam, const core::StereoRig& rig)
 {
     std::ostringstream s;
     if (o.motion == MotionSource::ground_robot)
@@ -115,8 +116,12 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Sim
       << " IMU samples.\nIMU: " << r.imu_description << ".\nMap: " << r.map_points
       << " points. Minimum clearance between the room's trajectories\n"
       << "and the geometry: " << r.world.min_clearance_m << " m.\n\nFiles:\n"
-      << "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = reflectivity "
-         "[0,1]\n"
+      << (lo.map_source == MapSource::sweeps
+              ? "  lidar_map.map        LiDAR map built by map-build from simulated sweeps of a mapping run "
+                "(lidar_sweeps.h):\n                       MRPT CPointsMapXYZI (map::LidarMap), intensity = "
+                "reflectivity [0,1]\n"
+              : "  lidar_map.map        survey LiDAR map: MRPT CPointsMapXYZI (map::LidarMap), intensity = "
+                "reflectivity [0,1]\n")
       << (beam ? "  lidar_map_32beam.map sparse 32-beam-like variant of the map\n" : "")
       << (o.write_map && o.write_map_materials
               ? "  lidar_map_materials.bin the material of every map point (sim/material_labels.h)\n"
@@ -303,7 +308,23 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     map::LidarMap lidar_map;
     LidarStats ls;
     LidarPointInfo point_info;
-    if (so.write_map || so.inspection_png)
+    const bool swept = lo.map_source == MapSource::sweeps;
+    core::require(!(swept && so.write_map_materials), config_name + " [Simulation] write_map_materials",
+                  "is for the exact map only ([Lidar] map_source = exact): a swept map's points are voxel means");
+    std::string map_summary;
+    if ((so.write_map || so.inspection_png) && swept)
+    {
+        timer.enter("lidar map (sweeps)");
+        std::vector<Eigen::Vector3f> waypoints;
+        if (robot)  // a tour of the floor, at least two minutes of the robot's driving long
+            for (const Eigen::Vector2d& w : planFloorTour(*motion.floor, so.robot, 120.0, so.seed ^ 0x3A9ull))
+                waypoints.emplace_back(float(w.x()), float(w.y()), 0.f);
+        const SweptMap swept_map = buildSweptMap(world, waypoints, lo, so.seed, (out_final / "lidar_map.map").string());
+        timer.leave("lidar map (sweeps)");
+        lidar_map = swept_map.build.map;
+        map_summary = swept_map.summary();
+    }
+    else if (so.write_map || so.inspection_png)
     {
         timer.enter("lidar map");
         lidar_map = sampleSurveyMap(world, lo, so.seed, &ls, so.write_map_materials ? &point_info : nullptr);
@@ -328,9 +349,12 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     }
     r.map_points = lidar_map.size();
     r.map_time_s = seconds(clock);
-    log("LiDAR map: " + std::to_string(r.map_points) + " points of " + std::to_string(ls.sampled) + " sampled (" +
-        std::to_string(ls.not_visible) + " not seen by any of " + std::to_string(ls.stations.size()) + " stations), " +
-        std::to_string(r.map_time_s) + " s");
+    if (swept)
+        log("LiDAR map: " + map_summary + " (" + std::to_string(r.map_time_s) + " s in all)");
+    else
+        log("LiDAR map: " + std::to_string(r.map_points) + " points of " + std::to_string(ls.sampled) + " sampled (" +
+            std::to_string(ls.not_visible) + " not seen by any of " + std::to_string(ls.stations.size()) +
+            " stations), " + std::to_string(r.map_time_s) + " s");
 
     // Rawlog: IMU samples interleaved in time order with the rendered stereo frames.
     const std::string rawlog_path = (dir / (so.sequence + ".rawlog")).string();
@@ -422,7 +446,8 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         r.files.push_back((out_final / "inspection.png").string());
     }
     r.total_time_s = seconds(t_total);
-    core::writeTextFileAtomically((dir / "README.txt").string(), readme(so, wo, r, lo.beam_map && so.write_map, rig));
+    core::writeTextFileAtomically((dir / "README.txt").string(),
+                                  readme(so, wo, lo, r, lo.beam_map && so.write_map, rig));
     r.files.push_back((out_final / "README.txt").string());
     staged.commit();
     return r;

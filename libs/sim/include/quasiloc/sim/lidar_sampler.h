@@ -14,6 +14,8 @@
 // Sparse variant ("32-beam"): scans of a 32-beam spinning LiDAR (elevations evenly spread over
 // [beam_min_elevation_deg, beam_max_elevation_deg], beam_azimuth_steps per turn) from beam_num_scans
 // stations, cast through the same cube maps, with the beam sensor's own (cm-level) range noise.
+// Swept map (map_source = sweeps, keys sweep_*): the map a user builds, from the sweeps of a mapping run through
+// map-build (lidar_sweeps.h).
 #include <Eigen/Core>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/lidar_map.h>
@@ -22,9 +24,24 @@
 
 namespace quasiloc::sim
 {
+/** Where the sequence's lidar_map.map comes from: the exact survey sampler, or map-build over simulated sweeps. */
+enum class MapSource
+{
+    exact,
+    sweeps
+};
+
+/** The mapping LiDAR's scan pattern: a spinning multi-beam LiDAR, or a Livox-like non-repetitive rosette. */
+enum class SweepPattern
+{
+    spinning,
+    rosette
+};
+
 /** Section [Lidar]; each key's unit, range and meaning: declare() (sim_options.cpp). */
 struct LidarOptions : public core::DeclaredOptions
 {
+    MapSource map_source = MapSource::exact;
     double density_per_m2 = 6000;
     double range_noise_mm = 2.0;
     int num_stations = 5;
@@ -40,9 +57,37 @@ struct LidarOptions : public core::DeclaredOptions
     double beam_min_elevation_deg = -30.67;
     double beam_max_elevation_deg = 10.67;
     double beam_range_noise_mm = 20.0;
+    SweepPattern sweep_pattern = SweepPattern::spinning;
+    int sweep_beams = 32;
+    int sweep_azimuth_steps = 1800;
+    double sweep_min_elevation_deg = -25.0;
+    double sweep_max_elevation_deg = 15.0;
+    double sweep_tilt_deg = 15.0;
+    double sweep_rate_hz = 10.0;
+    int sweep_every = 4;
+    double rosette_points_per_s = 100000;
+    double rosette_fov_deg = 70.0;
+    double sweep_speed_m_s = 0.5;
+    double sweep_min_height_m = 1.0;
+    double sweep_max_height_m = 1.8;
+    double sweep_range_noise_mm = 25.0;
+    double sweep_divergence_mrad = 3.0;
+    double sweep_mixed_max_gap_m = 0.5;
+    double sweep_ring_gain_error = 0.1;
+    int sweep_glass_panes = 2;
+    int sweep_people = 2;
+    int sweep_furniture = 4;
+    double sweep_drift_m = 0.02;
+    double sweep_drift_deg = 0.2;
+    double sweep_voxel_m = 0.03;
+    double sweep_min_range_m = 0.5;
+    int sweep_cubemap_px = 1024;
 
     void declare(core::OptionTable& t) override;
-    /** The declared ranges, then beam_max_elevation_deg >= beam_min_elevation_deg (InputError naming `input`). */
+    /** The sweep_* and rosette_* keys (map_source = sweeps). */
+    void addSweepKeys(core::OptionTable& t);
+    /** The declared ranges, then beam_max_elevation_deg >= beam_min_elevation_deg, the same for sweep_*, and
+     *  sweep_max_height_m >= sweep_min_height_m (InputError naming `input`). */
     void check(const std::string& input) const;
 };
 
