@@ -96,6 +96,7 @@ struct Found
     cv::Point at;
     float d1 = std::numeric_limits<float>::max(), d2 = std::numeric_limits<float>::max();
     float ratio() const { return d2 > 0 ? std::sqrt(d1 / d2) : 1.f; }
+    double beaten = -1;  ///< share of candidates farther than the true position (-1: not measured)
 };
 
 /** Searches the window for each of `map_desc`'s descriptors (one per map channel) in one camera field. */
@@ -123,6 +124,9 @@ void searchWindow(const DescriptorField& cam, const Keypoint& k, const std::vect
         }
     const int excl = std::max(3, 2 * step);
     found.assign(size_t(M), Found{});
+    const cv::Point truth(int(std::lround(k.truth.x)), int(std::lround(k.truth.y)));
+    std::vector<float> at_truth(static_cast<size_t>(n));
+    const bool truth_described = k.reachable && cam.describe(truth.x, truth.y, at_truth.data());
     for (int m = 0; m < M; ++m)
     {
         const auto& c = cands[size_t(m)];
@@ -133,6 +137,13 @@ void searchWindow(const DescriptorField& cam, const Keypoint& k, const std::vect
             if (x.d < f.d1) f.d1 = x.d, f.at = x.p;
         for (const Cand& x : c)
             if (std::max(std::abs(x.p.x - f.at.x), std::abs(x.p.y - f.at.y)) > excl) f.d2 = std::min(f.d2, x.d);
+        if (truth_described)
+        {
+            const float dt = frontend::squaredDistance(at_truth.data(), map_desc[size_t(m)].data(), n);
+            long farther = 0;
+            for (const Cand& x : c) farther += x.d > dt;
+            f.beaten = double(farther) / double(c.size());
+        }
         const cv::Point coarse = f.at;
         for (int dy = 1 - step; dy < step; ++dy)
             for (int dx = 1 - step; dx < step; ++dx)
@@ -151,6 +162,7 @@ void count(MatchCounts& c, const Keypoint& k, const Found& f, const MatchBenchOp
     c.reachable += k.reachable;
     c.chance += k.chance;
     if (!f.any) return;
+    if (f.beaten >= 0) c.beaten_sum += f.beaten, ++c.beaten_n;
     ++c.found, c.sum_dx += f.at.x - k.truth.x, c.sum_dy += f.at.y - k.truth.y;
     const bool ok = std::hypot(f.at.x - k.truth.x, f.at.y - k.truth.y) <= o.correct_px;
     c.top1_correct += ok;
@@ -231,6 +243,7 @@ void MatchCounts::add(const MatchCounts& o)
     keypoints += o.keypoints, reachable += o.reachable, top1_correct += o.top1_correct;
     accepted += o.accepted, correct += o.correct, chance += o.chance;
     sum_dx += o.sum_dx, sum_dy += o.sum_dy, found += o.found;
+    beaten_sum += o.beaten_sum, beaten_n += o.beaten_n;
 }
 
 CameraSide describeCamera(const cv::Mat& image, const MatchBenchOptions& o, XFeatMatchers* xfeat)

@@ -65,6 +65,10 @@ struct MatchCounts
     /** Sum of the best candidates' offsets from the true position (px), over the keypoints that had one. */
     double sum_dx = 0, sum_dy = 0;
     long found = 0;
+    /** Sum over keypoints whose true position is a candidate of the share of window candidates farther from the map
+     *  descriptor than the true position is (0.5: the descriptor says nothing; 1: the truth is the best). */
+    double beaten_sum = 0;
+    long beaten_n = 0;
     void add(const MatchCounts& o);
 };
 

@@ -254,6 +254,28 @@ void printTables(const std::vector<ColumnResult>& rs, const MatchMainOptions& b,
         }
         std::cout << "\n";
     }
+    std::cout << "\n## Share of the window's candidates that the true position beats (0.5: no information), mean over "
+                 "keypoints: "
+              << kLevels[0].name << " / " << kLevels[1].name << " / " << kLevels[2].name << "\n\n";
+    header(rs, "camera / map channel / descriptor");
+    for (int i = 0; i < kCombos; ++i)
+    {
+        std::cout << "| " << cameraVariantName(i / (kMapChannels * kKinds)) << " / "
+                  << mapChannelName((i / kKinds) % kMapChannels) << " / " << frontend::toString(kindOf(i % kKinds))
+                  << " |";
+        for (const auto& r : rs)
+        {
+            std::cout << " ";
+            for (int l = 0; l < kLevelCount; ++l)
+            {
+                MatchCounts t;
+                for (const auto& g : r.frames[size_t(l)]) t.add(g.combos[size_t(i)]);
+                std::cout << (l ? " / " : "") << (t.beaten_n ? fixed(t.beaten_sum / double(t.beaten_n), 3) : "-");
+            }
+            std::cout << " |";
+        }
+        std::cout << "\n";
+    }
     for (int top1 = 0; top1 < 2; ++top1)
         for (int l = 0; l < kLevelCount; ++l)
         {
