@@ -309,7 +309,9 @@ std::string SweptMap::summary() const
       << sweeps.transient_returns << " on people/furniture); map-build: " << q.points << " points, "
       << build.removed.size() << " carved; error to the true surfaces median " << q.median_error_m * 1000 << " mm, p95 "
       << q.p95_error_m * 1000 << " mm, " << q.share_beyond_10cm * 100 << " % beyond 10 cm; coverage "
-      << q.coverage * 100 << " %; people points removed " << q.person_points_removed << " of " << q.person_points_fused
+      << q.coverage * 100 << " % (floor " << q.coverage_by_part[0] * 100 << ", ceiling " << q.coverage_by_part[1] * 100
+      << ", outer walls " << q.coverage_by_part[2] * 100 << ", the rest " << q.coverage_by_part[3] * 100
+      << "); people points removed " << q.person_points_removed << " of " << q.person_points_fused
       << ", furniture points removed " << q.furniture_points_removed << " of " << q.furniture_points_fused
       << "; glass points " << q.glass_points << "; time: sweeps " << simulate_s << " s, map-build " << build_s
       << " s, evaluation " << evaluate_s << " s";

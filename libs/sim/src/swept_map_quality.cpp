@@ -129,6 +129,17 @@ bool onPaneInterior(const GlassPane& g, const Eigen::Vector3f& p)
     return s >= ms && s <= 1 - ms && t >= mt && t <= 1 - mt;
 }
 
+/** Which part of the world a surface sample belongs to (SweptMapQuality::coverage_by_part). */
+int surfacePart(const World& world, const Eigen::Vector3f& p)
+{
+    const Eigen::AlignedBox3f& room = world.room;
+    if (p.z() < room.min().z() + 0.03f) return 0;  // floor
+    if (p.z() > room.max().z() - 0.03f) return 1;  // ceiling
+    const Eigen::Vector3f to_min = p - room.min(), to_max = room.max() - p;
+    if (std::min({to_min.x(), to_min.y(), to_max.x(), to_max.y()}) < 0.03f) return 2;  // outer walls
+    return 3;                                                                          // the rest
+}
+
 /** Surface samples of the mesh, about `per_m2` per square metre (deterministic). */
 std::vector<Eigen::Vector3f> surfaceSamples(const Mesh& mesh, double per_m2)
 {
@@ -198,9 +209,18 @@ SweptMapQuality evaluateSweptMap(const World& world, const MappingScene& scene, 
     }
     const PointHash points(map);
     const std::vector<Eigen::Vector3f> samples = surfaceSamples(world.mesh, 50);
-    size_t covered = 0;
-    for (const Eigen::Vector3f& s : samples) covered += points.near(s, 0.05f);
+    size_t covered = 0, part_covered[4] = {0, 0, 0, 0}, part_samples[4] = {0, 0, 0, 0};
+    for (const Eigen::Vector3f& s : samples)
+    {
+        const bool near = points.near(s, 0.05f);
+        const int part = surfacePart(world, s);
+        covered += near;
+        part_covered[part] += near;
+        ++part_samples[part];
+    }
     q.coverage = samples.empty() ? 0 : double(covered) / double(samples.size());
+    for (int k = 0; k < 4; ++k)
+        q.coverage_by_part[k] = part_samples[k] ? double(part_covered[k]) / double(part_samples[k]) : 0;
     return q;
 }
 

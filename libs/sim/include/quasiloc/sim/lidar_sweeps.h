@@ -134,6 +134,7 @@ struct SweptMapQuality
     double median_error_m = 0, p95_error_m = 0;  ///< distance to the camera world's surfaces (capped at 0.2 m)
     double share_beyond_10cm = 0;
     double coverage = 0;  ///< share of surface samples (walls, floor, ceiling, objects) with a map point within 5 cm
+    double coverage_by_part[4] = {0, 0, 0, 0};  ///< the same for the floor, the ceiling, the outer walls, the rest
     size_t person_points_fused = 0, person_points_removed = 0;  ///< fused voxels on people, removed by carving
     size_t furniture_points_fused = 0, furniture_points_removed = 0;
     size_t glass_points = 0;  ///< map points on the glass panes
