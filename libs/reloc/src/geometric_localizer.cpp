@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <sstream>
 
@@ -214,6 +215,11 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
         }
 }
 
+bool SearchSphere::headingAdmits(const Eigen::Matrix3d& R) const
+{
+    return !R_world_cam || Eigen::AngleAxisd(R_world_cam->transpose() * R).angle() * 180.0 / M_PI <= heading_bound_deg;
+}
+
 GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen::Vector3f>& points_cam,
                                                          const Eigen::Vector3d& up_cam, const SearchSphere* near) const
 {
@@ -246,12 +252,20 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
     const int yaws = options_.num_yaws;
     std::vector<Eigen::Matrix3f> rotations;
     std::vector<std::vector<Eigen::Vector3f>> rotated(static_cast<size_t>(yaws));
+    std::vector<bool> yaw_searched(size_t(yaws), true);
     for (int k = 0; k < yaws; ++k)
     {
         const Eigen::Matrix3d R =
             Eigen::AngleAxisd(2 * M_PI * k / yaws, Eigen::Vector3d::UnitZ()).toRotationMatrix() * R_level;
         rotations.push_back(R.cast<float>());
-        for (const auto& p : scored) rotated[size_t(k)].push_back(R.cast<float>() * p);
+        if (near && near->R_world_cam)
+        {  // half a yaw step of slack: the grid's nearest heading to an admitted one is searched
+            SearchSphere wider = *near;
+            wider.heading_bound_deg += 180.0 / yaws;
+            yaw_searched[size_t(k)] = wider.headingAdmits(R);
+        }
+        if (yaw_searched[size_t(k)])
+            for (const auto& p : scored) rotated[size_t(k)].push_back(R.cast<float>() * p);
     }
     const float trunc2 = float(options_.coarse_truncation_m * options_.coarse_truncation_m);
     std::vector<float> scores(searched.size() * size_t(yaws));
@@ -261,6 +275,11 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
             const Eigen::Vector3f t = positions_[searched[size_t(i)]].cast<float>();
             for (int k = 0; k < yaws; ++k)
             {
+                if (!yaw_searched[size_t(k)])
+                {
+                    scores[size_t(i) * size_t(yaws) + size_t(k)] = std::numeric_limits<float>::infinity();
+                    continue;
+                }
                 float sum = 0;
                 for (const auto& p : rotated[size_t(k)])
                 {
@@ -271,7 +290,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
             }
         }
     });
-    r.candidates = scores.size();
+    r.candidates = searched.size() * size_t(std::count(yaw_searched.begin(), yaw_searched.end(), true));
     std::vector<size_t> order(scores.size());
     std::iota(order.begin(), order.end(), size_t(0));
     std::sort(order.begin(), order.end(),
@@ -280,7 +299,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
     std::vector<Candidate> starts;
     for (size_t idx : order)
     {
-        if (int(starts.size()) >= options_.refine_candidates) break;
+        if (int(starts.size()) >= options_.refine_candidates || !std::isfinite(scores[idx])) break;
         Candidate c;
         c.T_world_cam.setIdentity();
         c.T_world_cam.linear() = rotations[idx % size_t(yaws)].cast<double>();
@@ -303,6 +322,15 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         }
     });
     r.ms_refine = msSince(t0);
+    if (near)  // refinement may have turned a candidate out of the heading's bound
+        refined.erase(std::remove_if(refined.begin(), refined.end(),
+                                     [&](const Candidate& c) { return !near->headingAdmits(c.T_world_cam.linear()); }),
+                      refined.end());
+    if (refined.empty())
+    {
+        r.reason = "no refined pose within the heading bound (" + std::to_string(near->heading_bound_deg) + " deg)";
+        return r;
+    }
     std::stable_sort(refined.begin(), refined.end(),
                      [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
     const Candidate& best = refined.front();

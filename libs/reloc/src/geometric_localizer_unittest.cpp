@@ -117,6 +117,31 @@ TEST(GeometricLocalizer, ASearchSphereScoresOnlyThePositionsInsideIt)
     EXPECT_NE(none.reason.find("no candidate position within"), std::string::npos) << none.reason;
 }
 
+TEST(GeometricLocalizer, AHeadingSearchesAndWeighsOnlyTheRotationsNearIt)
+{
+    // A relocalization whose track kept its orientation: the same answer from the headings near it alone; the
+    // opposite heading searches only there (the true place, 180 deg away, is neither an answer nor a rival).
+    const Fixture& f = fixture();
+    const Eigen::Isometry3d T_true = queryPose();
+    const auto points = stereoPoints(f, T_true);
+    const reloc::GeometricLocalization all = f.localizer->localizePoints(points, upIn(T_true));
+    reloc::SearchSphere near{T_true.translation(), 1e9};
+    near.R_world_cam = T_true.linear();
+    near.heading_bound_deg = 10;
+    const reloc::GeometricLocalization r = f.localizer->localizePoints(points, upIn(T_true), &near);
+    EXPECT_TRUE(r.localized) << r.reason;
+    EXPECT_LT(errorM(r.T_world_cam, T_true), 0.04);
+    EXPECT_LT(errorDeg(r.T_world_cam, T_true), 1.0);
+    EXPECT_LT(6 * r.candidates, all.candidates) << "about 3 of 36 headings";
+    near.R_world_cam = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix() * T_true.linear();
+    const reloc::GeometricLocalization turned = f.localizer->localizePoints(points, upIn(T_true), &near);
+    if (turned.inlier_ratio > 0)
+    {
+        EXPECT_GT(errorDeg(turned.T_world_cam, T_true), 160);
+    }
+    EXPECT_FALSE(turned.localized && errorDeg(turned.T_world_cam, T_true) < 20);
+}
+
 TEST(GeometricLocalizer, RefinementConvergesFromAFewDecimetres)
 {
     const Fixture& f = fixture();

@@ -12,11 +12,12 @@ BackgroundSearch::~BackgroundSearch()
     starter_.deferConsole(false);
 }
 
-void BackgroundSearch::begin(const std::string& label, const std::optional<SearchPrior>& prior, bool single_fix)
+void BackgroundSearch::begin(const std::string& label, const std::optional<SearchPrior>& prior, bool single_fix,
+                             const std::optional<HeadingPrior>& heading)
 {
     core::require(!searching_, "BackgroundSearch", "begin() while a search is under way");
     worker_.wait();
-    starter_.begin(label, prior, single_fix);
+    starter_.begin(label, prior, single_fix, heading);
     queue_.clear();
     found_.reset();
     result_.reset();

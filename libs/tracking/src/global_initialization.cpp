@@ -1,8 +1,11 @@
 // GlobalInitializer: two geometric localizations and the IMU between them (global_initialization.h).
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/pose.h>
+#include <quasiloc/estimation/pose_parametrization.h>
 #include <quasiloc/tracking/global_initialization.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace quasiloc::tracking
@@ -10,6 +13,11 @@ namespace quasiloc::tracking
 namespace
 {
 std::string bracketed(const std::string& note) { return note.empty() ? "" : " [" + note + "]"; }
+
+double angleBetweenDeg(const Eigen::Matrix3d& R_a, const Eigen::Matrix3d& R_b)
+{
+    return Eigen::AngleAxisd(R_a.transpose() * R_b).angle() * 180.0 / M_PI;
+}
 }  // namespace
 
 GlobalInitializer::GlobalInitializer(const reloc::GeometricLocalizer& localizer, const Eigen::Isometry3d& T_body_cam,
@@ -29,9 +37,16 @@ ImuBiasPrior GlobalInitializer::biases() const
 
 std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) const
 {
-    if (!prior_) return std::nullopt;
-    return reloc::SearchSphere{prior_->position_world,
-                               prior_->radius_m + prior_->speed_m_s * std::max(0.0, t - prior_->t_known)};
+    if (!prior_ && !heading_) return std::nullopt;
+    reloc::SearchSphere sphere{Eigen::Vector3d::Zero(), std::numeric_limits<double>::infinity()};
+    if (prior_)
+        sphere = {prior_->position_world, prior_->radius_m + prior_->speed_m_s * std::max(0.0, t - prior_->t_known)};
+    if (heading_)
+    {
+        sphere.R_world_cam = R_world_body_predicted_ * T_body_cam_.linear();
+        sphere.heading_bound_deg = headingBoundDeg(*heading_, biases().gyro_sigma, t);
+    }
+    return sphere;
 }
 
 reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame, std::string& note,
@@ -90,6 +105,45 @@ bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const Am
     note +=
         (note.empty() ? "" : "; ") + std::string("ambiguity settled by the anchor (pose ") + std::to_string(pick) + ")";
     return true;
+}
+
+void GlobalInitializer::setHeadingPrior(const HeadingPrior& heading)
+{
+    heading_ = heading;
+    R_world_body_predicted_ = heading.R_world_body;
+    t_predicted_ = heading.t;
+    carryHeading(heading.imu);
+}
+
+bool carryOrientation(Eigen::Matrix3d& R_world_body, double& t, const std::vector<dataset::ImuSample>& samples,
+                      const Eigen::Vector3d& gyro_bias, double max_gap_s)
+{
+    for (const dataset::ImuSample& s : samples)
+    {
+        if (s.t <= t) continue;
+        if (s.t - t > max_gap_s) return false;
+        R_world_body = R_world_body * estimation::expSO3((s.gyro - gyro_bias) * (s.t - t));
+        t = s.t;
+    }
+    return true;
+}
+
+void GlobalInitializer::carryHeading(const std::vector<dataset::ImuSample>& samples)
+{
+    if (!heading_) return;
+    const double t_before = t_predicted_;
+    if (carryOrientation(R_world_body_predicted_, t_predicted_, samples, biases().gyro_bias)) return;
+    heading_.reset();
+    std::ostringstream s;
+    s.precision(3);
+    s << std::fixed << "heading prior dropped: no gyroscope sample after t " << t_before;
+    heading_note_ = s.str();
+}
+
+double headingBoundDeg(const HeadingPrior& heading, double gyro_bias_sigma, double t)
+{
+    const double dt = std::max(0.0, t - heading.t);
+    return heading.margin_deg + (3.0 * gyro_bias_sigma * 180.0 / M_PI + heading.growth_deg_s) * dt;
 }
 
 Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, double t_a,
@@ -169,6 +223,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
 {
     for (const auto& s : frame.imu) recent_imu_.push_back(s);
     static_.add(frame.imu);
+    carryHeading(frame.imu);
     while (!recent_imu_.empty() && recent_imu_.front().t < frame.timestamp - options_.gravity_window_s)
         recent_imu_.pop_front();
     if (recent_imu_.empty()) return std::nullopt;  // no gravity direction yet
@@ -183,7 +238,21 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     std::string appearance_note;
     AmbiguousFix ambiguous;
     attempt.result = localize(frame, appearance_note, ambiguous);
-    if (const auto near = searchSphere(frame.timestamp)) attempt.search_radius_m = near->radius_m;
+    if (const auto near = searchSphere(frame.timestamp); near && prior_) attempt.search_radius_m = near->radius_m;
+    if (!heading_note_.empty())
+    {
+        appearance_note += (appearance_note.empty() ? "" : "; ") + heading_note_;
+        heading_note_.clear();
+    }
+    if (heading_)
+    {
+        std::ostringstream s;
+        s.precision(3);
+        s << "heading prior "
+          << angleBetweenDeg(attempt.result.T_world_cam.linear(), R_world_body_predicted_ * T_body_cam_.linear())
+          << " deg from the answer (bound " << headingBoundDeg(*heading_, biases().gyro_sigma, frame.timestamp) << ")";
+        appearance_note += (appearance_note.empty() ? "" : "; ") + s.str();
+    }
     if (anchor_ && !attempt.result.localized && attempt.result.ambiguous)
         settleByAnchor(attempt.result, ambiguous, frame.timestamp, appearance_note);
     if (anchor_ && attempt.result.localized)

@@ -163,3 +163,33 @@ TEST(GlobalInitialization, TheBiasAwarePairCheckAcceptsTheRightFixesUnderARealBi
     EXPECT_FALSE(tracking::pairVelocity(a, 0, b, 0.5, samples, T_body_cam, noise, knownZeroBiases(), options, &why));
     EXPECT_NE(why.find("bias-corrected gyroscope"), std::string::npos) << why;
 }
+
+TEST(GlobalInitialization, TheHeadingPriorIsCarriedByTheBiasCorrectedGyroscopeAndItsBoundGrows)
+{
+    // A robot turning in place at 0.5 rad/s for 2 s with a gyroscope bias of 0.02 rad/s about z: the heading is
+    // carried from the last verified frame (t = 1) over 1 s of samples received before the loss and 1 s after.
+    const Eigen::Vector3d bias(0.003, -0.004, 0.02), rate(0, 0, 0.5);
+    const Eigen::Matrix3d R0 = estimation::expSO3(Eigen::Vector3d(0.02, -0.01, 1.0));
+    std::vector<dataset::ImuSample> before, after;
+    for (int k = 0; k <= 400; ++k)
+        (k <= 200 ? before : after).push_back({1.0 + 0.005 * k, Eigen::Vector3d(0, 0, 9.81), rate + bias});
+    before.insert(before.begin(), {0.9, Eigen::Vector3d(0, 0, 9.81), Eigen::Vector3d(3, 0, 0)});  // before t: unused
+    Eigen::Matrix3d R = R0;
+    double t = 1.0;
+    EXPECT_TRUE(tracking::carryOrientation(R, t, before, bias));
+    EXPECT_DOUBLE_EQ(t, 2.0);
+    tracking::carryOrientation(R, t, before, bias);  // the same samples again change nothing
+    tracking::carryOrientation(R, t, after, bias);
+    EXPECT_DOUBLE_EQ(t, 3.0);
+    const Eigen::Matrix3d expected = R0 * estimation::expSO3(rate * 2.0);
+    EXPECT_LT(Eigen::AngleAxisd(expected.transpose() * R).angle(), 1e-9);
+    // A gap in the samples (an IMU dropout): the heading is no longer known.
+    EXPECT_FALSE(tracking::carryOrientation(R, t, {{3.5, Eigen::Vector3d(0, 0, 9.81), rate}}, bias));
+    // The bound: margin, plus 3 sigmas of the bias and the growth per second since t.
+    tracking::HeadingPrior h;
+    h.t = 1.0;
+    h.margin_deg = 10;
+    h.growth_deg_s = 1;
+    EXPECT_DOUBLE_EQ(tracking::headingBoundDeg(h, 0.001, 1.0), 10);
+    EXPECT_NEAR(tracking::headingBoundDeg(h, 0.001, 3.0), 10 + 2 * (3 * 0.001 * 180 / M_PI + 1), 1e-9);
+}

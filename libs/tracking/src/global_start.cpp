@@ -55,12 +55,14 @@ std::optional<GlobalInitialState> GlobalStarter::find(const std::function<bool(d
     return std::nullopt;
 }
 
-void GlobalStarter::begin(const std::string& label, const std::optional<SearchPrior>& prior, bool single_fix)
+void GlobalStarter::begin(const std::string& label, const std::optional<SearchPrior>& prior, bool single_fix,
+                          const std::optional<HeadingPrior>& heading)
 {
     GlobalInitOptions options = init_options_;
     options.single_fix = single_fix;
     init_ = std::make_unique<GlobalInitializer>(*localizer_, T_body_cam_, imu_noise_, options);
     if (prior) init_->setSearchPrior(*prior);
+    if (heading) init_->setHeadingPrior(*heading);
     init_->setAppearanceScore([this](const dataset::StereoFrame& frame, const std::vector<Eigen::Isometry3d>& poses) {
         refiner_->setImage(frame.left, camera_, false);
         std::vector<double> score;

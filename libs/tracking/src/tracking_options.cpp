@@ -142,6 +142,11 @@ void RelocalizationOptions::declare(core::OptionTable& t)
           "the search sphere grows by this per second since the last confirmed pose");
     t.add("relocalize_single_fix", relocalize_single_fix,
           "restart at the first fix with the track's velocity; false: wait for a pair checked by the gyroscope");
+    t.add("relocalize_heading_margin_deg", relocalize_heading_margin_deg, "deg", Range::atLeast(0),
+          "the search looks only at headings within this of the orientation of the last verified frame (carried "
+          "on by the gyroscope), plus three gyroscope-bias sigmas over the time since; 0: every heading");
+    t.add("relocalize_heading_growth_deg_s", relocalize_heading_growth_deg_s, "deg/s", Range::atLeast(0),
+          "the heading bound also grows by this per second since the last verified frame");
 }
 
 void TrackMonitorOptions::declare(core::OptionTable& t)

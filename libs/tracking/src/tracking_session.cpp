@@ -302,6 +302,7 @@ void TrackingSession::trackFrame(dataset::StereoFrame& f)
     const double explained = checkTrack(f, step, number, ms_check);
     latest_ = step.estimate;
     if (frame_hook_) frame_hook_(r, *this);
+    keepImuSinceVerified(f);
     if (relocalize(f, r, ms_search)) return;  // this frame is among those tracked again
     log_.addFrame(f, r, explained, ms_check, ms_search);
     history_.add(r.t, r.T_world_cam0);
@@ -353,7 +354,7 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
             if (const auto known = history_.at(last_verified_t))
                 prior = SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m, o.relocalize_speed_m_s};
         starter_->setBiasPrior(latest_.biasPrior());
-        search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix);
+        search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix, headingPrior());
     }
     if (!search_->searching()) return false;
     // Only the hand-over counts in the frame's time: the search itself runs beside the tracker.
@@ -363,6 +364,29 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
     const auto found = search_->poll();
     ms = msSince(t0);
     return found && settle(*found, r.t);
+}
+
+void TrackingSession::keepImuSinceVerified(const dataset::StereoFrame& f)
+{
+    for (const dataset::ImuSample& s : f.imu)
+        if (imu_since_verified_.empty() || s.t > imu_since_verified_.back().t) imu_since_verified_.push_back(s);
+    const double t_verified = monitor_.lastVerifiedT();
+    while (!imu_since_verified_.empty() && imu_since_verified_.front().t < t_verified) imu_since_verified_.pop_front();
+}
+
+std::optional<HeadingPrior> TrackingSession::headingPrior() const
+{
+    const RelocalizationOptions& o = options_.relocalization;
+    const double t_verified = monitor_.lastVerifiedT();
+    const auto T_world_cam0 = history_.at(t_verified);
+    if (o.relocalize_heading_margin_deg <= 0 || !T_world_cam0) return std::nullopt;
+    HeadingPrior h;
+    h.R_world_body = T_world_cam0->linear() * T_body_cam_.linear().transpose();
+    h.t = t_verified;
+    h.margin_deg = o.relocalize_heading_margin_deg;
+    h.growth_deg_s = o.relocalize_heading_growth_deg_s;
+    h.imu.assign(imu_since_verified_.begin(), imu_since_verified_.end());
+    return h;
 }
 
 bool TrackingSession::settle(const GlobalInitialState& found, double t_now)

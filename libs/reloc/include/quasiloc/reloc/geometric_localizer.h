@@ -8,7 +8,8 @@
 //  2. coarse search over 4 DoF: camera positions on a grid over the map's free space (view_sampling.h, at several
 //     heights) x num_yaws headings, roll and pitch from gravity; a candidate's score is the mean squared distance
 //     (truncated at coarse_truncation_m) of score_points query points to the map (map::DistanceField); with a
-//     SearchSphere (a prior: relocalization near the last confirmed pose) only the positions inside it;
+//     SearchSphere (a prior: relocalization near the last confirmed pose) only the positions inside it, and with
+//     its heading only the headings within the heading's bound;
 //  3. the best refine_candidates candidates that differ (> 0.5 m or > 20 deg apart) are refined over 6 DoF by
 //     Gauss-Newton on the distance field, with the truncation shrinking (refine_truncations_m): query points the
 //     map does not explain (people, clutter, stereo errors) stop pulling;
@@ -26,6 +27,7 @@
 // Frames: world z up (gravity along -z), as in the map frames of EuRoC/Vicon and KITTI.
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/map/visibility_index.h>
@@ -68,11 +70,20 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
 
 /** A prior on where the camera is (a relocalization after a loss: near the last confirmed pose): the coarse search
  *  scores only the candidate positions within radius_m of centre (world), and the ambiguity test only weighs
- *  places found there. */
+ *  places found there. With R_world_cam (the orientation the lost track still knows from its gyroscope) the
+ *  same holds for rotations: only headings within heading_bound_deg of it are searched and weighed, which
+ *  leaves out a room's turned twin and a corridor seen from its other end. */
 struct SearchSphere
 {
+    SearchSphere() = default;
+    SearchSphere(const Eigen::Vector3d& centre_world, double radius) : centre(centre_world), radius_m(radius) {}
+
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     double radius_m = 0;
+    std::optional<Eigen::Matrix3d> R_world_cam;
+    double heading_bound_deg = 180;
+    /** Whether T_world_cam's rotation lies within the heading bound (always, without a heading). */
+    bool headingAdmits(const Eigen::Matrix3d& R) const;
 };
 
 /** The answer to one query, with what a person needs to see why it failed. */

@@ -35,7 +35,7 @@ class BackgroundSearch
 
     /** Starts a search (GlobalStarter::begin); none may be under way. */
     void begin(const std::string& label, const std::optional<SearchPrior>& prior = std::nullopt,
-               bool single_fix = false);
+               bool single_fix = false, const std::optional<HeadingPrior>& heading = std::nullopt);
     bool searching() const { return searching_; }
     /** Queues a frame for the search; the thread takes the queue whenever it is idle. */
     void push(const dataset::StereoFrame& frame);

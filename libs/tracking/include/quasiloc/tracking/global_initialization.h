@@ -69,6 +69,31 @@ struct SearchPrior
     double speed_m_s = 1.5;
 };
 
+/** The body's orientation where a lost track was last verified (a relocalization). The gyroscope carries it to each
+ *  attempt (not the tracker, whose orientation may have gone wrong since),
+ *  and only headings within margin_deg (the track's own error where it was last verified) plus three gyroscope-bias
+ * sigmas and growth_deg_s per second since are searched and weighed (reloc::SearchSphere); the growth lets a heading
+ * that was wrong at the loss hold the search away for a while, not for ever. Position is lost, but orientation is not:
+ * a corridor seen from either end, or a room's turned twin, explains the stereo points as well as the true place, and
+ * differs from it by 90 or 180 degrees. */
+struct HeadingPrior
+{
+    Eigen::Matrix3d R_world_body = Eigen::Matrix3d::Identity();  ///< at t (the last verified frame)
+    double t = 0;
+    double margin_deg = 10;
+    double growth_deg_s = 1;
+    std::vector<dataset::ImuSample> imu;  ///< samples after t already received (up to the loss)
+};
+
+/** R_world_body carried from time t through the gyroscope samples after t (rates minus gyro_bias, each held
+ *  from the previous sample's time); t becomes the last sample's time. False, and R_world_body no longer known,
+ *  when two samples are more than max_gap_s apart (a rate held over a gap is a guess). */
+bool carryOrientation(Eigen::Matrix3d& R_world_body, double& t, const std::vector<dataset::ImuSample>& samples,
+                      const Eigen::Vector3d& gyro_bias, double max_gap_s = 0.05);
+
+/** The heading prior's bound [deg] at time t, for a gyroscope bias known to gyro_bias_sigma [rad/s]. */
+double headingBoundDeg(const HeadingPrior& heading, double gyro_bias_sigma, double t);
+
 /** Scores of candidate poses T_world_cam0 for a frame by its image (higher is better, 0 = no fit). */
 using AppearanceScore =
     std::function<std::vector<double>(const dataset::StereoFrame&, const std::vector<Eigen::Isometry3d>&)>;
@@ -141,6 +166,9 @@ class GlobalInitializer
     /** Optional: searches near a known position only (see SearchPrior). */
     void setSearchPrior(const SearchPrior& prior) { prior_ = prior; }
 
+    /** Optional: searches near the orientation the track had only (see HeadingPrior). */
+    void setHeadingPrior(const HeadingPrior& heading);
+
     /** Optional: settles ambiguous fixes by the image (see above). */
     void setAppearanceScore(AppearanceScore score) { appearance_ = std::move(score); }
 
@@ -163,7 +191,8 @@ class GlobalInitializer
         std::vector<Eigen::Isometry3d> poses;
         std::optional<size_t> best_by_appearance;
     };
-    /** Where a frame at time t is searched (the prior's sphere), or nowhere in particular (no prior). */
+    /** Where a frame at time t is searched (the prior's sphere, the heading prior's bound), or nowhere in
+     *  particular (neither prior). */
     std::optional<reloc::SearchSphere> searchSphere(double t) const;
     reloc::GeometricLocalization localize(const dataset::StereoFrame& frame, std::string& note,
                                           AmbiguousFix& ambiguous);
@@ -188,6 +217,12 @@ class GlobalInitializer
     std::vector<InitAttempt> attempts_;
     AppearanceScore appearance_;
     std::optional<SearchPrior> prior_;
+    std::optional<HeadingPrior> heading_;
+    /** Carries the heading prior through `samples`; an IMU gap ends it (with a note for the next attempt). */
+    void carryHeading(const std::vector<dataset::ImuSample>& samples);
+    std::string heading_note_;
+    Eigen::Matrix3d R_world_body_predicted_ = Eigen::Matrix3d::Identity();  ///< the heading prior at t_predicted_
+    double t_predicted_ = 0;
     bool ambiguous_standing_ = false;
 };
 

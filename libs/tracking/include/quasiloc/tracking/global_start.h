@@ -35,9 +35,10 @@ class GlobalStarter
     /** The same one frame at a time, for a caller that goes on tracking meanwhile: begin() starts a search,
      *  feed() returns the start once found (and ends the search); attempt = false: the frame's IMU samples only
      *  (GlobalInitializer::feed). single_fix: the first fix is the start, without velocity
-     *  (GlobalInitOptions::single_fix; for a relocalization, whose tracker knows its velocity). */
+     *  (GlobalInitOptions::single_fix; for a relocalization, whose tracker knows its velocity). heading: the
+     *  orientation the track had (a relocalization), which settles fixes ambiguous between turned places. */
     void begin(const std::string& label, const std::optional<SearchPrior>& prior = std::nullopt,
-               bool single_fix = false);
+               bool single_fix = false, const std::optional<HeadingPrior>& heading = std::nullopt);
     /** The IMU biases the next search starts from (its pair check and the start it returns, unless the platform
      *  stands still meanwhile): the calibration's prior for the start, the track's for a relocalization. Not while
      *  a search is under way. */

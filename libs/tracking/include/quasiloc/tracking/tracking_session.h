@@ -136,9 +136,15 @@ class TrackingSession
     SessionSummary summary_;
     /** Frames to track before reading more: the start's, or, after a restart, those after the fix. */
     std::deque<dataset::StereoFrame> queued_;
+    /** Keeps f's IMU samples (once, in time order) and forgets those before the last verified frame. */
+    void keepImuSinceVerified(const dataset::StereoFrame& f);
+    /** The orientation of the last verified frame and the samples since, for a search after a loss. */
+    std::optional<HeadingPrior> headingPrior() const;
     /** Frames tracked since the search began, with the track's state at each (a restart tracks the later ones
      *  again, from the biases the track had at the fix). */
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
+    /** The IMU samples since the last verified frame: they carry its orientation to a loss (HeadingPrior). */
+    std::deque<dataset::ImuSample> imu_since_verified_;
     ImuBiasPrior start_biases_;
     double t_start_ = 0;
     FrameHook frame_hook_;
