@@ -1,9 +1,7 @@
 // The stereo rig from CameraInfo messages and static transforms (bag_calibration.h).
-#include <deque>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/ros/bag_calibration.h>
-#include <set>
 
 using quasiloc::core::InputError;
 using quasiloc::core::require;
@@ -40,44 +38,6 @@ core::CameraModel cameraModelFromCameraInfo(const CameraInfoMsg& info, const std
                                     "' is not supported (plumb_bob or equidistant; or give a Kalibr camchain)");
     cam.check(where);
     return cam;
-}
-
-void StaticTransforms::add(const TransformMsg& t)
-{
-    const auto T = core::fromTranslationQuaternion(t.translation, t.rotation.normalized());
-    edges_[t.header.frame_id].push_back({t.child_frame_id, T});
-    edges_[t.child_frame_id].push_back({t.header.frame_id, -T});
-    parent_child_.push_back({t.header.frame_id, t.child_frame_id});
-}
-
-std::optional<mrpt::poses::CPose3D> StaticTransforms::lookup(const std::string& from, const std::string& to) const
-{
-    if (from == to) return mrpt::poses::CPose3D();
-    // Breadth first from `from`; T_from_x composed along the way.
-    std::map<std::string, mrpt::poses::CPose3D> reached{{from, mrpt::poses::CPose3D()}};
-    std::deque<std::string> queue{from};
-    while (!queue.empty())
-    {
-        const std::string frame = queue.front();
-        queue.pop_front();
-        const auto it = edges_.find(frame);
-        if (it == edges_.end()) continue;
-        for (const auto& [next, T_frame_next] : it->second)
-        {
-            if (reached.count(next)) continue;
-            reached[next] = reached.at(frame) + T_frame_next;
-            if (next == to) return reached[next];
-            queue.push_back(next);
-        }
-    }
-    return std::nullopt;
-}
-
-std::string StaticTransforms::describe() const
-{
-    std::string s;
-    for (const auto& [p, c] : parent_child_) s += (s.empty() ? "" : ", ") + p + " -> " + c;
-    return s.empty() ? "none" : s;
 }
 
 core::StereoRig stereoRigFromBag(const BagCalibrationInput& in)

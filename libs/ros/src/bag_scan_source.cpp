@@ -7,6 +7,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/ros/bag_scan_source.h>
+#include <quasiloc/ros/static_transforms.h>
 
 using quasiloc::core::InputError;
 
@@ -79,6 +80,13 @@ BagScanSource::BagScanSource(const std::string& bag, const std::string& topic)
         const PointCloud2Msg msg = renamedErrors(name(i), [&] { return m.pointCloud2(); });
         (void)scanFromPointCloud2(msg, name(i));
         stamps_ns_.push_back(msg.header.stamp_ns);
+        if (i == 0)
+            frame_id_ = msg.header.frame_id;
+        else if (msg.header.frame_id != frame_id_ && other_frame_message_ == 0)
+        {
+            other_frame_message_ = i;
+            other_frame_id_ = msg.header.frame_id;
+        }
         return true;
     });
     core::require(!stamps_ns_.empty(), bag, "topic " + topic_ + " holds no message");
@@ -106,6 +114,15 @@ std::vector<double> BagScanSource::stampsSeconds() const
         s.push_back(secondsFromNs(stamps_ns_[i]));
     }
     return s;
+}
+
+std::string BagScanSource::lidarFrame() const
+{
+    core::require(!frame_id_.empty(), name(0), "has no header.frame_id: the LiDAR's frame is unknown");
+    core::require(other_frame_message_ == 0, name(other_frame_message_),
+                  "has header.frame_id '" + other_frame_id_ + "' where message 0 has '" + frame_id_ +
+                      "': the scans of one topic must share one LiDAR frame");
+    return frame_id_;
 }
 
 map::LidarScan BagScanSource::decode(const BagMessage& m, size_t i) const
@@ -161,6 +178,26 @@ core::Trajectory readBagTrajectory(const std::string& bag_path, const std::strin
     std::stable_sort(trajectory.poses.begin(), trajectory.poses.end(),
                      [](const core::TimedPose& a, const core::TimedPose& b) { return a.t < b.t; });
     return trajectory;
+}
+
+BagExtrinsic readBagExtrinsic(const std::string& bag_path, const std::string& tf_topic, const std::string& body_frame,
+                              const std::string& lidar_frame, const std::string& lidar_topic)
+{
+    const std::string frames = " (T_body_lidar from body_frame '" + body_frame + "' to the LiDAR frame '" +
+                               lidar_frame + "', the header.frame_id of " + lidar_topic + ")";
+    try
+    {
+        const std::unique_ptr<MessageSource> bag = openMessageSource(bag_path);
+        const StaticTransforms tf = readStaticTransforms(*bag, tf_topic);
+        BagExtrinsic e;
+        e.T_body_lidar = core::toIsometry(tf.chain(body_frame, lidar_frame, bag_path + " topic " + tf_topic));
+        e.chain = tf.describeChain(body_frame, lidar_frame);
+        return e;
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(e.input(), e.problem() + frames);
+    }
 }
 
 }  // namespace quasiloc::ros

@@ -7,6 +7,7 @@
 #include "../bag_sink.h"
 #include "ros1_messages.h"
 #include "ros1_point_cloud2.h"
+#include "ros1_tf_message.h"
 
 namespace quasiloc::ros
 {
@@ -29,7 +30,7 @@ class Ros1BagSink : public BagSink
             throw core::InputError(path, std::string("cannot write the bag: ") + e.what());
         }
     }
-    /** Debian ships no ROS 1 tf2_msgs; the Kalibr files beside the bag carry the calibration. */
+    /** rawlog2bag's ROS 1 bags carry no CameraInfo: the Kalibr files beside the bag carry the calibration. */
     bool carriesCalibration() const override { return false; }
     void image(const std::string& topic, const ImageMsg& m) override { put(topic, ros1::toRos1(m, seq(topic))); }
     void compressedImage(const std::string& topic, const CompressedImageMsg& m) override
@@ -39,7 +40,18 @@ class Ros1BagSink : public BagSink
     void imu(const std::string& topic, const ImuMsg& m) override { put(topic, ros1::toRos1(m, seq(topic))); }
     void pose(const std::string& topic, const PoseMsg& m) override { put(topic, ros1::toRos1(m, seq(topic))); }
     void cameraInfo(const std::string&, const CameraInfoMsg&) override {}
-    void tfStatic(const std::string&, const std::vector<TransformMsg>&) override {}
+    void tfStatic(const std::string& topic, const std::vector<TransformMsg>& t) override
+    {
+        const ros1::TFMessage m = ros1::toRos1(t);
+        try
+        {
+            bag_.write(topic, m.transforms.at(0).header.stamp, m);
+        }
+        catch (const rosbag::BagException& e)
+        {
+            throw core::InputError(path_, std::string("cannot write the bag: ") + e.what());
+        }
+    }
     void pointCloud2(const std::string& topic, const PointCloud2Msg& m) override
     {
         put(topic, ros1::toRos1(m, seq(topic)));

@@ -9,6 +9,7 @@
 
 #include "ros1_messages.h"
 #include "ros1_point_cloud2.h"
+#include "ros1_tf_message.h"
 
 namespace fs = std::filesystem;
 using quasiloc::core::InputError;
@@ -53,9 +54,9 @@ class Ros1Message : public BagMessage
     }
     std::vector<TransformMsg> transforms() const override
     {
-        throw InputError(where(),
-                         "tf2_msgs/TFMessage in a ROS 1 bag is not supported (Debian ships no ROS 1 "
-                         "tf2_msgs): give the extrinsics with a Kalibr camchain");
+        if (type_ != types::kTFMessage && type_ != "tf/tfMessage")
+            throw InputError(where(), "message type " + type_ + " where " + types::kTFMessage + " is expected");
+        return ros1::transformsFromRos1(payload(), where());
     }
 
     PointCloud2Msg pointCloud2() const override

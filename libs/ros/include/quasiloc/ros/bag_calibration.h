@@ -3,13 +3,10 @@
 // sensor_msgs/CameraInfo (K and D of the raw image; R and P, the rectification, are not used), the extrinsics from
 // the static transforms (tf2_msgs/TFMessage on /tf_static): T_body_left = the pose of the left camera's frame in the
 // IMU's frame, T_left_right = the right camera's frame in the left's, each through any chain of transforms.
-#include <map>
-#include <mrpt/poses/CPose3D.h>
-#include <optional>
 #include <quasiloc/core/stereo_rig.h>
 #include <quasiloc/ros/messages.h>
+#include <quasiloc/ros/static_transforms.h>
 #include <string>
-#include <vector>
 
 namespace quasiloc::ros
 {
@@ -17,23 +14,6 @@ namespace quasiloc::ros
  *  equidistant; any other model (rational_polynomial, ...), a zero focal length or size is an InputError naming
  *  `where` (file and topic) and the model. */
 core::CameraModel cameraModelFromCameraInfo(const CameraInfoMsg& info, const std::string& where);
-
-/** The static transforms of a bag, as a graph of frames. */
-class StaticTransforms
-{
-   public:
-    void add(const TransformMsg& t);
-    /** T_from_to (the pose of frame `to` in frame `from`) through any chain of transforms, or nothing when the
-     *  two frames are not connected. */
-    std::optional<mrpt::poses::CPose3D> lookup(const std::string& from, const std::string& to) const;
-    /** "a -> b, b -> c" for error messages. */
-    std::string describe() const;
-    bool empty() const { return edges_.empty(); }
-
-   private:
-    std::map<std::string, std::vector<std::pair<std::string, mrpt::poses::CPose3D>>> edges_;  ///< both ways
-    std::vector<std::pair<std::string, std::string>> parent_child_;
-};
 
 struct BagCalibrationInput
 {

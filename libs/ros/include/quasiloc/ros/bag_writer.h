@@ -1,12 +1,13 @@
 #pragma once
-// Writing a bag of LiDAR scans and poses: a ROS 1 bag file, or a rosbag2 folder with one MCAP file and its
-// metadata.yaml (rawlog2bag's writers, bag_sink.h). The tests of map-build's bag source write their bags with it
-// (tests/map_build_bag).
+// Writing a bag of LiDAR scans, poses and static transforms: a ROS 1 bag file, or a rosbag2 folder with one MCAP file
+// and its metadata.yaml (rawlog2bag's writers, bag_sink.h). The tests of map-build's bag source write their bags with
+// it (tests/map_build_bag).
 #include <memory>
 #include <quasiloc/dataset/bag_options.h>
 #include <quasiloc/ros/messages.h>
 #include <quasiloc/ros/point_cloud2.h>
 #include <string>
+#include <vector>
 
 namespace quasiloc::ros
 {
@@ -24,6 +25,8 @@ class BagWriter
     void pointCloud2(const std::string& topic, const PointCloud2Msg& m);
     /** As geometry_msgs/PoseStamped. */
     void pose(const std::string& topic, const PoseMsg& m);
+    /** As one tf2_msgs/TFMessage (a static transforms topic such as /tf_static), stamped by its first transform. */
+    void tfStatic(const std::string& topic, const std::vector<TransformMsg>& transforms);
     /** Completes the bag (index, summary, metadata). */
     void close();
 
