@@ -41,6 +41,8 @@ struct Scans
     std::vector<std::string> names;
     std::vector<double> stamps;  ///< bag scans: their stamps (scan_times = stamps)
     std::string description;
+    std::string lidar_frame;  ///< bag scans: their header.frame_id (with extrinsic_source = tf_static)
+    std::string topic;        ///< bag scans: their topic
 };
 
 Scans openScans(const map::MapBuildOptions& opt, const std::string& config_path)
@@ -53,6 +55,8 @@ Scans openScans(const map::MapBuildOptions& opt, const std::string& config_path)
         if (opt.scan_times == map::ScanTimeSource::Auto || opt.scan_times == map::ScanTimeSource::Stamps)
             s.stamps = bag->stampsSeconds();
         s.description = bag->describe();
+        s.topic = bag->topic();
+        if (opt.extrinsic_source == map::ExtrinsicSource::TfStatic) s.lidar_frame = bag->lidarFrame();
         s.source = std::move(bag);
     }
     else
@@ -64,6 +68,16 @@ Scans openScans(const map::MapBuildOptions& opt, const std::string& config_path)
     }
     for (size_t i = 0; i < s.source->size(); ++i) s.names.push_back(s.source->name(i));
     return s;
+}
+
+/** The 12 values of a 3x4 row-major matrix, each exact (17 significant digits): a T_body_lidar key's value. */
+std::string rowMajor(const Eigen::Isometry3d& T)
+{
+    std::ostringstream s;
+    s << std::setprecision(17);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) s << (r + c > 0 ? " " : "") << T.matrix()(r, c);
+    return s.str();
 }
 
 /** One line per pass at 0, 10, 20 ... 100 % of its scans. */
@@ -109,11 +123,22 @@ int run(const core::CommandLine& cmd)
     map::ScanPoseOptions pose_options = opt.poseOptions();
     if (opt.trajectory_format == map::TrajectoryFormat::Bag)
         pose_options.poses = ros::readBagTrajectory(opt.trajectoryBag(), opt.bag_pose_topic);
+    std::string extrinsic_chain;
+    if (opt.extrinsic_source == map::ExtrinsicSource::TfStatic)
+    {
+        const ros::BagExtrinsic e =
+            ros::readBagExtrinsic(opt.bag, opt.bag_tf_topic, opt.body_frame, scans.lidar_frame, scans.topic);
+        pose_options.T_body_lidar = e.T_body_lidar;
+        extrinsic_chain = e.chain;
+    }
     const map::ScanPoses poses(pose_options, scans.names, scans.stamps);
     std::cout << "scans       " << scans.description << ", poses from " << pose_options.trajectory;
     if (opt.trajectory_format == map::TrajectoryFormat::Bag)
         std::cout << " (" << pose_options.poses.poses.size() << " poses)";
     std::cout << "\n";
+    if (opt.extrinsic_source == map::ExtrinsicSource::TfStatic)
+        std::cout << "extrinsic   from " << opt.bag << " topic " << opt.bag_tf_topic << ": " << extrinsic_chain
+                  << "\n            T_body_lidar = " << rowMajor(pose_options.T_body_lidar) << "\n";
 
     const map::MapBuildResult r = map::buildMap(opt, source, poses, printProgress);
 

@@ -3,10 +3,12 @@
 // file (decimal seconds, exact to the nanosecond); a TUM trajectory can go into the same bag as PoseStamped messages.
 // Layouts: xyzi32 (x y z intensity float32, one row, as a Velodyne driver's minimal cloud), organised64 (x y z
 // intensity float64 in two rows padded with NaN points and row padding: the same valid points in the same order),
-// no_xyz (the fields named a b c: a bad message). --truncate K cuts message K's data short.
+// no_xyz (the fields named a b c: a bad message). --truncate K cuts message K's data short. The clouds' frame_id is
+// --frame-id (default velodyne; --other-frame K F: message K's is F); each --tf "parent child x y z qx qy qz qw" is
+// one transform of a single TFMessage on --tf-topic (default /tf_static), stamped at the first scan's time.
 //
 //   scans2bag <scan_folder> <times_file> <out> <ros1|mcap> [--topic T] [--layout L] [--big-endian] [--truncate K]
-//             [--tum <trajectory> --pose-topic T]
+//             [--tum <trajectory> --pose-topic T] [--frame-id F] [--other-frame K F] [--tf "..."]... [--tf-topic T]
 //   scans2bag --have-ros1        exit status 0 when this build writes ROS 1 bags
 #include <cmath>
 #include <cstring>
@@ -126,15 +128,19 @@ int main(int argc, char** argv)
     if (argc == 2 && std::string(argv[1]) == "--have-ros1") return ros::haveRos1() ? 0 : 1;
     if (argc < 5)
     {
-        std::cerr << "usage: scans2bag <scan_folder> <times_file> <out> <ros1|mcap> [--topic T] [--layout L] "
-                     "[--big-endian] [--truncate K] [--tum <trajectory> --pose-topic T]\n";
+        std::cerr
+            << "usage: scans2bag <scan_folder> <times_file> <out> <ros1|mcap> [--topic T] [--layout L] "
+               "[--big-endian] [--truncate K] [--tum <trajectory> --pose-topic T] [--frame-id F] [--other-frame K F] "
+               "[--tf \"parent child x y z qx qy qz qw\"]... [--tf-topic T]\n";
         return 2;
     }
     try
     {
         std::string topic = "/points", layout = "xyzi32", tum, pose_topic;
         bool big_endian = false;
-        long truncate = -1;
+        long truncate = -1, other_frame_message = -1;
+        std::string frame_id = "velodyne", other_frame, tf_topic = "/tf_static";
+        std::vector<std::string> tf;
         for (int a = 5; a < argc; ++a)
         {
             const std::string k = argv[a];
@@ -154,6 +160,17 @@ int main(int argc, char** argv)
                 tum = value();
             else if (k == "--pose-topic")
                 pose_topic = value();
+            else if (k == "--frame-id")
+                frame_id = value();
+            else if (k == "--other-frame")
+            {
+                other_frame_message = std::stol(value());
+                other_frame = value();
+            }
+            else if (k == "--tf")
+                tf.push_back(value());
+            else if (k == "--tf-topic")
+                tf_topic = value();
             else
                 throw core::InputError(k, "unknown argument");
         }
@@ -164,10 +181,27 @@ int main(int argc, char** argv)
         core::require(format == "ros1" || format == "mcap", format, "ros1 or mcap");
         const Layout L = layoutOf(layout);
         ros::BagWriter bag(argv[3], format == "ros1" ? dataset::BagFormat::Ros1 : dataset::BagFormat::Mcap);
+        if (!tf.empty())
+        {
+            std::vector<ros::TransformMsg> transforms;
+            for (const std::string& text : tf)
+            {
+                std::istringstream s(text);
+                ros::TransformMsg t;
+                double q[4];
+                s >> t.header.frame_id >> t.child_frame_id >> t.translation.x() >> t.translation.y() >>
+                    t.translation.z() >> q[0] >> q[1] >> q[2] >> q[3];
+                core::require(!s.fail(), text, "--tf needs: parent child x y z qx qy qz qw");
+                t.header.stamp_ns = nanosecondsOf(times.at(0));
+                t.rotation = Eigen::Quaterniond(q[3], q[0], q[1], q[2]);
+                transforms.push_back(t);
+            }
+            bag.tfStatic(tf_topic, transforms);
+        }
         for (std::size_t i = 0; i < scans.size(); ++i)
         {
             ros::PointCloud2Msg m = cloudOf(scans.read(i), L, layout == "organised64", big_endian);
-            m.header = {nanosecondsOf(times[i]), "velodyne"};
+            m.header = {nanosecondsOf(times[i]), long(i) == other_frame_message ? other_frame : frame_id};
             if (long(i) == truncate) m.data.resize(m.data.size() / 2);
             bag.pointCloud2(topic, m);
         }

@@ -50,10 +50,22 @@ void MapBuildOptions::declare(core::OptionTable& t)
     t.add("max_pose_gap_s", max_pose_gap_s, "s", Range::above(0),
           "TUM: a time between two poses further apart than this has no pose (an error naming the scan)");
     t.add("T_body_lidar", T_body_lidar, "m", Range::any(),
-          "the LiDAR's pose on the body, 12 (3x4) or 16 (4x4) row-major values; empty: identity or extrinsic_file");
+          "the LiDAR's pose on the body, 12 (3x4) or 16 (4x4) row-major values; empty: identity, extrinsic_file, or "
+          "extrinsic_source = tf_static");
     t.add("extrinsic_file", extrinsic_file,
           "instead of T_body_lidar: a KITTI-style calibration file holding the line '<extrinsic_key>: 12 values'");
     t.add("extrinsic_key", extrinsic_key, "the line of extrinsic_file (e.g. T_cam2rect_velo for kitti_raw_seq78)");
+    t.addEnum(
+        "extrinsic_source", extrinsic_source,
+        {{"keys", ExtrinsicSource::Keys}, {"tf_static", ExtrinsicSource::TfStatic}},
+        "where T_body_lidar comes from: keys = T_body_lidar or extrinsic_file; tf_static = the scans' bag's static "
+        "transforms (bag_tf_topic), chained from body_frame to the scans' PointCloud2 header.frame_id (source = "
+        "bag)");
+    t.add("body_frame", body_frame,
+          "extrinsic_source = tf_static: the frame the trajectory's poses are of (FAST-LIO: body or the IMU's frame; "
+          "LIO-SAM: base_link)");
+    t.add("bag_tf_topic", bag_tf_topic,
+          "extrinsic_source = tf_static: the tf2_msgs/TFMessage topic of the static transforms in bag");
     t.add("min_range_m", min_range_m, "m", Range::atLeast(0), "points nearer the LiDAR are dropped (the vehicle)");
     t.add("max_range_m", max_range_m, "m", Range::above(0), "points farther away are dropped");
     t.add("deskew", deskew, "move each point with the pose at its own time, where the scans carry per-point times");
@@ -127,6 +139,16 @@ void MapBuildOptions::check(const std::string& config_name) const
                   "needs 12 or 16 values, not " + std::to_string(T_body_lidar.size()));
     core::require(T_body_lidar.empty() || extrinsic_file.empty(), at + "extrinsic_file",
                   "give the extrinsic once: T_body_lidar or extrinsic_file");
+    if (extrinsic_source == ExtrinsicSource::TfStatic)
+    {
+        core::require(from_bag, at + "extrinsic_source",
+                      "tf_static needs the scans from a bag (source = bag): their frame_id names the LiDAR's frame");
+        core::require(!body_frame.empty(), at + "body_frame",
+                      "is required with extrinsic_source = tf_static (the frame of the trajectory's poses)");
+        core::require(!bag_tf_topic.empty(), at + "bag_tf_topic", "is required with extrinsic_source = tf_static");
+        core::require(T_body_lidar.empty() && extrinsic_file.empty(), at + "extrinsic_source",
+                      "tf_static: give the extrinsic once (T_body_lidar and extrinsic_file must be empty)");
+    }
     core::require(min_range_m < max_range_m, at + "min_range_m", "must be below max_range_m");
     core::require(carve_voxel_m >= voxel_size_m, at + "carve_voxel_m", "must be >= voxel_size_m");
     for (const std::string* e : {&export_cloud, &export_removed})
@@ -146,6 +168,7 @@ ScanPoseOptions MapBuildOptions::poseOptions() const
     p.time_scale = scan_time_scale;
     p.frame_period_s = kitti_frame_period_s;
     p.max_pose_gap_s = max_pose_gap_s;
+    if (extrinsic_source == ExtrinsicSource::TfStatic) return p;  // T_body_lidar from the bag, by the caller
     if (!T_body_lidar.empty())
         p.T_body_lidar = core::toIsometry(core::fromMatrixRowMajor(T_body_lidar, "[MapBuild] T_body_lidar"));
     else if (!extrinsic_file.empty())

@@ -27,6 +27,13 @@ enum class ScanSourceKind
     Bag      ///< bag, bag_lidar_topic: one PointCloud2 message per scan (read by libs/ros BagScanSource)
 };
 
+/** Where T_body_lidar comes from. */
+enum class ExtrinsicSource
+{
+    Keys,     ///< T_body_lidar or extrinsic_file (neither: identity)
+    TfStatic  ///< the scans' bag's static transforms: body_frame to the PointCloud2 header.frame_id
+};
+
 enum class ReflectivityNormalisation
 {
     None,
@@ -54,6 +61,9 @@ struct MapBuildOptions : public core::DeclaredOptions
     std::vector<double> T_body_lidar;  ///< 12 or 16 row-major values; empty: identity (or extrinsic_file)
     std::string extrinsic_file;
     std::string extrinsic_key = "T_body_lidar";
+    ExtrinsicSource extrinsic_source = ExtrinsicSource::Keys;
+    std::string body_frame;
+    std::string bag_tf_topic = "/tf_static";
     double min_range_m = 3.0;
     double max_range_m = 80.0;
     bool deskew = true;
@@ -78,7 +88,8 @@ struct MapBuildOptions : public core::DeclaredOptions
     /** The declared ranges, then the rules between keys: InputError naming the key. */
     void check(const std::string& config_name) const;
     /** The options of ScanPoses, scan_times = auto resolved. With trajectory_format = bag the caller fills `poses`
-     *  from the bag (libs/ros readBagTrajectory: trajectoryBag(), bag_pose_topic). */
+     *  from the bag (libs/ros readBagTrajectory: trajectoryBag(), bag_pose_topic); with extrinsic_source = tf_static
+     *  it fills T_body_lidar (libs/ros readBagExtrinsic: bag, bag_tf_topic, body_frame, the scans' frame_id). */
     ScanPoseOptions poseOptions() const;
     /** trajectory_format = bag: the bag holding the poses (trajectory, or the scans' bag when trajectory is empty). */
     std::string trajectoryBag() const { return trajectory.empty() ? bag : trajectory; }
