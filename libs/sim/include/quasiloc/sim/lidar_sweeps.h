@@ -13,8 +13,9 @@
 //    with the people and furniture of that instant; a beam's hit is the exact intersection with the triangle the
 //    cube map shows, expressed in the LiDAR frame of the beam's own time (so the sweep is skewed by the motion as a
 //    real one is, and map-build deskews it);
-//  - beam divergence: five rays over the footprint; depths differing by more than 2 cm and at most
-//    sweep_mixed_max_gap_m give a mixed range (their mean), further apart the nearest;
+//  - beam divergence: five rays over the footprint; where they are not one plane (opposite rays do not average to the
+//    centre's range within 2 cm, or some hit nothing) their depths give a mixed range (their mean) when they lie
+//    within sweep_mixed_max_gap_m, else the nearest;
 //  - range noise sweep_range_noise_mm along the beam; returns on glass panes (sweep_glass_panes windows in the outer
 //    walls): none;
 //  - intensity = 255 x (material's intrinsic NIR reflectivity x incidence x range fall-off (incidence_weight,
