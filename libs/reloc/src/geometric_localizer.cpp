@@ -86,6 +86,7 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
     vs.pitches_deg = {0.0};
     vs.clearance_m = o.clearance_m;
     vs.require_enclosed = o.require_enclosed;
+    vs.min_enclosing_rays = o.min_enclosing_rays;
     vs.region = o.region;
     for (const auto& p : sampleViewpoints(map, vs)) positions_.emplace_back(p.x(), p.y(), p.z());
     core::require(!positions_.empty(), input, "no free camera position for global localization by geometry");
@@ -215,9 +216,23 @@ void GeometricLocalizer::polish(const std::vector<Eigen::Vector3f>& points_cam, 
         }
 }
 
+namespace
+{
+/** Azimuth [rad] of the camera's viewing direction in the world's xy plane (of its x axis when it looks up or
+ *  down). */
+double azimuth(const Eigen::Matrix3d& R_world_cam)
+{
+    Eigen::Vector3d d = R_world_cam.col(2);
+    if (std::hypot(d.x(), d.y()) < 0.3) d = R_world_cam.col(0);
+    return std::atan2(d.y(), d.x());
+}
+}  // namespace
+
 bool SearchSphere::headingAdmits(const Eigen::Matrix3d& R) const
 {
-    return !R_world_cam || Eigen::AngleAxisd(R_world_cam->transpose() * R).angle() * 180.0 / M_PI <= heading_bound_deg;
+    if (!R_world_cam) return true;
+    const double diff = std::remainder(azimuth(R) - azimuth(*R_world_cam), 2 * M_PI);
+    return std::abs(diff) * 180.0 / M_PI <= heading_bound_deg;
 }
 
 GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen::Vector3f>& points_cam,

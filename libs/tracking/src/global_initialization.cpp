@@ -37,11 +37,12 @@ ImuBiasPrior GlobalInitializer::biases() const
 
 std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) const
 {
-    if (!prior_ && !heading_) return std::nullopt;
+    const bool heading = heading_ && t <= heading_->t_until;
+    if (!prior_ && !heading) return std::nullopt;
     reloc::SearchSphere sphere{Eigen::Vector3d::Zero(), std::numeric_limits<double>::infinity()};
     if (prior_)
         sphere = {prior_->position_world, prior_->radius_m + prior_->speed_m_s * std::max(0.0, t - prior_->t_known)};
-    if (heading_)
+    if (heading)
     {
         sphere.R_world_cam = R_world_body_predicted_ * T_body_cam_.linear();
         sphere.heading_bound_deg = headingBoundDeg(*heading_, biases().gyro_sigma, t);
@@ -143,7 +144,7 @@ void GlobalInitializer::carryHeading(const std::vector<dataset::ImuSample>& samp
 double headingBoundDeg(const HeadingPrior& heading, double gyro_bias_sigma, double t)
 {
     const double dt = std::max(0.0, t - heading.t);
-    return heading.margin_deg + (3.0 * gyro_bias_sigma * 180.0 / M_PI + heading.growth_deg_s) * dt;
+    return heading.margin_deg + 3.0 * gyro_bias_sigma * 180.0 / M_PI * dt;
 }
 
 Eigen::Vector3d velocityBetweenFixes(const Eigen::Isometry3d& T_world_cam_a, double t_a,
@@ -238,19 +239,21 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     std::string appearance_note;
     AmbiguousFix ambiguous;
     attempt.result = localize(frame, appearance_note, ambiguous);
-    if (const auto near = searchSphere(frame.timestamp); near && prior_) attempt.search_radius_m = near->radius_m;
+    const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp);
+    if (near && prior_) attempt.search_radius_m = near->radius_m;
     if (!heading_note_.empty())
     {
         appearance_note += (appearance_note.empty() ? "" : "; ") + heading_note_;
         heading_note_.clear();
     }
-    if (heading_)
+    if (near && near->R_world_cam)
     {
         std::ostringstream s;
         s.precision(3);
-        s << "heading prior "
-          << angleBetweenDeg(attempt.result.T_world_cam.linear(), R_world_body_predicted_ * T_body_cam_.linear())
-          << " deg from the answer (bound " << headingBoundDeg(*heading_, biases().gyro_sigma, frame.timestamp) << ")";
+        s << "headings within " << near->heading_bound_deg << " deg of the gyroscope's";
+        if (attempt.result.inlier_ratio > 0)
+            s << " (answer " << angleBetweenDeg(attempt.result.T_world_cam.linear(), *near->R_world_cam)
+              << " deg from it)";
         appearance_note += (appearance_note.empty() ? "" : "; ") + s.str();
     }
     if (anchor_ && !attempt.result.localized && attempt.result.ambiguous)

@@ -185,11 +185,10 @@ TEST(GlobalInitialization, TheHeadingPriorIsCarriedByTheBiasCorrectedGyroscopeAn
     EXPECT_LT(Eigen::AngleAxisd(expected.transpose() * R).angle(), 1e-9);
     // A gap in the samples (an IMU dropout): the heading is no longer known.
     EXPECT_FALSE(tracking::carryOrientation(R, t, {{3.5, Eigen::Vector3d(0, 0, 9.81), rate}}, bias));
-    // The bound: margin, plus 3 sigmas of the bias and the growth per second since t.
+    // The bound: margin, plus 3 sigmas of the bias over the time since t.
     tracking::HeadingPrior h;
     h.t = 1.0;
     h.margin_deg = 10;
-    h.growth_deg_s = 1;
     EXPECT_DOUBLE_EQ(tracking::headingBoundDeg(h, 0.001, 1.0), 10);
-    EXPECT_NEAR(tracking::headingBoundDeg(h, 0.001, 3.0), 10 + 2 * (3 * 0.001 * 180 / M_PI + 1), 1e-9);
+    EXPECT_NEAR(tracking::headingBoundDeg(h, 0.001, 3.0), 10 + 2 * 3 * 0.001 * 180 / M_PI, 1e-9);
 }

@@ -145,8 +145,9 @@ void RelocalizationOptions::declare(core::OptionTable& t)
     t.add("relocalize_heading_margin_deg", relocalize_heading_margin_deg, "deg", Range::atLeast(0),
           "the search looks only at headings within this of the orientation of the last verified frame (carried "
           "on by the gyroscope), plus three gyroscope-bias sigmas over the time since; 0: every heading");
-    t.add("relocalize_heading_growth_deg_s", relocalize_heading_growth_deg_s, "deg/s", Range::atLeast(0),
-          "the heading bound also grows by this per second since the last verified frame");
+    t.add("relocalize_heading_for_s", relocalize_heading_for_s, "s", Range::atLeast(0),
+          "the heading prior holds this long after the loss (a verified pose can be wrong); then every heading is "
+          "searched");
 }
 
 void TrackMonitorOptions::declare(core::OptionTable& t)

@@ -354,7 +354,7 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
             if (const auto known = history_.at(last_verified_t))
                 prior = SearchPrior{known->translation(), last_verified_t, o.relocalize_near_m, o.relocalize_speed_m_s};
         starter_->setBiasPrior(latest_.biasPrior());
-        search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix, headingPrior());
+        search_->begin("reloc " + std::to_string(summary_.losses), prior, o.relocalize_single_fix, headingPrior(r.t));
     }
     if (!search_->searching()) return false;
     // Only the hand-over counts in the frame's time: the search itself runs beside the tracker.
@@ -374,7 +374,7 @@ void TrackingSession::keepImuSinceVerified(const dataset::StereoFrame& f)
     while (!imu_since_verified_.empty() && imu_since_verified_.front().t < t_verified) imu_since_verified_.pop_front();
 }
 
-std::optional<HeadingPrior> TrackingSession::headingPrior() const
+std::optional<HeadingPrior> TrackingSession::headingPrior(double t_loss) const
 {
     const RelocalizationOptions& o = options_.relocalization;
     const double t_verified = monitor_.lastVerifiedT();
@@ -384,7 +384,7 @@ std::optional<HeadingPrior> TrackingSession::headingPrior() const
     h.R_world_body = T_world_cam0->linear() * T_body_cam_.linear().transpose();
     h.t = t_verified;
     h.margin_deg = o.relocalize_heading_margin_deg;
-    h.growth_deg_s = o.relocalize_heading_growth_deg_s;
+    h.t_until = t_loss + o.relocalize_heading_for_s;
     h.imu.assign(imu_since_verified_.begin(), imu_since_verified_.end());
     return h;
 }

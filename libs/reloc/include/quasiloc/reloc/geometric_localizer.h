@@ -49,6 +49,8 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
     std::vector<double> heights_m{0.5, 0.8, 1.1, 1.4, 1.7, 2.0};
     double clearance_m = 0.2;
     bool require_enclosed = true;
+    /** Of the 9 enclosure rays (view_sampling.h): maps built from LiDAR sweeps see ceilings in part. */
+    int min_enclosing_rays = 7;
     std::vector<double> region;
     int num_yaws = 36;
     int score_points = 200;
@@ -82,7 +84,8 @@ struct SearchSphere
     double radius_m = 0;
     std::optional<Eigen::Matrix3d> R_world_cam;
     double heading_bound_deg = 180;
-    /** Whether T_world_cam's rotation lies within the heading bound (always, without a heading). */
+    /** Whether R's heading (the azimuth of its viewing direction) is within heading_bound_deg of R_world_cam's
+     *  (always, without a heading). Tilt is left to gravity, which levels every candidate. */
     bool headingAdmits(const Eigen::Matrix3d& R) const;
 };
 

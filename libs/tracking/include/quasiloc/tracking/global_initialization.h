@@ -70,18 +70,18 @@ struct SearchPrior
 };
 
 /** The body's orientation where a lost track was last verified (a relocalization). The gyroscope carries it to each
- *  attempt (not the tracker, whose orientation may have gone wrong since),
- *  and only headings within margin_deg (the track's own error where it was last verified) plus three gyroscope-bias
- * sigmas and growth_deg_s per second since are searched and weighed (reloc::SearchSphere); the growth lets a heading
- * that was wrong at the loss hold the search away for a while, not for ever. Position is lost, but orientation is not:
- * a corridor seen from either end, or a room's turned twin, explains the stereo points as well as the true place, and
- * differs from it by 90 or 180 degrees. */
+ *  attempt (not the tracker, whose orientation may have gone wrong since), and only headings within margin_deg
+ *  (the track's own error where it was verified) plus three gyroscope-bias sigmas over the time since are searched
+ *  and weighed (reloc::SearchSphere). Position is lost, but orientation is not: a corridor seen from either end, or
+ *  a room's turned twin, explains the stereo points as well as the true place, and differs from it by 90 or 180
+ *  degrees. The prior holds up to t_until only (the session: for a few seconds after the loss): a verified pose
+ *  can be wrong, and a wrong heading must not keep the search away for ever. */
 struct HeadingPrior
 {
     Eigen::Matrix3d R_world_body = Eigen::Matrix3d::Identity();  ///< at t (the last verified frame)
     double t = 0;
-    double margin_deg = 10;
-    double growth_deg_s = 1;
+    double margin_deg = 15;
+    double t_until = 0;
     std::vector<dataset::ImuSample> imu;  ///< samples after t already received (up to the loss)
 };
 

@@ -109,7 +109,7 @@ struct RelocalizationOptions : public core::DeclaredOptions
     bool relocalize_latest_only = true;
     double relocalize_near_m = 0.5, relocalize_speed_m_s = 1.5;
     bool relocalize_single_fix = true;
-    double relocalize_heading_margin_deg = 10, relocalize_heading_growth_deg_s = 1;
+    double relocalize_heading_margin_deg = 15, relocalize_heading_for_s = 5;
     void declare(core::OptionTable& t) override;
 };
 

@@ -138,8 +138,8 @@ class TrackingSession
     std::deque<dataset::StereoFrame> queued_;
     /** Keeps f's IMU samples (once, in time order) and forgets those before the last verified frame. */
     void keepImuSinceVerified(const dataset::StereoFrame& f);
-    /** The orientation of the last verified frame and the samples since, for a search after a loss. */
-    std::optional<HeadingPrior> headingPrior() const;
+    /** The orientation of the last verified frame and the samples since, for a search after a loss at t_loss. */
+    std::optional<HeadingPrior> headingPrior(double t_loss) const;
     /** Frames tracked since the search began, with the track's state at each (a restart tracks the later ones
      *  again, from the biases the track had at the fix). */
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
