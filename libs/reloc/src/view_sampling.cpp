@@ -102,7 +102,11 @@ void ViewSamplingOptions::declare(core::OptionTable& t)
     t.add("voxel_m", voxel_m, "m", Range::above(0),
           "occupancy grid of the map used for the clearance / floor / enclosure tests");
     t.add("require_enclosed", require_enclosed,
-          "indoors: rays in 8 horizontal directions and straight up must all hit the map within max_ray_m");
+          "indoors: rays in 8 horizontal directions and straight up must hit the map within max_ray_m (at least "
+          "min_enclosing_rays of them)");
+    t.add("min_enclosing_rays", min_enclosing_rays, "", Range::between(1, 9),
+          "require_enclosed: this many of the 9 rays must hit (fewer: a ceiling the mapping LiDAR saw only in part, "
+          "windows that return nothing)");
     t.add("max_ray_m", max_ray_m, "m", Range::above(0), "enclosure ray length");
     t.add("region", region, "m", Range::any(), "optional [xmin ymin xmax ymax] (world): sample only there");
     t.add("margin_m", margin_m, "m", Range::atLeast(0), "distance kept from the map's horizontal bounds");
@@ -184,11 +188,13 @@ std::vector<mrpt::poses::CPose3D> sampleViewpoints(const map::LidarMap& map, con
                 }
                 if (options.require_enclosed)
                 {
-                    bool enclosed = grid.rayHits(x, y, z, 0, 0, 1, options.max_ray_m);
-                    for (int k = 0; enclosed && k < 8; ++k)
-                        enclosed =
-                            grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0, options.max_ray_m);
-                    if (!enclosed)
+                    int hits = grid.rayHits(x, y, z, 0, 0, 1, options.max_ray_m) ? 1 : 0;
+                    for (int k = 0; k < 8 && hits + (8 - k) >= options.min_enclosing_rays; ++k)
+                        hits +=
+                            grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0, options.max_ray_m)
+                                ? 1
+                                : 0;
+                    if (hits < options.min_enclosing_rays)
                     {
                         ++st.not_enclosed;
                         continue;

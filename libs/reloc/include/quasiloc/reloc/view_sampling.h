@@ -26,6 +26,7 @@ struct ViewSamplingOptions : public core::DeclaredOptions
     double clearance_m = 0.3;
     double voxel_m = 0.1;
     bool require_enclosed = true;
+    int min_enclosing_rays = 9;  ///< of the 9 enclosure rays (8 horizontal, 1 up)
     double max_ray_m = 30;
     std::vector<double> region;  ///< empty or {xmin, ymin, xmax, ymax}
     double margin_m = 0.3;
