@@ -86,7 +86,7 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
     vs.pitches_deg = {0.0};
     vs.clearance_m = o.clearance_m;
     vs.require_enclosed = o.require_enclosed;
-    vs.min_enclosing_rays = o.min_enclosing_rays;
+    vs.ceiling_min_share = o.ceiling_min_share;
     vs.region = o.region;
     for (const auto& p : sampleViewpoints(map, vs)) positions_.emplace_back(p.x(), p.y(), p.z());
     core::require(!positions_.empty(), input, "no free camera position for global localization by geometry");

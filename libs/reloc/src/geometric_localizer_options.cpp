@@ -39,9 +39,9 @@ void GeometricLocalizationOptions::declare(core::OptionTable& t)
     t.add("heights_m", heights_m, "m", Range::any(), "candidate heights above the floor");
     t.add("clearance_m", clearance_m, "m", Range::atLeast(0), "no map point closer to a candidate position");
     t.add("require_enclosed", require_enclosed, "indoors: positions enclosed by the map; false outdoors");
-    t.add("min_enclosing_rays", min_enclosing_rays, "", Range::between(1, 9),
-          "require_enclosed: this many of 9 rays (8 horizontal, 1 up) must hit the map (a ceiling seen in part, "
-          "windows)");
+    t.add("ceiling_min_share", ceiling_min_share, "", Range::between(0, 1),
+          "require_enclosed: a candidate needs a ceiling above it when at least this share of the wall-enclosed "
+          "positions have one (a map whose mapping LiDAR saw the ceiling in part is enclosed by its walls alone)");
     t.add("region", region, "m", Range::any(), "optional [xmin ymin xmax ymax]: search only there");
     t.add("num_yaws", num_yaws, "", Range::between(1, 720), "headings per candidate position");
     t.add("score_points", score_points, "", Range::atLeast(10), "query points scored per coarse candidate");

@@ -102,11 +102,11 @@ void ViewSamplingOptions::declare(core::OptionTable& t)
     t.add("voxel_m", voxel_m, "m", Range::above(0),
           "occupancy grid of the map used for the clearance / floor / enclosure tests");
     t.add("require_enclosed", require_enclosed,
-          "indoors: rays in 8 horizontal directions and straight up must hit the map within max_ray_m (at least "
-          "min_enclosing_rays of them)");
-    t.add("min_enclosing_rays", min_enclosing_rays, "", Range::between(1, 9),
-          "require_enclosed: this many of the 9 rays must hit (fewer: a ceiling the mapping LiDAR saw only in part, "
-          "windows that return nothing)");
+          "indoors: rays in 8 horizontal directions, and straight up where the map has a ceiling, must hit the map "
+          "within max_ray_m");
+    t.add("ceiling_min_share", ceiling_min_share, "", Range::between(0, 1),
+          "require_enclosed: the ray up must hit too when at least this share of the positions enclosed by walls "
+          "have a ceiling above them (0: always; a map built from a LiDAR that saw the ceiling in part has less)");
     t.add("max_ray_m", max_ray_m, "m", Range::above(0), "enclosure ray length");
     t.add("region", region, "m", Range::any(), "optional [xmin ymin xmax ymax] (world): sample only there");
     t.add("margin_m", margin_m, "m", Range::atLeast(0), "distance kept from the map's horizontal bounds");
@@ -167,6 +167,13 @@ std::vector<mrpt::poses::CPose3D> sampleViewpoints(const map::LidarMap& map, con
     const double s = options.grid_spacing_m;
     const int64_t i0 = int64_t(std::ceil(x0 / s - 1e-9)), i1 = int64_t(std::floor(x1 / s + 1e-9));
     const int64_t j0 = int64_t(std::ceil(y0 / s - 1e-9)), j1 = int64_t(std::floor(y1 / s + 1e-9));
+    struct Position
+    {
+        double x, y, z;
+        bool ceiling;  ///< the ray straight up hits the map
+    };
+    std::vector<Position> kept;
+    size_t with_ceiling = 0;
     for (int64_t j = j0; j <= j1; ++j)
         for (int64_t i = i0; i <= i1; ++i)
         {
@@ -186,26 +193,35 @@ std::vector<mrpt::poses::CPose3D> sampleViewpoints(const map::LidarMap& map, con
                     ++st.not_clear;
                     continue;
                 }
-                if (options.require_enclosed)
+                bool walls = true;
+                for (int k = 0; options.require_enclosed && walls && k < 8; ++k)
+                    walls = grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0, options.max_ray_m);
+                if (!walls)
                 {
-                    int hits = grid.rayHits(x, y, z, 0, 0, 1, options.max_ray_m) ? 1 : 0;
-                    for (int k = 0; k < 8 && hits + (8 - k) >= options.min_enclosing_rays; ++k)
-                        hits +=
-                            grid.rayHits(x, y, z, std::cos(k * kPi / 4), std::sin(k * kPi / 4), 0, options.max_ray_m)
-                                ? 1
-                                : 0;
-                    if (hits < options.min_enclosing_rays)
-                    {
-                        ++st.not_enclosed;
-                        continue;
-                    }
+                    ++st.not_enclosed;
+                    continue;
                 }
-                ++st.positions;
-                for (int k = 0; k < options.num_headings; ++k)
-                    for (double pitch : options.pitches_deg)
-                        views.push_back(viewPose(x, y, z, 2 * kPi * k / options.num_headings, pitch * kPi / 180));
+                const bool ceiling = options.require_enclosed && grid.rayHits(x, y, z, 0, 0, 1, options.max_ray_m);
+                with_ceiling += ceiling ? 1 : 0;
+                kept.push_back({x, y, z, ceiling});
             }
         }
+    // A ceiling is asked for where the map has one over most of its enclosed positions; a map whose mapping LiDAR
+    // saw the ceiling only in part is enclosed by its walls alone.
+    st.ceiling_share = kept.empty() ? 0.0 : double(with_ceiling) / double(kept.size());
+    st.ceiling_required = options.require_enclosed && st.ceiling_share >= options.ceiling_min_share;
+    for (const Position& p : kept)
+    {
+        if (st.ceiling_required && !p.ceiling)
+        {
+            ++st.not_enclosed;
+            continue;
+        }
+        ++st.positions;
+        for (int k = 0; k < options.num_headings; ++k)
+            for (double pitch : options.pitches_deg)
+                views.push_back(viewPose(p.x, p.y, p.z, 2 * kPi * k / options.num_headings, pitch * kPi / 180));
+    }
     st.views = views.size();
     if (stats) *stats = st;
     return views;

@@ -49,8 +49,9 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
     std::vector<double> heights_m{0.5, 0.8, 1.1, 1.4, 1.7, 2.0};
     double clearance_m = 0.2;
     bool require_enclosed = true;
-    /** Of the 9 enclosure rays (view_sampling.h): maps built from LiDAR sweeps see ceilings in part. */
-    int min_enclosing_rays = 7;
+    /** view_sampling.h. 0 (a ceiling always needed): on the real V1_01 micro set only 30 positions have one, and
+     *  with all 4,279 wall-enclosed ones the start is a wrong place (docs/benchmarks.md). */
+    double ceiling_min_share = 0;
     std::vector<double> region;
     int num_yaws = 36;
     int score_points = 200;

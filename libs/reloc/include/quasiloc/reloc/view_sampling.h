@@ -26,7 +26,7 @@ struct ViewSamplingOptions : public core::DeclaredOptions
     double clearance_m = 0.3;
     double voxel_m = 0.1;
     bool require_enclosed = true;
-    int min_enclosing_rays = 9;  ///< of the 9 enclosure rays (8 horizontal, 1 up)
+    double ceiling_min_share = 0;
     double max_ray_m = 30;
     std::vector<double> region;  ///< empty or {xmin, ymin, xmax, ymax}
     double margin_m = 0.3;
@@ -44,7 +44,9 @@ struct ViewSamplingStats
     size_t not_clear = 0;       ///< (position, height) too close to geometry
     size_t not_enclosed = 0;    ///< (position, height) outside the map's enclosure
     size_t positions = 0;       ///< (position, height) kept
-    size_t views = 0;           ///< positions x headings x pitches
+    double ceiling_share = 0;   ///< of the positions enclosed by walls, those with a ceiling above
+    bool ceiling_required = false;
+    size_t views = 0;  ///< positions x headings x pitches
 };
 
 /** T_world_cam of a camera at p_world looking along heading (rad, about world +z, 0 = +x) and pitch (rad,
