@@ -17,27 +17,6 @@ double secondsSince(std::chrono::steady_clock::time_point a)
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count();
 }
 
-/** The cube map of the static world and the moving things at one instant (one thread: the machine is shared). */
-void renderSweepCube(const Mesh& world, const Mesh& moving, const Eigen::Vector3f& centre, int n, CubeMap& cube)
-{
-    cube.n = n;
-    cube.centre = centre;
-    cube.R = cubeFaceRotations();
-    const PinholeIntrinsics K = cubeFaceIntrinsics(n);
-    for (int f = 0; f < 6; ++f)
-    {
-        Eigen::Isometry3f T = Eigen::Isometry3f::Identity();
-        T.linear() = cube.R[f];
-        T.translation() = -cube.R[f] * centre;
-        cube.faces[f].reset(n, n);
-        RasterOptions ro;
-        ro.near_m = 0.02f;
-        rasterize(world, K, T, ro, cube.faces[f]);
-        ro.id_offset = int32_t(world.triangles.size());
-        rasterize(moving, K, T, ro, cube.faces[f]);
-    }
-}
-
 struct Hit
 {
     float range = 0;         ///< from the cube's centre
@@ -190,8 +169,9 @@ map::LidarScan simulateSweep(const World& world, const MappingScene& scene, cons
     const double period = 1.0 / o.sweep_rate_hz, t0 = double(k) * period;
     const Mesh moving = scene.meshAt(t0 + 0.5 * period);
     CubeMap cube;
-    renderSweepCube(world.mesh, moving, run.pose(t0 + 0.5 * period).translation().cast<float>(), o.sweep_cubemap_px,
-                    cube);
+    // on this thread: the machine is shared
+    renderCubeMap(world.mesh, moving, run.pose(t0 + 0.5 * period).translation().cast<float>(), o.sweep_cubemap_px,
+                  cube);
     const SweepCaster caster(world, moving, scene, cube, o);
     const std::vector<Firing> rosette =
         o.sweep_pattern == SweepPattern::rosette ? rosettePattern(o, t0) : std::vector<Firing>{};

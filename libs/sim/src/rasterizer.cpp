@@ -195,27 +195,47 @@ const VisibilitySample* CubeMap::lookup(const Eigen::Vector3f& d, float& z_face)
     return &faces[face].at(u, v);
 }
 
-void renderCubeMap(const Mesh& mesh, const Eigen::Vector3f& centre, int n, CubeMap& cube)
+namespace
+{
+void prepareCubeMap(const Eigen::Vector3f& centre, int n, CubeMap& cube)
 {
     cube.n = n;
     cube.centre = centre;
     cube.R = cubeFaceRotations();
-    const PinholeIntrinsics K = cubeFaceIntrinsics(n);
-    auto render_faces = [&](int first, int last) {
-        for (int f = first; f < last; ++f)
-        {
-            Eigen::Isometry3f T = Eigen::Isometry3f::Identity();
-            T.linear() = cube.R[f];
-            T.translation() = -cube.R[f] * centre;
-            cube.faces[f].reset(n, n);
-            RasterOptions ro;
-            ro.near_m = 0.02f;
-            rasterize(mesh, K, T, ro, cube.faces[f]);
-        }
-    };
-    std::thread other([&] { render_faces(3, 6); });
-    render_faces(0, 3);
+}
+
+/** Faces [first, last) of `cube` (prepared): `mesh`, then `also` if given, its ids after mesh's. */
+void renderCubeFaces(const Mesh& mesh, const Mesh* also, int first, int last, CubeMap& cube)
+{
+    const PinholeIntrinsics K = cubeFaceIntrinsics(cube.n);
+    for (int f = first; f < last; ++f)
+    {
+        Eigen::Isometry3f T = Eigen::Isometry3f::Identity();
+        T.linear() = cube.R[f];
+        T.translation() = -cube.R[f] * cube.centre;
+        cube.faces[f].reset(cube.n, cube.n);
+        RasterOptions ro;
+        ro.near_m = 0.02f;
+        rasterize(mesh, K, T, ro, cube.faces[f]);
+        if (!also) continue;
+        ro.id_offset = int32_t(mesh.triangles.size());
+        rasterize(*also, K, T, ro, cube.faces[f]);
+    }
+}
+}  // namespace
+
+void renderCubeMap(const Mesh& mesh, const Eigen::Vector3f& centre, int n, CubeMap& cube)
+{
+    prepareCubeMap(centre, n, cube);
+    std::thread other([&] { renderCubeFaces(mesh, nullptr, 3, 6, cube); });
+    renderCubeFaces(mesh, nullptr, 0, 3, cube);
     other.join();
+}
+
+void renderCubeMap(const Mesh& mesh, const Mesh& also, const Eigen::Vector3f& centre, int n, CubeMap& cube)
+{
+    prepareCubeMap(centre, n, cube);
+    renderCubeFaces(mesh, &also, 0, 6, cube);
 }
 
 }  // namespace quasiloc::sim

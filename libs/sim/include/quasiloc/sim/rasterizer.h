@@ -75,5 +75,8 @@ struct CubeMap
 
 /** Renders the six faces of `mesh` around `centre` (n x n pixels each, two threads). */
 void renderCubeMap(const Mesh& mesh, const Eigen::Vector3f& centre, int n, CubeMap& cube);
+/** The same on the calling thread, with `also` drawn after `mesh` (its triangle ids offset by mesh's triangle
+ *  count): the static world and the things moving in it at one instant. */
+void renderCubeMap(const Mesh& mesh, const Mesh& also, const Eigen::Vector3f& centre, int n, CubeMap& cube);
 
 }  // namespace quasiloc::sim
