@@ -50,8 +50,9 @@ std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) con
     return sphere;
 }
 
-reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame, std::string& note,
-                                                         AmbiguousFix& ambiguous)
+reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame,
+                                                         const std::optional<reloc::SearchSphere>& near,
+                                                         std::string& note, AmbiguousFix& ambiguous)
 {
     std::vector<Eigen::Vector3d> acc;
     if (const auto still = options_.static_initialization ? static_.estimate() : std::nullopt)
@@ -59,7 +60,6 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
     else
         for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
-    const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp);
     reloc::GeometricLocalization r = localizer_.localize(frame.left, frame.right, up_cam, near ? &*near : nullptr);
     ambiguous = {};
     if (!r.ambiguous) return r;
@@ -238,8 +238,8 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     attempt.t = frame.timestamp;
     std::string appearance_note;
     AmbiguousFix ambiguous;
-    attempt.result = localize(frame, appearance_note, ambiguous);
     const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp);
+    attempt.result = localize(frame, near, appearance_note, ambiguous);
     if (near && prior_) attempt.search_radius_m = near->radius_m;
     if (!heading_note_.empty())
     {

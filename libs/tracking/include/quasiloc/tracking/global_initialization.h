@@ -194,7 +194,9 @@ class GlobalInitializer
     /** Where a frame at time t is searched (the prior's sphere, the heading prior's bound), or nowhere in
      *  particular (neither prior). */
     std::optional<reloc::SearchSphere> searchSphere(double t) const;
-    reloc::GeometricLocalization localize(const dataset::StereoFrame& frame, std::string& note,
+    /** The frame localized within `near` (searchSphere at its time). */
+    reloc::GeometricLocalization localize(const dataset::StereoFrame& frame,
+                                          const std::optional<reloc::SearchSphere>& near, std::string& note,
                                           AmbiguousFix& ambiguous);
     /** With an anchor: an ambiguous fix is taken when exactly one of its places closes the pair with the anchor and
      *  the image (if scored) prefers that place too. */
