@@ -8,6 +8,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/map/map_build.h>
+#include <quasiloc/map/surface_thickness.h>
 #include <quasiloc/ros/bag_scan_source.h>
 #include <sstream>
 
@@ -179,7 +180,8 @@ int run(const core::CommandLine& cmd)
         std::cout << "consistency  within-voxel coefficient of variation " << r.consistency.raw_cv << " raw -> "
                   << r.consistency.normalised_cv << " normalised (" << r.consistency.voxels << " voxels)\n";
     std::cout << "wrote       " << r.map.size() << " points to " << opt.output << ", effective config " << ini_path
-              << "\n";
+              << "\n"
+              << "surfaces    thickness " << map::describe(map::measureSurfaceThickness(r.map)) << "\n";
     std::cout << "time        wall (CPU) pass 1 " << r.seconds[0] << " (" << r.cpu_seconds[0] << ") s, pass 2 "
               << r.seconds[1] << " (" << r.cpu_seconds[1] << ") s, pass 3 " << r.seconds[2] << " (" << r.cpu_seconds[2]
               << ") s, total wall " << total_s << " s\n";

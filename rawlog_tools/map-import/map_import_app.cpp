@@ -10,6 +10,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/map/cloud_export.h>
+#include <quasiloc/map/surface_thickness.h>
 #include <quasiloc/map/map_import.h>
 #include <sstream>
 
@@ -194,6 +195,7 @@ int run(const core::CommandLine& cmd_in)
         std::cout << "exported    " << opt.export_cloud << " (" << map::toString(opt.export_encoding) << ", "
                   << fileSizeText(opt.export_cloud) << ")\n";
     std::cout << "map         " << r.map.summary() << "\n"
+              << "surfaces    thickness " << map::describe(map::measureSurfaceThickness(r.map)) << "\n"
               << std::fixed << std::setprecision(3) << "time        read " << timer.getLastTime("import.read") << " s, "
               << r.second_stage << " " << timer.getLastTime("import." + r.second_stage) << " s";
     if (opt.voxel_size_m > 0) std::cout << ", voxel " << timer.getLastTime("import.voxel") << " s";

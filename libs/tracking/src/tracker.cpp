@@ -2,8 +2,10 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <sstream>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
+#include <quasiloc/map/surface_thickness.h>
 #include <quasiloc/tracking/tracker.h>
 
 namespace quasiloc::tracking
@@ -82,12 +84,7 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
                   std::to_string(options_.model_downscale) + " does not divide [DirectAlignment] model_block_px (" +
                       std::to_string(refinement.direct.model_block_px) + ")");
     (void)rig.left.downscaled(options_.model_downscale);  // InputError now, not at the first keyframe
-    if (options_.map_term == MapTerm::Auto)
-    {
-        // A map without reflectivity (constant) offers the edge term only its depth discontinuities.
-        const auto [lo, hi] = map_.reflectivityRange();
-        options_.map_term = hi - lo > 1e-3f ? MapTerm::Factor : MapTerm::None;
-    }
+    if (options_.map_term == MapTerm::Auto) resolveAutoMapTerm();
     estimator_.check("Tracker");
     reweighting_.check("Tracker");
     T_body_cam_ = core::toIsometry(rig.T_body_left);
@@ -102,6 +99,26 @@ Tracker::Tracker(const TrackerOptions& options, const estimation::MapRefinementO
 }
 
 Tracker::~Tracker() = default;
+
+void Tracker::resolveAutoMapTerm()
+{
+    // A map without reflectivity (constant) offers the edge term only its depth discontinuities.
+    const auto [lo, hi] = map_.reflectivityRange();
+    if (hi - lo <= 1e-3f)
+    {
+        options_.map_term = MapTerm::None;
+        map_term_reason_ = "auto: the map's reflectivity is constant";
+        return;
+    }
+    const map::SurfaceThickness thickness = map::measureSurfaceThickness(map_);
+    const bool thin = thickness.surface_patches > 0 && thickness.median_m <= options_.edge_map_max_thickness_m;
+    options_.map_term = thin ? MapTerm::Factor : MapTerm::None;
+    std::ostringstream why;
+    why << "auto: the map's reflectivity varies and its surfaces are " << (thin ? "thin" : "thick") << ", "
+        << map::describe(thickness) << (thin ? " <= " : " > ") << options_.edge_map_max_thickness_m * 1e3
+        << " mm (edge_map_max_thickness_m)";
+    map_term_reason_ = why.str();
+}
 
 TrackEstimate Tracker::initialize(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                                   const ImuBiasPrior& biases, const dataset::StereoFrame* frame)

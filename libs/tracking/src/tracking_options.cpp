@@ -85,7 +85,13 @@ void TrackerOptions::declare(core::OptionTable& t)
           "DirectAlignment.model_block_px); 1 whenever map_points, map_lines or map_planes is on: they read the "
           "full-resolution quasi-image");
     t.addEnum("map_term", map_term, {{"auto", MapTerm::Auto}, {"factor", MapTerm::Factor}, {"none", MapTerm::None}},
-              "map edges in the window: factor; none; auto = factor when the map's reflectivity varies, else none");
+              "map edges in the window: factor; none; auto = factor when the map's reflectivity varies and its "
+              "surfaces are at most edge_map_max_thickness_m thick, else none");
+    t.add("edge_map_max_thickness_m", edge_map_max_thickness_m, "m", Range::above(0),
+          "map_term = auto: the edge term only on maps whose surfaces are this thin or thinner (median thickness "
+          "of the map's surface patches, printed by map-import, map-build and quasiloc-track): an exact survey map "
+          "is a few mm thick, a map fused from mobile LiDAR sweeps 1-3 cm, and on those the edge term turns the "
+          "map's scatter into pose error");
     t.add("min_prior_sigma_m", min_prior_sigma_m, "m", Range::above(0),
           "the alignment's prior: the predicted sigma, at least this");
     t.add("min_prior_sigma_deg", min_prior_sigma_deg, "deg", Range::above(0), "the same for its rotation");

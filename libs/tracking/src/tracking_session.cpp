@@ -128,12 +128,9 @@ TrackingSession::TrackingSession(const SessionOptions& options, MapContext& cont
     noise.gap_gyro_sigma = options_.estimator.imu_gap_gyro_sigma;
     tracker_ = std::make_unique<Tracker>(o, options_.refinement, options_.estimator, options_.reweighting, source.rig(),
                                          noise, context.renderer(), options_.frontend);
-    // auto resolves to factor when the map's reflectivity varies (Tracker's constructor), else to none.
+    // auto resolves by the map (Tracker's constructor): factor on a thin map with reflectivity, else none.
     out_ << "map term: " << mapTermName(tracker_->mapTerm())
-         << (o.map_term != MapTerm::Auto              ? ""
-             : tracker_->mapTerm() == MapTerm::Factor ? " (auto: the map's reflectivity varies)"
-                                                      : " (auto: the map's reflectivity is constant)")
-         << std::endl;
+         << (tracker_->mapTermReason().empty() ? "" : " (" + tracker_->mapTermReason() + ")") << std::endl;
     if (o.initialization.init == InitMode::Global || relocalizes())
     {
         starter_ = std::make_unique<GlobalStarter>(context, source.rig(), o.initialization, options_.localization,

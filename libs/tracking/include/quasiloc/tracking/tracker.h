@@ -86,8 +86,10 @@ class Tracker
     /** The same with the uncertainty of a globally localized start (init_global_sigma_*) instead of init_sigma_*. */
     TrackEstimate initializeFromGlobal(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                                        const ImuBiasPrior& biases, const dataset::StereoFrame* frame);
-    /** The map term in use: map_term, with auto resolved by the map (factor with reflectivity, else none). */
+    /** The map term in use: map_term, with auto resolved by the map (factor on a thin map with reflectivity). */
     MapTerm mapTerm() const { return options_.map_term; }
+    /** Why auto resolved as it did ("" when map_term was given): what the session prints. */
+    const std::string& mapTermReason() const { return map_term_reason_; }
 
     /** The map's distance field (must outlive the tracker; nullptr: none): enables stereo_map_factor. */
     void setMapDistanceField(const map::DistanceField* field) { distance_field_ = field; }
@@ -100,6 +102,9 @@ class Tracker
     TrackStep step(const dataset::StereoFrame& frame, const StereoGate& gate);
 
    private:
+    /** map_term = auto: factor when the map's reflectivity varies and its surfaces are thin, else none. */
+    void resolveAutoMapTerm();
+    std::string map_term_reason_;
     /** What the map alignment of a keyframe gives the window: the edge model (alive until the window has used it),
      *  the aligned pose its factor is linearised from, and the pose the structural factors associate at. */
     struct MapAlignment

@@ -17,7 +17,7 @@ namespace quasiloc::tracking
 /** What carries the map's edges into the window. */
 enum class MapTerm
 {
-    Auto,    ///< Factor when the map's reflectivity varies, None when it is constant (e.g. sampled from a GMM)
+    Auto,    ///< Factor when the map's reflectivity varies and its surfaces are thin (an exact map), else None
     Factor,  ///< the edge residuals as a window factor, linearised from the alignment's pose (direct_factor.h)
     None     ///< no edge alignment (the stereo surface factor alone)
 };
@@ -80,6 +80,10 @@ struct TrackerOptions : public core::DeclaredOptions
     int keyframe_every = 1;
     int model_downscale = 2;
     MapTerm map_term = MapTerm::Auto;
+    /** map_term = auto: the edge term only on maps whose surfaces are at most this thick (map/surface_thickness.h).
+     *  Reflectivity edges rendered from points scattered a centimetre or more across their surface move by pixels,
+     *  and the edge term turns that into pose error (every real map and every swept map: docs/benchmarks.md). */
+    double edge_map_max_thickness_m = 0.006;
     double min_prior_sigma_m = 0.05, min_prior_sigma_deg = 0.5;
     double max_correction_m = 0.15, max_correction_deg = 1.5;
     bool temporal_landmarks = true;
