@@ -6,6 +6,7 @@
 #include <quasiloc/map/distance_field.h>
 
 #include "distance_field_detail.h"
+#include "distance_field_streamed.h"
 #include <sstream>
 
 namespace quasiloc::map
@@ -19,6 +20,10 @@ void DistanceFieldOptions::check(const std::string& input) const
     core::require(max_distance_m > 0 && std::isfinite(max_distance_m), input,
                   "distance field max_distance_m must be > 0");
     core::require(max_voxels > 0, input, "distance field max_voxels must be > 0");
+    core::require(memory_budget_mb > 0 && std::isfinite(memory_budget_mb), input,
+                  "distance field memory_budget_mb must be > 0");
+    core::require(focus_radius_m >= 0 && std::isfinite(focus_radius_m), input,
+                  "distance field focus_radius_m must be >= 0");
 }
 
 DistanceField DistanceField::build(const LidarMap& map, const DistanceFieldOptions& o, const std::string& input)
@@ -39,6 +44,7 @@ DistanceField DistanceField::build(const LidarMap& map, const DistanceFieldOptio
     core::require(n.maxCoeff() < 1e6, input, "a distance field over 1e6 voxels along an axis: use a larger voxel");
     f.nx_ = int(n.x()), f.ny_ = int(n.y()), f.nz_ = int(n.z());
     const double voxels = n.x() * n.y() * n.z();
+    if (o.layout == DistanceFieldLayout::Streamed) return buildStreamed(map, std::move(f), o, input);
     const bool sparse = o.layout == DistanceFieldLayout::Sparse ||
                         (o.layout == DistanceFieldLayout::Auto && voxels > double(o.dense_max_voxels));
     return sparse ? buildSparse(map, std::move(f)) : buildDense(map, std::move(f), input, o);
@@ -75,6 +81,43 @@ DistanceField DistanceField::buildDense(const LidarMap& map, DistanceField f, co
     return f;
 }
 
+DistanceField DistanceField::buildStreamed(const LidarMap& map, DistanceField f, const DistanceFieldOptions& o,
+                                           const std::string& input)
+{
+    f.bx_ = (f.nx_ + kBrick - 1) / kBrick, f.by_ = (f.ny_ + kBrick - 1) / kBrick, f.bz_ = (f.nz_ + kBrick - 1) / kBrick;
+    const detail::TileGrid grid(f.origin_, f.voxel_, f.max_distance_, Eigen::Vector3i(f.nx_, f.ny_, f.nz_));
+    f.streamed_ = std::make_shared<detail::StreamedTiles>(map, grid, o, input);
+    return f;
+}
+
+float DistanceField::streamedVoxel(int i, int j, int k) const { return value(streamed_->voxel(i, j, k)); }
+
+void DistanceField::focus(const Eigen::Vector3f& p_world) const
+{
+    if (streamed_) streamed_->focus(p_world);
+}
+
+void DistanceField::waitForFocus() const
+{
+    if (streamed_) streamed_->waitForFocus();
+}
+
+size_t DistanceField::writeAllTiles() const
+{
+    core::require(streamed_ != nullptr, "DistanceField::writeAllTiles", "only a streamed field has tiles to write");
+    return streamed_->writeAll();
+}
+
+size_t DistanceField::memoryBytes() const
+{
+    if (streamed_) return streamed_->memoryBytes();
+    return (d_.size() + bricks_.size() * size_t(kBrickVoxels)) * sizeof(uint16_t) + brick_of_.size() * sizeof(int);
+}
+
+size_t DistanceField::allocatedBricks() const { return streamed_ ? streamed_->residentBricks() : bricks_.size(); }
+
+DistanceField::StreamStats DistanceField::streamStats() const { return streamed_ ? streamed_->stats() : StreamStats{}; }
+
 float DistanceField::distance(const Eigen::Vector3f& p_world) const { return sample(p_world, nullptr); }
 
 float DistanceField::distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& gradient) const
@@ -94,7 +137,14 @@ float DistanceField::sample(const Eigen::Vector3f& p_world, Eigen::Vector3f* gra
     const int i = int(g.x()), j = int(g.y()), k = int(g.z());
     const float a = g.x() - float(i), b = g.y() - float(j), c = g.z() - float(k);
     float d000, d100, d010, d110, d001, d101, d011, d111;
-    if (!sparse_)
+    if (streamed_)
+    {
+        uint16_t c[8];
+        streamed_->cell(i, j, k, c);
+        d000 = value(c[0]), d100 = value(c[1]), d010 = value(c[2]), d110 = value(c[3]);
+        d001 = value(c[4]), d101 = value(c[5]), d011 = value(c[6]), d111 = value(c[7]);
+    }
+    else if (!sparse_)
     {
         const size_t o = index(i, j, k), dy = size_t(nx_), dz = size_t(nx_) * size_t(ny_);
         d000 = value(d_[o]), d100 = value(d_[o + 1]), d010 = value(d_[o + dy]), d110 = value(d_[o + dy + 1]);

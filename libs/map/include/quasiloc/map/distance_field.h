@@ -19,11 +19,15 @@
 // are those of the dense grid, bit for bit: each tile of bricks is transformed with an apron of max_distance_m, and
 // a distance up to the truncation only depends on points within it. layout = auto takes the dense grid up to
 // dense_max_voxels (a room: faster to build and to query) and the sparse field beyond (a street block, a building).
+// A streamed field (distance_field_streamed.h says how) holds only the tiles of bricks near the camera: built from the
+// points on demand (or read from a tile cache on disk), evicted least recently used beyond a memory budget. Its values
+// are the sparse field's, bit for bit, so its memory is bounded whatever the map's extent (a campus of ground).
 #include <Eigen/Core>
 #include <quasiloc/map/lidar_map.h>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -31,10 +35,17 @@ namespace quasiloc::map
 {
 enum class DistanceFieldLayout
 {
-    Auto,  ///< dense up to dense_max_voxels, sparse beyond
+    Auto,  ///< dense up to dense_max_voxels, sparse beyond (never streamed: a search of the whole map would build it
+           ///< all)
     Dense,
-    Sparse
+    Sparse,
+    Streamed  ///< tiles built or read on demand around focus(), least recently used evicted beyond memory_budget_mb
 };
+
+namespace detail
+{
+class StreamedTiles;
+}
 
 struct DistanceFieldOptions
 {
@@ -44,6 +55,11 @@ struct DistanceFieldOptions
     size_t max_voxels = 150'000'000;  ///< a dense grid's cap
     DistanceFieldLayout layout = DistanceFieldLayout::Auto;
     size_t dense_max_voxels = 50'000'000;  ///< layout = auto: dense up to this many voxels (200 MB)
+    double memory_budget_mb = 1024;        ///< streamed: tiles held in memory at most (least recently used evicted)
+    double focus_radius_m = 12;            ///< streamed: focus() readies the tiles within this distance of the camera
+    /// streamed: a folder of tiles on disk (tile_cache.h): read when present, tiles built here are written to it;
+    /// empty: none. A cache of another map or other field options is an InputError naming its header.
+    std::string tile_cache;
 
     /** InputError naming `input` for a value that cannot be used. */
     void check(const std::string& input) const;
@@ -61,25 +77,44 @@ class DistanceField
     /** The same, and the gradient of the trilinear interpolant (zero outside the grid). */
     float distance(const Eigen::Vector3f& p_world, Eigen::Vector3f& gradient) const;
 
+    /** Streamed: readies the tiles within focus_radius_m of p_world on a worker thread (the nearest first), so that
+     *  the queries of the next frames find them built. A query in a tile not yet ready builds it on its own thread
+     *  (never a wrong value). Other layouts: nothing to do. Thread-safe, as are all queries. */
+    void focus(const Eigen::Vector3f& p_world) const;
+    /** Streamed: blocks until the tiles asked for by the last focus() are ready (benchmarks, tests). */
+    void waitForFocus() const;
+    /** Streamed: writes every tile of the map to the tile cache (map-build); the number of tiles written. */
+    size_t writeAllTiles() const;
+
     float maxDistance() const { return max_distance_; }
     float voxelSize() const { return voxel_; }
     Eigen::Vector3i dimensions() const { return {nx_, ny_, nz_}; }
     const Eigen::Vector3f& origin() const { return origin_; }  ///< centre of voxel (0, 0, 0)
     /** The stored value at voxel (i, j, k) (no bounds check). */
-    float voxel(int i, int j, int k) const { return sparse_ ? sparseVoxel(i, j, k) : value(d_[index(i, j, k)]); }
-    bool sparse() const { return sparse_; }
-    /** Bytes held: the dense grid, or the bricks and their index. */
-    size_t memoryBytes() const
+    float voxel(int i, int j, int k) const
     {
-        return (d_.size() + bricks_.size() * size_t(kBrickVoxels)) * sizeof(uint16_t) + brick_of_.size() * sizeof(int);
+        return streamed_ ? streamedVoxel(i, j, k) : sparse_ ? sparseVoxel(i, j, k) : value(d_[index(i, j, k)]);
     }
-    size_t allocatedBricks() const { return bricks_.size(); }
+    bool sparse() const { return sparse_; }
+    bool streamed() const { return streamed_ != nullptr; }
+    /** Bytes held: the dense grid, or the bricks and their index, or the resident tiles and the point index. */
+    size_t memoryBytes() const;
+    size_t allocatedBricks() const;
+    /** Streamed: tiles built from points, read from the cache, evicted, and corrupt cache files rebuilt so far. */
+    struct StreamStats
+    {
+        size_t built = 0, read = 0, written = 0, evicted = 0, rebuilt_corrupt = 0, resident = 0, synchronous = 0;
+    };
+    StreamStats streamStats() const;
 
    private:
     static constexpr int kBrick = 16, kBrickVoxels = kBrick * kBrick * kBrick;
     static DistanceField buildDense(const LidarMap& map, DistanceField f, const std::string& input,
                                     const DistanceFieldOptions& o);
     static DistanceField buildSparse(const LidarMap& map, DistanceField f);
+    static DistanceField buildStreamed(const LidarMap& map, DistanceField f, const DistanceFieldOptions& o,
+                                       const std::string& input);
+    float streamedVoxel(int i, int j, int k) const;
     float sparseVoxel(int i, int j, int k) const
     {
         const int b =
@@ -104,6 +139,8 @@ class DistanceField
     std::vector<int> brick_of_;     ///< sparse: brick (x fastest) -> index into bricks_, -1: all at the truncation
     /** sparse: kBrickVoxels values per brick, x fastest (one allocation each: no doubling of the whole). */
     std::vector<std::vector<uint16_t>> bricks_;
+    /** streamed: the tiles (shared by copies of the field; its worker thread ends with the last copy). */
+    std::shared_ptr<detail::StreamedTiles> streamed_;
 };
 
 }  // namespace quasiloc::map
