@@ -7,6 +7,7 @@
 #include <memory>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/staged_output.h>
+#include <quasiloc/map/distance_field.h>
 #include <quasiloc/map/map_build.h>
 #include <quasiloc/map/surface_thickness.h>
 #include <quasiloc/ros/bag_scan_source.h>
@@ -160,6 +161,19 @@ int run(const core::CommandLine& cmd)
     }
     core::writeEffectiveConfig(ini_tmp, {{"MapBuild", &opt}}, "map-build effective configuration");
     staged.commit();
+    if (!opt.field_tile_cache.empty())
+    {  // the field as the tracker builds it (GeometricLocalizer::buildField), every tile of it on disk
+        const auto tf = std::chrono::steady_clock::now();
+        map::DistanceFieldOptions fo;
+        fo.layout = map::DistanceFieldLayout::Streamed;
+        fo.voxel_m = opt.field_voxel_m;
+        fo.max_distance_m = opt.field_max_distance_m;
+        fo.margin_m = std::max(1.0, opt.field_max_distance_m);
+        fo.tile_cache = opt.field_tile_cache;
+        const size_t tiles = map::DistanceField::build(r.map, fo, opt.output).writeAllTiles();
+        std::cout << "field tiles " << tiles << " written to " << opt.field_tile_cache << " in "
+                  << std::chrono::duration<double>(std::chrono::steady_clock::now() - tf).count() << " s\n";
+    }
 
     const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::cout << std::fixed << std::setprecision(3);

@@ -104,6 +104,13 @@ void MapBuildOptions::declare(core::OptionTable& t)
                {"binary_big_endian", CloudEncoding::BinaryBigEndian},
                {"binary_compressed", CloudEncoding::BinaryCompressed}},
               "encoding of the exports (PLY: no binary_compressed; PCD: no binary_big_endian)");
+    t.add("field_tile_cache", field_tile_cache,
+          "optional: a folder for the map's distance field tiles, written whole ([GeometricLocalization] "
+          "field_layout = streamed, field_tile_cache: loading reads them instead of building)");
+    t.add("field_voxel_m", field_voxel_m, "m", Range::above(0),
+          "field_tile_cache: the field's voxel ([GeometricLocalization] field_voxel_m)");
+    t.add("field_max_distance_m", field_max_distance_m, "m", Range::above(0),
+          "field_tile_cache: the field's truncation ([GeometricLocalization] field_max_distance_m)");
 }
 
 void MapBuildOptions::check(const std::string& config_name) const

@@ -63,6 +63,9 @@ std::shared_ptr<const map::DistanceField> GeometricLocalizer::buildField(const m
     f.max_distance_m = o.field_max_distance_m;
     f.layout = o.field_layout;
     f.margin_m = std::max(1.0, o.field_max_distance_m);
+    f.memory_budget_mb = o.field_memory_budget_mb;
+    f.focus_radius_m = o.field_focus_radius_m;
+    f.tile_cache = o.field_tile_cache;
     return std::make_shared<const map::DistanceField>(map::DistanceField::build(map, f, input));
 }
 

@@ -32,8 +32,17 @@ void GeometricLocalizationOptions::declare(core::OptionTable& t)
     t.addEnum("field_layout", field_layout,
               {{"auto", map::DistanceFieldLayout::Auto},
                {"dense", map::DistanceFieldLayout::Dense},
-               {"sparse", map::DistanceFieldLayout::Sparse}},
-              "distance field storage: auto = a dense grid up to 50 M voxels (a room), sparse bricks beyond (a block)");
+               {"sparse", map::DistanceFieldLayout::Sparse},
+               {"streamed", map::DistanceFieldLayout::Streamed}},
+              "distance field storage: auto = a dense grid up to 50 M voxels (a room), sparse bricks beyond (a block); "
+              "streamed = tiles around the camera only (a campus; docs/large_maps.md)");
+    t.add("field_memory_budget_mb", field_memory_budget_mb, "MB", Range::above(0),
+          "streamed field: tiles kept in memory at most (the least recently used evicted)");
+    t.add("field_focus_radius_m", field_focus_radius_m, "m", Range::atLeast(0),
+          "streamed field: the tracker readies the tiles within this distance of the camera every frame");
+    t.add("field_tile_cache", field_tile_cache,
+          "streamed field: folder of tiles on disk (map-build field_tile_cache writes it), read instead of built; "
+          "tiles built are added; empty: none");
     declareStereo(t, stereo);
     t.add("grid_spacing_m", grid_spacing_m, "m", Range::above(0), "candidate position grid (view_sampling.h)");
     t.add("heights_m", heights_m, "m", Range::any(), "candidate heights above the floor");

@@ -55,6 +55,7 @@ std::shared_ptr<const map::DistanceField> MapContext::distanceField(const reloc:
         figures_.field_s = secondsSince(t0);
         figures_.field_mb = double(field_->memoryBytes()) / 1048576.0;
         figures_.field_sparse = field_->sparse();
+        figures_.field_streamed = field_->streamed();
     }
     // The layout may differ: a dense and a sparse field hold the same values.
     core::require(

@@ -156,8 +156,12 @@ std::string RunLog::summary(const SessionSummary& s) const
       << f.ms_max << " ms\n"
       << std::setprecision(1) << "map         " << s.map.points << " points: load " << s.map.load_s << " s, index "
       << s.map.index_s << " s, distance field " << s.map.field_s << " s (" << std::setprecision(0) << s.map.field_mb
-      << " MB, " << (s.map.field_sparse ? "sparse" : "dense") << "), global localizer set-up " << std::setprecision(1)
-      << s.localizer_setup_s << " s, start search " << s.start_search_s << " s\n";
+      << " MB, "
+      << (s.map.field_streamed ? "streamed"
+          : s.map.field_sparse ? "sparse"
+                               : "dense")
+      << "), global localizer set-up " << std::setprecision(1) << s.localizer_setup_s << " s, start search "
+      << s.start_search_s << " s\n";
     return o.str();
 }
 
@@ -182,7 +186,7 @@ std::string RunLog::summaryJson(const SessionSummary& s) const
     j.endObject();
     j.key("map").beginObject().key("points").value(s.map.points).key("load_s").value(s.map.load_s);
     j.key("index_s").value(s.map.index_s).key("field_s").value(s.map.field_s).key("field_mb").value(s.map.field_mb);
-    j.key("field_layout").value(s.map.field_sparse ? "sparse" : "dense");
+    j.key("field_layout").value(s.map.field_streamed ? "streamed" : s.map.field_sparse ? "sparse" : "dense");
     j.key("localizer_setup_s").value(s.localizer_setup_s).endObject();
     if (f.ate.trans_m.count > 0)
     {

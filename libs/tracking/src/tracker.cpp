@@ -306,6 +306,8 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     rep.standing = updateStandstill(frame);
     estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     const estimation::FrameState predicted = predict(frame, imu, rep);
+    // A streamed field readies its tiles around the camera on its worker while this frame is measured.
+    if (distance_field_) distance_field_->focus(predicted.T_map_body.translation().cast<float>());
     rep.keyframe = gate.map_terms && options_.map_updates && options_.map_term != MapTerm::None &&
                    frames_ % size_t(options_.keyframe_every) == 0;
 

@@ -83,6 +83,10 @@ struct MapBuildOptions : public core::DeclaredOptions
     std::string export_cloud;
     std::string export_removed;
     CloudEncoding export_encoding = CloudEncoding::Binary;
+    /// optional: a folder where the map's distance field tiles are written whole, for a streamed field to read
+    /// ([GeometricLocalization] field_tile_cache), with this voxel and truncation (those of the tracker)
+    std::string field_tile_cache;
+    double field_voxel_m = 0.04, field_max_distance_m = 0.5;
 
     void declare(core::OptionTable& t) override;
     /** The declared ranges, then the rules between keys: InputError naming the key. */

@@ -42,6 +42,8 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
 {
     double field_voxel_m = 0.04, field_max_distance_m = 0.5;
     map::DistanceFieldLayout field_layout = map::DistanceFieldLayout::Auto;
+    double field_memory_budget_mb = 1024, field_focus_radius_m = 12;  ///< field_layout = streamed
+    std::string field_tile_cache;                                     ///< field_layout = streamed
     /** Keys num_disparities ... stereo_downscale of this section. Why max_depth_m = 3.5 (farther SGBM points were
      *  biased) and stereo_downscale = 2 (4x faster, and more exact): docs/experiments.md. */
     StereoCloudOptions stereo;

@@ -20,7 +20,7 @@ struct MapBuildFigures
     double index_s = 0;  ///< the visibility index and the tracker's renderer
     double field_s = 0;  ///< the distance field (0 until built)
     double field_mb = 0;
-    bool field_sparse = false;
+    bool field_sparse = false, field_streamed = false;
 };
 
 class MapContext
