@@ -38,6 +38,15 @@ bool gaussNewtonStep(Eigen::Matrix<double, 6, 6>& H, const Eigen::Matrix<double,
     return step.tail<3>().norm() >= 1e-4 || step.head<3>().norm() >= 1e-5;
 }
 
+/** The stereo options of the place profile's points: the localizer's, farther and more of them. */
+StereoCloudOptions placeStereoOptions(const GeometricLocalizationOptions& o)
+{
+    StereoCloudOptions s = o.stereo;
+    s.max_depth_m = std::max(o.place_query_depth_m, s.max_depth_m);
+    s.max_points = std::max(s.max_points, 20000);
+    return s;
+}
+
 double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
 {
     return core::rotationDistanceRad(a, b) * 180.0 / M_PI;
@@ -79,9 +88,20 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
                                        const GeometricLocalizationOptions& o,
                                        std::shared_ptr<const map::DistanceField> field,
                                        std::shared_ptr<const map::VisibilityIndex> index, const std::string& input)
-    : options_(o), field_(std::move(field)), index_(std::move(index)), stereo_(rig, o.stereo)
+    : options_(o),
+      field_(std::move(field)),
+      index_(std::move(index)),
+      stereo_(rig, o.stereo),
+      place_stereo_(rig, placeStereoOptions(o))
 {
     core::require(index_ && index_->size() == map.size(), input, "the visibility index is not the map's");
+    positions_ = reloc::candidatePositions(map, o, input);
+    setUpPlaces(map, input);
+}
+
+std::vector<Eigen::Vector3d> candidatePositions(const map::LidarMap& map, const GeometricLocalizationOptions& o,
+                                                const std::string& input)
+{
     ViewSamplingOptions vs;
     vs.grid_spacing_m = o.grid_spacing_m;
     vs.heights_m = o.heights_m;
@@ -91,8 +111,10 @@ GeometricLocalizer::GeometricLocalizer(const map::LidarMap& map, const core::Ste
     vs.require_enclosed = o.require_enclosed;
     vs.ceiling_min_share = o.ceiling_min_share;
     vs.region = o.region;
-    for (const auto& p : sampleViewpoints(map, vs)) positions_.emplace_back(p.x(), p.y(), p.z());
-    core::require(!positions_.empty(), input, "no free camera position for global localization by geometry");
+    std::vector<Eigen::Vector3d> positions;
+    for (const auto& p : sampleViewpoints(map, vs)) positions.emplace_back(p.x(), p.y(), p.z());
+    core::require(!positions.empty(), input, "no free camera position for global localization by geometry");
+    return positions;
 }
 
 GeometricLocalizer::~GeometricLocalizer() = default;
@@ -101,9 +123,19 @@ GeometricLocalization GeometricLocalizer::localize(const cv::Mat& left_raw, cons
                                                    const Eigen::Vector3d& up_cam, const SearchSphere* near) const
 {
     const auto t0 = Clock::now();
-    const std::vector<Eigen::Vector3f> points = stereo_.compute(left_raw, right_raw);
+    if (!places_)
+    {
+        const std::vector<Eigen::Vector3f> points = stereo_.compute(left_raw, right_raw);
+        const double ms_cloud = msSince(t0);
+        GeometricLocalization r = localizePoints(points, up_cam, near);
+        r.ms_cloud = ms_cloud;
+        return r;
+    }
+    // One matching for both clouds: the geometric check's and the place profile's (farther).
+    const StereoDisparity d = stereo_.disparity(left_raw, right_raw);
+    const std::vector<Eigen::Vector3f> points = stereo_.points(d), place_points = place_stereo_.points(d);
     const double ms_cloud = msSince(t0);
-    GeometricLocalization r = localizePoints(points, up_cam, near);
+    GeometricLocalization r = localizePoints(points, up_cam, near, &place_points);
     r.ms_cloud = ms_cloud;
     return r;
 }
@@ -239,7 +271,8 @@ bool SearchSphere::headingAdmits(const Eigen::Matrix3d& R) const
 }
 
 GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen::Vector3f>& points_cam,
-                                                         const Eigen::Vector3d& up_cam, const SearchSphere* near) const
+                                                         const Eigen::Vector3d& up_cam, const SearchSphere* near,
+                                                         const std::vector<Eigen::Vector3f>* place_points) const
 {
     GeometricLocalization r;
     r.query_points = points_cam.size();
@@ -259,6 +292,32 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
         why << "no candidate position within " << near->radius_m << " m of (" << near->centre.transpose() << ")";
         r.reason = why.str();
         return r;
+    }
+    // Place retrieval on a large map: only the positions near the best places, at headings near theirs.
+    std::vector<std::vector<bool>> yaws_near;
+    if (places_ && searched.size() > size_t(options_.retrieval_min_positions))
+    {
+        const auto tr = Clock::now();
+        const std::vector<RetrievedPlace> retrieved = retrieve(place_points ? *place_points : points_cam, up_cam, near);
+        if (retrieved.empty())
+        {
+            r.reason = "too few stereo points for place retrieval (they cover fewer than retrieval_min_sectors " +
+                       std::to_string(options_.retrieval_min_sectors) + " profile cells)";
+            r.ms_retrieval = msSince(tr);
+            return r;
+        }
+        // Only the positions near a retrieved place stay searched (the sort below is over all of them).
+        const std::vector<std::vector<bool>> all_yaws = retrievedYaws(searched, retrieved);
+        std::vector<size_t> kept;
+        for (size_t i = 0; i < searched.size(); ++i)
+            if (std::find(all_yaws[i].begin(), all_yaws[i].end(), true) != all_yaws[i].end())
+            {
+                kept.push_back(searched[i]);
+                yaws_near.push_back(all_yaws[i]);
+            }
+        searched = std::move(kept);
+        r.retrieved_places = retrieved.size();
+        r.ms_retrieval = msSince(tr);
     }
     // Coarse search: rotation R_world_cam = Rz(yaw) * R_level, where R_level turns the camera's up into world +z.
     auto t0 = Clock::now();
@@ -293,7 +352,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
             const Eigen::Vector3f t = positions_[searched[size_t(i)]].cast<float>();
             for (int k = 0; k < yaws; ++k)
             {
-                if (!yaw_searched[size_t(k)])
+                if (!yaw_searched[size_t(k)] || (!yaws_near.empty() && !yaws_near[size_t(i)][size_t(k)]))
                 {
                     scores[size_t(i) * size_t(yaws) + size_t(k)] = std::numeric_limits<float>::infinity();
                     continue;
@@ -308,7 +367,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
             }
         }
     });
-    r.candidates = searched.size() * size_t(std::count(yaw_searched.begin(), yaw_searched.end(), true));
+    r.candidates = size_t(std::count_if(scores.begin(), scores.end(), [](float v) { return std::isfinite(v); }));
     std::vector<size_t> order(scores.size());
     std::iota(order.begin(), order.end(), size_t(0));
     std::sort(order.begin(), order.end(),

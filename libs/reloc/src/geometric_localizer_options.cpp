@@ -65,6 +65,32 @@ void GeometricLocalizationOptions::declare(core::OptionTable& t)
     t.add("min_inlier_ratio", min_inlier_ratio, "", Range{0, 1, true, false}, "answer only with this share of inliers");
     t.add("ambiguity_ratio", ambiguity_ratio, "", Range{0, 1, true, false},
           "not localized when another place reaches this share of the answer's inliers");
+    t.add("retrieval_min_positions", retrieval_min_positions, "", Range::atLeast(0),
+          "place retrieval first when a search holds more candidate positions than this (a map of many rooms)");
+    t.add("places_file", places_file,
+          "place descriptors precomputed by quasiloc-build-places (empty: built when the map loads, on a large map)");
+    t.add("place_spacing_m", place_spacing_m, "m", Range::above(0), "places: one candidate position per cell");
+    t.add("place_sectors", place.sectors, "", Range::between(8, 720), "place profile: sectors of azimuth");
+    t.add("place_range_m", place.max_range_m, "m", Range::above(0), "place profile: farthest range kept");
+    t.add("place_band_centres_m", place.band_centres_m, "m", Range::any(),
+          "place profile: its horizontal bands, heights of their middles relative to the camera");
+    t.add("place_band_offsets_m", place.band_offsets_m, "m", Range::any(),
+          "place profile of the map: heights of its rays relative to a band's middle");
+    t.add("place_band_half_m", place.band_half_m, "m", Range::above(0),
+          "place profile of a query: a band holds its points within this of the band's middle");
+    t.add("place_hit_m", place.hit_m, "m", Range::above(0), "place profile of the map: a ray hits this near a point");
+    t.add("place_cost_truncation_m", place.cost_truncation_m, "m", Range::above(0),
+          "profile comparison: range differences truncated here");
+    t.add("retrieval_places", retrieval_places, "", Range::atLeast(1), "places retrieved per query");
+    t.add("retrieval_radius_m", retrieval_radius_m, "m", Range::atLeast(0),
+          "coarse search: candidate positions this near (horizontally) a retrieved place");
+    t.add("retrieval_height_m", retrieval_height_m, "m", Range::atLeast(0), "coarse search: and this near in height");
+    t.add("retrieval_yaw_margin_deg", retrieval_yaw_margin_deg, "deg", Range::between(0, 180),
+          "coarse search: headings this near a retrieved place's");
+    t.add("place_query_depth_m", place_query_depth_m, "m", Range::above(0),
+          "place profile of a stereo pair: its points up to this depth (at least max_depth_m)");
+    t.add("retrieval_min_sectors", retrieval_min_sectors, "", Range::atLeast(1),
+          "on a large map, a query covering fewer profile cells is not localized (the next frame is asked)");
 }
 
 void GeometricLocalizationOptions::check(const std::string& input) const
@@ -77,6 +103,7 @@ void GeometricLocalizationOptions::check(const std::string& input) const
     core::require(region.empty() || (region.size() == 4 && region[0] < region[2] && region[1] < region[3]),
                   key("region"), "must be empty or [xmin ymin xmax ymax] with xmin < xmax, ymin < ymax");
     core::require(!refine_truncations_m.empty(), key("refine_truncations_m"), "needs at least one truncation");
+    place.check(input, s);
 }
 
 }  // namespace quasiloc::reloc

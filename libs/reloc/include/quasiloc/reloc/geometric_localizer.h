@@ -5,6 +5,13 @@
 // database localize 0 %, quasiloc-localize), but stereo and LiDAR see the same walls, boxes and poles.
 //
 //  1. query: the frame's stereo points in the left camera frame (stereo_cloud.h);
+//  1b. on a large map (more than retrieval_min_positions candidate positions to search), place retrieval first
+//     (place_retrieval.h): the query's horizontal range profile against the profiles precomputed at the map's places
+//     (place_index.h; built when the localizer is made, or read from places_file), and the coarse search below scores
+//     only the candidate positions within retrieval_radius_m of the retrieval_places best places, at the headings
+//     within retrieval_yaw_margin_deg of theirs. The ambiguity test then weighs the places found there. A query whose
+//     stereo points cover fewer than retrieval_min_sectors cells is "not localized" (searching the whole map would
+//     take tens of seconds; the next frame is asked instead);
 //  2. coarse search over 4 DoF: camera positions on a grid over the map's free space (view_sampling.h, at several
 //     heights) x num_yaws headings, roll and pitch from gravity; a candidate's score is the mean squared distance
 //     (truncated at coarse_truncation_m) of score_points query points to the map (map::DistanceField); with a
@@ -31,6 +38,8 @@
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/map/visibility_index.h>
+#include <quasiloc/reloc/place_index.h>
+#include <quasiloc/reloc/place_retrieval.h>
 #include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/reloc/view_sampling.h>
 #include <string>
@@ -66,6 +75,19 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
     /** Between the inlier ratios at true and at wrong poses (docs/experiments.md). */
     double min_inlier_ratio = 0.7;
     double ambiguity_ratio = 0.9;
+    /** Place retrieval (place_retrieval.h). A room's few thousand positions are searched whole, as before: the
+     *  stage is for maps of many rooms (docs/place_retrieval.md). */
+    int retrieval_min_positions = 20000;
+    std::string places_file;
+    double place_spacing_m = 0.5;
+    PlaceDescriptorOptions place;
+    int retrieval_places = 100;
+    double retrieval_radius_m = 0.5, retrieval_height_m = 0.35;
+    double retrieval_yaw_margin_deg = 15;
+    int retrieval_min_sectors = 6;
+    /** The place profile of a stereo pair is made of its points up to this depth (the geometric check's stop at
+     *  max_depth_m): a far wall is a few centimetres off, well within the profile's tolerance. */
+    double place_query_depth_m = 6.0;
 
     void declare(core::OptionTable& t) override;
     /** InputError naming `input` and the key for a value out of its declared range, or values that do not fit
@@ -106,7 +128,8 @@ struct GeometricLocalization
      *  answer and these. */
     std::vector<Eigen::Isometry3d> alternatives;
     size_t query_points = 0, candidates = 0;
-    double ms_cloud = 0, ms_search = 0, ms_refine = 0;
+    size_t retrieved_places = 0;  ///< places the retrieval stage kept (0: the stage did not run)
+    double ms_cloud = 0, ms_retrieval = 0, ms_search = 0, ms_refine = 0;
 };
 
 class GeometricLocalizer
@@ -131,9 +154,11 @@ class GeometricLocalizer
     /** Localizes one raw stereo pair; up_cam: world +z (the opposite of gravity) in the left camera frame. */
     GeometricLocalization localize(const cv::Mat& left_raw, const cv::Mat& right_raw, const Eigen::Vector3d& up_cam,
                                    const SearchSphere* near = nullptr) const;
-    /** The same from query points already in the left camera frame. */
+    /** The same from query points already in the left camera frame; place_points: the pair's points for the place
+     *  profile (placeStereoPoints; nullptr: points_cam). */
     GeometricLocalization localizePoints(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Vector3d& up_cam,
-                                         const SearchSphere* near = nullptr) const;
+                                         const SearchSphere* near = nullptr,
+                                         const std::vector<Eigen::Vector3f>* place_points = nullptr) const;
 
     /** Gauss-Newton refinement of T_world_cam (the refine stage alone); returns the share of inliers. */
     double refine(const std::vector<Eigen::Vector3f>& points_cam, Eigen::Isometry3d& T_world_cam) const;
@@ -143,25 +168,53 @@ class GeometricLocalizer
     {
         return stereo_.compute(left_raw, right_raw);
     }
+    /** The points of a raw stereo pair for its place profile: up to place_query_depth_m. */
+    std::vector<Eigen::Vector3f> placeStereoPoints(const cv::Mat& left_raw, const cv::Mat& right_raw) const
+    {
+        return place_stereo_.compute(left_raw, right_raw);
+    }
     /** Share of the points the map explains at T_world_cam (within inlier_m + 2 depth sigmas): how a tracker
      *  checks, independently of its own map term, that it is where it believes it is. */
     double inlierRatio(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3d& T_world_cam) const;
 
     const map::DistanceField& field() const { return *field_; }
     size_t positions() const { return positions_.size(); }
+    const std::vector<Eigen::Vector3d>& candidatePositions() const { return positions_; }
+    /** The places and their profiles (nullptr: no retrieval stage on this map). */
+    const PlaceIndex* places() const { return places_.get(); }
+    /** The retrieval stage alone: the best places for the query (empty when it has too few covered cells);
+     *  top_k 0: retrieval_places. */
+    std::vector<RetrievedPlace> retrieve(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Vector3d& up_cam,
+                                         const SearchSphere* near = nullptr, size_t top_k = 0) const;
+    double placesBuildSeconds() const { return places_build_s_; }
 
     /** Point-to-point ICP of T_world_cam against the map points (the polish stage alone). */
     void polish(const std::vector<Eigen::Vector3f>& points_cam, Eigen::Isometry3d& T_world_cam) const;
 
    private:
     std::vector<double> pointWeights(const std::vector<Eigen::Vector3f>& points_cam) const;
+    void setUpPlaces(const map::LidarMap& map, const std::string& input);
+    /** Per searched position, the coarse yaws to score near the retrieved places (all false: none). */
+    std::vector<std::vector<bool>> retrievedYaws(const std::vector<size_t>& searched,
+                                                 const std::vector<RetrievedPlace>& retrieved) const;
 
     GeometricLocalizationOptions options_;
     std::shared_ptr<const map::DistanceField> field_;
     std::shared_ptr<const map::VisibilityIndex> index_;
     StereoCloud stereo_;
+    StereoCloud place_stereo_;                ///< the same matching, points up to place_query_depth_m
     std::vector<Eigen::Vector3d> positions_;  ///< candidate camera positions (world)
+    std::unique_ptr<PlaceIndex> places_;
+    double places_build_s_ = 0;
 };
+
+/** The candidate camera positions of `o` on `map` (grid order), as the localizer samples them. InputError naming
+ *  `input` when there is none. */
+std::vector<Eigen::Vector3d> candidatePositions(const map::LidarMap& map, const GeometricLocalizationOptions& o,
+                                                const std::string& input);
+/** The places of `positions` (selectPlaces with o.place_spacing_m), as positions. */
+std::vector<Eigen::Vector3f> placePositions(const std::vector<Eigen::Vector3d>& positions,
+                                            const GeometricLocalizationOptions& o);
 
 /** World +z in the camera frame, from accelerometer samples of a platform that is not accelerating much: the
  *  mean specific force (body frame) points up. R_cam_body: rotation of the body frame into the camera frame. */
