@@ -35,7 +35,8 @@ LabelledSequence loadLabelledSim(const std::string& dir_prefix, const std::strin
                          {"Simulation.start_offset_s", std::to_string(start_offset_s)},
                          {"Simulation.inspection_png", "false"},
                          {"Simulation.verbose", "false"},
-                         {"Simulation.write_map_materials", "true"},
+                         {"Simulation.write_map_materials", "true"},  // labels exist for the exact map only
+                         {"Lidar.map_source", "exact"},
                          {"World.materials", materials}};
         std::cout << "simulating " << world_ini << " (materials " << materials << ") into " << dir << " ..."
                   << std::endl;

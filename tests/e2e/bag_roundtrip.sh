@@ -8,7 +8,7 @@ source "$(dirname "$0")/common.sh"
 source "$(dirname "$0")/ros2_bag_common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=3 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt"
 to_bag() {  # to_bag <rawlog> <calib.ini> <bag> [--set ...]
   local rawlog="$1" calib="$2" bag="$3"; shift 3
   "$BIN/rawlog2bag" config.ini --set Rawlog2Bag.input_rawlog="$rawlog" --set Rawlog2Bag.calibration_ini="$calib" \

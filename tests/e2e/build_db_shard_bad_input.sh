@@ -7,7 +7,7 @@ source "$(dirname "$0")/common.sh"
 sim() {  # sim <folder> [--set ...]: the simulated room's map and calibration
   local out="$1"; shift
   "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$out" --set Simulation.duration_s=0.5 \
-    --set Simulation.inspection_png=false "$@" > "$out.txt" 2>&1 || { cat "$out.txt"; fail "sim-rawlog failed"; }
+    --set Simulation.inspection_png=false "${EXACT_MAP[@]}" "$@" > "$out.txt" 2>&1 || { cat "$out.txt"; fail "sim-rawlog failed"; }
 }
 sim "$WORK/sim"
 sim "$WORK/other" --set Lidar.num_stations=4  # another survey of the same room: another map

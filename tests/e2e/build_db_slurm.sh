@@ -9,7 +9,7 @@ trap 'bash scripts/cluster/local_slurm.sh stop "$SLURM_DIR" > /dev/null 2>&1 || 
 start=$(date +%s)
 
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$WORK/sim" --set Simulation.duration_s=0.5 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt" 2>&1 || { cat "$WORK/sim.txt"; fail "sim-rawlog failed"; }
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt" 2>&1 || { cat "$WORK/sim.txt"; fail "sim-rawlog failed"; }
 ARGS=(share/quasiloc/reloc/sim_room.ini --set BuildDatabase.map_file="$WORK/sim/lidar_map.map"
   --set BuildDatabase.calibration_ini="$WORK/sim/calib.ini" --set BuildDatabase.output="$WORK/db/room.qdb"
   --set ViewSampling.grid_spacing_m=1.0 --set ViewSampling.heights_m=1.2 --set ViewSampling.num_headings=4)

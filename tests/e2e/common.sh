@@ -15,3 +15,6 @@ expect_failure() {
 }
 # json_value <file.json> <path.to.key> [--scale 100 --digits 3]: a figure from a program's summary.json
 json_value() { /usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/../../scripts/json_figure.py" "$@" || fail "no $2 in $1"; }
+# sim-rawlog's map for the tests of a program's mechanics: the exact sampler, a controlled experiment that takes 3 s
+# to make; the default swept map takes 45 s and is tracked by track_swept_short.
+EXACT_MAP=(--set Lidar.map_source=exact)

@@ -10,7 +10,7 @@ KILLS="${KILLS:-4}"
 RANDOM="${SEED:-25}"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=3 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt"
 
 # The programs, each exec'ed (run them in a subshell or under bash -c) so that the kill reaches the program itself.
 build_db() {  # build_db <output_dir>

@@ -5,7 +5,7 @@
 source "$(dirname "$0")/common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=4 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt"
 # The other rooms at a quarter of the density: the test is about the layout, not the point count.
 "$BIN/sim-large-world" share/quasiloc/sim/large_world.ini --set LargeWorld.base_map="$SIM/lidar_map.map" \
   --set LargeWorld.output="$WORK/world.map" --set LargeWorld.grid_cells=3 --set LargeWorld.spacing_m=60 \

@@ -8,7 +8,7 @@
 source "$(dirname "$0")/common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=5 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt"
 CFG=share/quasiloc/reloc/sim_room.ini
 "$BIN/quasiloc-build-db" $CFG --set BuildDatabase.map_file="$SIM/lidar_map.map" \
   --set BuildDatabase.calibration_ini="$SIM/calib.ini" --set BuildDatabase.output="$WORK/db/room.qdb" \

@@ -3,7 +3,7 @@
 source "$(dirname "$0")/common.sh"
 OUT="$WORK/sim"
 "$BIN/sim-rawlog" share/quasiloc/sim/V1_01_easy.ini --set Simulation.output_dir="$OUT" \
-  --set Simulation.duration_s=1 | tee "$WORK/log.txt"
+  --set Simulation.duration_s=1 "${EXACT_MAP[@]}" | tee "$WORK/log.txt"
 for f in gt.tum gt_body.tum calib.ini README.txt; do [ -s "$OUT/$f" ] || fail "$f missing"; done
 ls "$OUT"/*.rawlog >/dev/null || fail "no rawlog"
 ls -d "$OUT"/*_Images >/dev/null || fail "no images folder"

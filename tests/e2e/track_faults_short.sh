@@ -7,7 +7,7 @@
 source "$(dirname "$0")/common.sh"
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=6 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt"
 F=FaultInjection
 track() {  # track <output_dir> [--set ...]: from the ground truth, every relocalization attempt in order
   local out="$1"; shift

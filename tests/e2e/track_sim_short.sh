@@ -9,7 +9,7 @@ source "$(dirname "$0")/common.sh"
 BOUND_CM=2.5
 SIM="$WORK/sim"
 "$BIN/sim-rawlog" config.ini --set Simulation.output_dir="$SIM" --set Simulation.duration_s=5 \
-  --set Simulation.inspection_png=false > "$WORK/sim.txt"
+  --set Simulation.inspection_png=false "${EXACT_MAP[@]}" > "$WORK/sim.txt"
 track() {  # track <output_dir> [--set ...]: prints the ATE RMSE in cm
   local out="$1"; shift
   "$BIN/quasiloc-track" config.ini --set Tracking.input_rawlog="$SIM/V1_01_easy.rawlog" \

@@ -52,6 +52,9 @@ map::LidarMap buildLargeWorld(const map::LidarMap& base, const LargeWorldOptions
     if (stats) *stats = {};
     world.check(input);
     lidar.check(input);
+    core::require(lidar.map_source == MapSource::exact, input + ": " + core::iniKeyName("Lidar", "map_source"),
+                  "must be exact: the other rooms are sampled by the exact sampler (a swept map per room would take "
+                  "minutes each)");
     base.check(o.base_map.empty() ? "the base map" : o.base_map);
     const auto t0 = std::chrono::steady_clock::now();
     const int half = o.grid_cells / 2, total = o.grid_cells * o.grid_cells - 1;

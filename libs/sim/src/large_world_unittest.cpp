@@ -29,6 +29,7 @@ map::LidarMap quickWorld(const map::LidarMap& base, sim::LargeWorldStats* st)
     o.grid_cells = 3;
     o.spacing_m = 40;
     sim::LidarOptions lidar;
+    lidar.map_source = sim::MapSource::exact;
     lidar.density_per_m2 = 30;
     lidar.num_stations = 1;
     lidar.cubemap_size_px = 128;
@@ -66,6 +67,23 @@ TEST(LargeWorld, TheBaseMapComesFirstUnchangedAndDifferentRoomsSurroundIt)
     const map::LidarMap world2 = quickWorld(base, &again);
     ASSERT_EQ(world2.size(), world.size());
     EXPECT_EQ(world2.point(world.size() - 1), world.point(world.size() - 1));
+}
+
+TEST(LargeWorld, ASweptMapIsAnErrorNamingTheKey)
+{
+    sim::LargeWorldOptions o;
+    o.shared_dir = kShared;
+    sim::LidarOptions lidar;
+    lidar.map_source = sim::MapSource::sweeps;
+    try
+    {
+        sim::buildLargeWorld(smallBase(), o, sim::WorldOptions{}, lidar, "world.ini");
+        FAIL() << "no error";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("world.ini: [Lidar] map_source"), std::string::npos) << e.what();
+    }
 }
 
 TEST(LargeWorld, AnEvenGridIsAnErrorNamingTheKey)

@@ -179,7 +179,7 @@ TEST(LidarSweeps, IntensitiesAreEightBitWithPerRingGains)
         ASSERT_EQ(scan.intensity[k], std::round(scan.intensity[k]));
         ASSERT_GE(scan.intensity[k], 0.f);
         ASSERT_LE(scan.intensity[k], 255.f);
-        ASSERT_LT(scan.ring[k], 32);
+        ASSERT_LT(scan.ring[k], o.sweep_beams);
         ASSERT_GE(scan.time_s[k], 0.0);
         ASSERT_LT(scan.time_s[k], 0.1);
     }

@@ -84,6 +84,7 @@ mrpt::config::CConfigFileMemory shortRun(const std::string& out)
     cfg.write("Lidar", "beam_map", true);
     cfg.write("Lidar", "beam_num_scans", 1);
     cfg.write("Lidar", "beam_azimuth_steps", 360);
+    cfg.write("Lidar", "map_source", "exact");  // the swept map is lidar_sweeps_unittest's
     return cfg;
 }
 }  // namespace

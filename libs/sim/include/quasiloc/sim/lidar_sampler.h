@@ -1,7 +1,9 @@
 #pragma once
-// The prior LiDAR map of the simulated world, as a terrestrial survey scanner would produce it.
+// The prior LiDAR map of the simulated world: by default the map a user builds from a mobile LiDAR's sweeps
+// (map_source = sweeps, lidar_sweeps.h); for controlled experiments the exact map a terrestrial survey scanner would
+// produce (map_source = exact).
 //
-// Dense ("survey") map, decisions:
+// Exact ("survey") map, decisions:
 //  - points are sampled uniformly on every triangle at density_per_m2 (deterministic per triangle and seed,
 //    independent of threading);
 //  - scanner stations: num_stations positions at station_height_m, chosen by farthest-point sampling among
@@ -14,8 +16,8 @@
 // Sparse variant ("32-beam"): scans of a 32-beam spinning LiDAR (elevations evenly spread over
 // [beam_min_elevation_deg, beam_max_elevation_deg], beam_azimuth_steps per turn) from beam_num_scans
 // stations, cast through the same cube maps, with the beam sensor's own (cm-level) range noise.
-// Swept map (map_source = sweeps, keys sweep_*): the map a user builds, from the sweeps of a mapping run through
-// map-build (lidar_sweeps.h).
+// Swept map (map_source = sweeps, keys sweep_*): simulated sweeps of a mapping run through map-build
+// (lidar_sweeps.h).
 #include <Eigen/Core>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/lidar_map.h>
@@ -41,7 +43,7 @@ enum class SweepPattern
 /** Section [Lidar]; each key's unit, range and meaning: declare() (sim_options.cpp). */
 struct LidarOptions : public core::DeclaredOptions
 {
-    MapSource map_source = MapSource::exact;
+    MapSource map_source = MapSource::sweeps;
     double density_per_m2 = 6000;
     double range_noise_mm = 2.0;
     int num_stations = 5;
@@ -58,11 +60,13 @@ struct LidarOptions : public core::DeclaredOptions
     double beam_max_elevation_deg = 10.67;
     double beam_range_noise_mm = 20.0;
     SweepPattern sweep_pattern = SweepPattern::spinning;
-    int sweep_beams = 32;
+    /** A 64-beam LiDAR with a 90 deg vertical field (as the Ouster OS0-64 that building mappers carry): a 32-beam
+     *  -25..15 deg one maps 39 % of a room's ceiling, and the global start needs it (docs/benchmarks.md). */
+    int sweep_beams = 64;
     int sweep_azimuth_steps = 1800;
-    double sweep_min_elevation_deg = -25.0;
-    double sweep_max_elevation_deg = 15.0;
-    double sweep_tilt_deg = 15.0;
+    double sweep_min_elevation_deg = -45.0;
+    double sweep_max_elevation_deg = 45.0;
+    double sweep_tilt_deg = 0.0;
     double sweep_rate_hz = 10.0;
     int sweep_every = 4;
     double rosette_points_per_s = 100000;
