@@ -24,9 +24,9 @@ void BackgroundSearch::begin(const std::string& label, const std::optional<Searc
     searching_ = true;
 }
 
-void BackgroundSearch::push(const dataset::StereoFrame& frame)
+void BackgroundSearch::push(const dataset::StereoFrame& frame, const std::optional<OdometryPrediction>& odometry)
 {
-    if (searching_) queue_.push_back(frame);
+    if (searching_) queue_.emplace_back(frame, odometry);
 }
 
 void BackgroundSearch::collectAndStart()
@@ -47,7 +47,7 @@ void BackgroundSearch::collectAndStart()
     queue_.clear();
     worker_.start([this] {
         for (size_t i = 0; i < batch_.size(); ++i)
-            if (auto start = starter_.feed(batch_[i], !latest_only_ || i + 1 == batch_.size()))
+            if (auto start = starter_.feed(batch_[i].first, !latest_only_ || i + 1 == batch_.size(), batch_[i].second))
             {
                 found_ = std::move(start);
                 break;

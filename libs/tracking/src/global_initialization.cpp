@@ -35,12 +35,15 @@ ImuBiasPrior GlobalInitializer::biases() const
                                           : options_.bias_prior;
 }
 
-std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(double t) const
+std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(
+    double t, const std::optional<OdometryPrediction>& odometry) const
 {
     const bool heading = heading_ && t <= heading_->t_until;
-    if (!prior_ && !heading) return std::nullopt;
+    if (!prior_ && !heading && !odometry) return std::nullopt;
     reloc::SearchSphere sphere{Eigen::Vector3d::Zero(), std::numeric_limits<double>::infinity()};
-    if (prior_)
+    if (odometry)
+        sphere = {odometry->position_world, kOdometrySphereUncertainties * odometry->uncertainty_m};
+    else if (prior_)
         sphere = {prior_->position_world, prior_->radius_m + prior_->speed_m_s * std::max(0.0, t - prior_->t_known)};
     if (heading)
     {
@@ -106,6 +109,50 @@ bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const Am
     note +=
         (note.empty() ? "" : "; ") + std::string("ambiguity settled by the anchor (pose ") + std::to_string(pick) + ")";
     return true;
+}
+
+std::optional<size_t> settleByOdometry(const std::vector<Eigen::Isometry3d>& places,
+                                       const OdometryPrediction& prediction)
+{
+    std::optional<size_t> near;
+    for (size_t i = 0; i < places.size(); ++i)
+    {
+        const double d = (places[i].translation() - prediction.position_world).norm();
+        if (d <= prediction.uncertainty_m)
+        {
+            if (near) return std::nullopt;  // two places the odometry allows
+            near = i;
+        }
+        else if (d < kOdometryRivalUncertainties * prediction.uncertainty_m)
+            return std::nullopt;  // a rival the odometry does not rule out
+    }
+    return near;
+}
+
+bool GlobalInitializer::settleByPrediction(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous,
+                                           const OdometryPrediction& odometry, std::string& note) const
+{
+    if (ambiguous.poses.empty()) return false;  // not ambiguous
+    const std::optional<size_t> pick = settleByOdometry(ambiguous.poses, odometry);
+    if (!pick) return false;
+    std::ostringstream s;
+    s.precision(3);
+    if (r.localized && ambiguous.best_by_appearance != pick)
+    {  // the image settled it on a place the odometry rules out: neither cue is taken
+        r.localized = false;
+        r.reason = "ambiguous: the image prefers another place than the odometry";
+        s << "the odometry prefers pose " << *pick << ", the image pose " << *ambiguous.best_by_appearance;
+    }
+    else
+    {
+        r.T_world_cam = ambiguous.poses[*pick];
+        r.localized = true;
+        r.reason.clear();
+        s << "ambiguity settled by the odometry (pose " << *pick << ", "
+          << (r.T_world_cam.translation() - odometry.position_world).norm() << " m from its prediction)";
+    }
+    note += (note.empty() ? "" : "; ") + s.str();
+    return r.localized;
 }
 
 void GlobalInitializer::setHeadingPrior(const HeadingPrior& heading)
@@ -220,7 +267,8 @@ Eigen::Vector3d velocityAtFix(const Eigen::Isometry3d& T_world_cam_fix, const Ei
     return (T_world_cam_fix * T_body_cam.inverse()).linear() * v_body;
 }
 
-std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame, bool localize_it)
+std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoFrame& frame, bool localize_it,
+                                                          const std::optional<OdometryPrediction>& odometry)
 {
     for (const auto& s : frame.imu) recent_imu_.push_back(s);
     static_.add(frame.imu);
@@ -238,9 +286,11 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     attempt.t = frame.timestamp;
     std::string appearance_note;
     AmbiguousFix ambiguous;
-    const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp);
+    const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp, odometry);
     attempt.result = localize(frame, near, appearance_note, ambiguous);
-    if (near && prior_) attempt.search_radius_m = near->radius_m;
+    if (near && (prior_ || odometry)) attempt.search_radius_m = near->radius_m;
+    attempt.odometry = odometry;
+    if (odometry) settleByPrediction(attempt.result, ambiguous, *odometry, appearance_note);
     if (!heading_note_.empty())
     {
         appearance_note += (appearance_note.empty() ? "" : "; ") + heading_note_;

@@ -192,3 +192,39 @@ TEST(GlobalInitialization, TheHeadingPriorIsCarriedByTheBiasCorrectedGyroscopeAn
     EXPECT_DOUBLE_EQ(tracking::headingBoundDeg(h, 0.001, 1.0), 10);
     EXPECT_NEAR(tracking::headingBoundDeg(h, 0.001, 3.0), 10 + 2 * 3 * 0.001 * 180 / M_PI, 1e-9);
 }
+
+TEST(GlobalInitialization, AnAmbiguousFixIsSettledByTheOdometryOnlyWhenEveryRivalIsFarFromItsPrediction)
+{
+    // Places along a corridor (x) at the same heading; the odometry predicts x = 10 with an uncertainty of 1 m.
+    const auto at = [](double x) {
+        Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+        T.translation() = Eigen::Vector3d(x, 2, 1.2);
+        return T;
+    };
+    tracking::OdometryPrediction odometry;
+    odometry.position_world = Eigen::Vector3d(10, 2.2, 1.2);
+    odometry.uncertainty_m = 1;
+    struct Case
+    {
+        std::vector<double> places_x;
+        std::optional<size_t> settled;
+        const char* what;
+    };
+    const Case cases[] = {
+        {{14.5, 10.4}, 1, "the best place 4.5 m off, the second 0.4 m off: the second"},
+        {{10.4, 6.0, 15.0}, 0, "every rival beyond two uncertainties"},
+        {{10.4, 11.7}, std::nullopt, "a rival 1.7 m off: within two uncertainties, still ambiguous"},
+        {{10.4, 9.3}, std::nullopt, "both within one uncertainty: still ambiguous"},
+        {{12.5, 7.0}, std::nullopt, "no place near the prediction"},
+        {{}, std::nullopt, "no place"},
+    };
+    for (const Case& c : cases)
+    {
+        std::vector<Eigen::Isometry3d> places;
+        for (double x : c.places_x) places.push_back(at(x));
+        EXPECT_EQ(tracking::settleByOdometry(places, odometry), c.settled) << c.what;
+    }
+    // The bounds scale with the uncertainty: 1.7 m is a rival to rule out when the odometry is known to 0.5 m.
+    odometry.uncertainty_m = 0.5;
+    EXPECT_EQ(tracking::settleByOdometry({at(10.1), at(11.7)}, odometry), std::optional<size_t>(0));
+}

@@ -78,22 +78,24 @@ void GlobalStarter::begin(const std::string& label, const std::optional<SearchPr
     truth_.clear();
 }
 
-std::optional<GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f, bool attempt)
+std::optional<GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame& f, bool attempt,
+                                                      const std::optional<OdometryPrediction>& odometry)
 {
     core::require(bool(init_), "GlobalStarter", "feed() without begin()");
     std::ostringstream r;
     r << std::fixed << std::setprecision(3);
     if (f.T_world_cam0) truth_[f.timestamp] = *f.T_world_cam0;
-    std::optional<GlobalInitialState> start = init_->feed(f, attempt);
+    std::optional<GlobalInitialState> start = init_->feed(f, attempt, odometry);
     for (; reported_ < init_->attempts().size(); ++reported_)
     {
         const InitAttempt& a = init_->attempts()[reported_];
-        double e_m = NAN, e_deg = NAN;
+        double e_m = NAN, e_deg = NAN, e_odometry_m = NAN;
         if (auto it = truth_.find(a.t); it != truth_.end())
         {
             const Eigen::Isometry3d G = core::toIsometry(it->second);
             e_m = core::translationDistance(a.result.T_world_cam, G);
             e_deg = core::rotationDistanceRad(a.result.T_world_cam, G) * 180 / M_PI;
+            if (a.odometry) e_odometry_m = (a.odometry->position_world - G.translation()).norm();
         }
         const auto& g = a.result;
         r << label_ << ", " << a.t << ", " << g.localized << ", " << g.inlier_ratio << ", " << g.runner_up_inlier_ratio
@@ -105,7 +107,15 @@ std::optional<GlobalInitialState> GlobalStarter::feed(const dataset::StereoFrame
              << 100 * g.inlier_ratio << " %, ";
         if (!std::isnan(e_m)) line << "error " << 100 * e_m << " cm " << e_deg << " deg, ";  // with ground truth
         line << g.ms_cloud + g.ms_search + g.ms_refine << " ms";
-        if (a.search_radius_m > 0) line << ", searched within " << a.search_radius_m << " m of the last confirmed pose";
+        if (a.odometry)
+        {
+            line << ", searched within " << a.search_radius_m << " m of the odometry's prediction (uncertainty "
+                 << a.odometry->uncertainty_m << " m";
+            if (!std::isnan(e_odometry_m)) line << ", its error " << e_odometry_m << " m";
+            line << ")";
+        }
+        else if (a.search_radius_m > 0)
+            line << ", searched within " << a.search_radius_m << " m of the last confirmed pose";
         line << ")\n";
         say(line.str());
     }

@@ -154,6 +154,16 @@ void RelocalizationOptions::declare(core::OptionTable& t)
     t.add("relocalize_heading_for_s", relocalize_heading_for_s, "s", Range::atLeast(0),
           "the heading prior holds this long after the loss (a verified pose can be wrong); then every heading is "
           "searched");
+    t.add("relocalize_odometry_drift_ratio", relocalize_odometry_drift_ratio, "", Range::atLeast(0),
+          "while lost, each frame is searched within three uncertainties of where the odometry puts it "
+          "(odometry_while_lost's track), its uncertainty being relocalize_odometry_floor_m plus this share of the "
+          "path since the last verified frame, and an ambiguous fix is taken at the one place within one uncertainty "
+          "when every other lies beyond two; no prediction once the lost track moves faster than [Initialization] "
+          "init_max_speed_m_s (diverged); 0: off (the sphere of relocalize_near_m). Needs [TrackMonitor] "
+          "odometry_while_lost");
+    t.add("relocalize_odometry_floor_m", relocalize_odometry_floor_m, "m", Range::atLeast(0.01),
+          "the odometry prediction's uncertainty at the last verified frame (its own error and the doubtful frames "
+          "before the loss)");
 }
 
 void TrackMonitorOptions::declare(core::OptionTable& t)

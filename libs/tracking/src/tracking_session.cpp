@@ -69,6 +69,10 @@ void SessionOptions::load(const mrpt::config::CConfigFileBase& cfg, const std::s
     core::loadOptionsChecked(monitor, cfg, "TrackMonitor", name);
     monitor.check(name);
     core::loadOptionsChecked(relocalization, cfg, "Relocalization", name);
+    // The prediction is the lost track: without odometry_while_lost the map terms pull it to a wrong place.
+    core::require(relocalization.relocalize_odometry_drift_ratio <= 0 || monitor.odometry_while_lost,
+                  name + ": [Relocalization] relocalize_odometry_drift_ratio",
+                  "needs [TrackMonitor] odometry_while_lost = true (the prediction is the track while lost)");
     core::loadOptionsChecked(localization, cfg, "GeometricLocalization", name);
     localization.check(name);
     core::loadOptionsChecked(refinement.direct, cfg, "DirectAlignment", name);
@@ -344,6 +348,7 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
         // on, so a loss that was a false alarm (the view merely poorly explained) costs nothing.
         ++summary_.losses;
         monitor_.searchBegun();
+        odometry_diverged_ = false;
         const double last_verified_t = monitor_.lastVerifiedT();
         out_ << "lost at t " << std::fixed << std::setprecision(3) << r.t << ": relocalizing" << std::endl;
         std::optional<SearchPrior> prior;
@@ -357,10 +362,34 @@ bool TrackingSession::relocalize(const dataset::StereoFrame& f, const FrameRepor
     // Only the hand-over counts in the frame's time: the search itself runs beside the tracker.
     const auto t0 = std::chrono::steady_clock::now();
     since_loss_.emplace_back(f, latest_.state);
-    search_->push(f);
+    search_->push(f, odometryPrediction(r));
     const auto found = search_->poll();
     ms = msSince(t0);
     return found && settle(*found, r.t);
+}
+
+std::optional<OdometryPrediction> TrackingSession::odometryPrediction(const FrameReport& r)
+{
+    const RelocalizationOptions& o = options_.relocalization;
+    if (o.relocalize_odometry_drift_ratio <= 0 || odometry_diverged_) return std::nullopt;
+    // A track faster than the platform goes has diverged (the IMU alone over a view without landmarks, and a
+    // window too sure of its velocity to take them back): its place is no prediction, and a place near it no
+    // answer, for the rest of the loss.
+    const double speed = latest_.state.v_map.norm(), max_speed = options_.tracker.initialization.init_max_speed_m_s;
+    if (speed > max_speed)
+    {
+        odometry_diverged_ = true;
+        out_ << "odometry at t " << std::fixed << std::setprecision(3) << r.t << ": the lost track moves at "
+             << std::setprecision(1) << speed << " m/s (> " << max_speed
+             << "): the search goes on without its prediction" << std::endl;
+        return std::nullopt;
+    }
+    // The track runs on from the last verified pose (a restart forgets the poses after its fix): its position is
+    // that pose carried by the odometry, and its path since is what the odometry's error grows with.
+    double path_m = history_.pathLengthSince(monitor_.lastVerifiedT());
+    if (const auto last = history_.last()) path_m += (r.T_world_cam0.translation() - last->translation()).norm();
+    return OdometryPrediction{r.T_world_cam0.translation(),
+                              o.relocalize_odometry_floor_m + o.relocalize_odometry_drift_ratio * path_m};
 }
 
 void TrackingSession::keepImuSinceVerified(const dataset::StereoFrame& f)

@@ -189,6 +189,22 @@ TEST_F(TrackingSessionTest, KidnappedTrackerIsNoticedRelocalizedAndTrackedAgain)
         ASSERT_GT(r.estimate.poses[i].t, r.estimate.poses[i - 1].t) << "pose " << i;
 }
 
+TEST_F(TrackingSessionTest, KidnappedTrackerIsRelocalizedNearWhereTheOdometryPutsIt)
+{
+    // The kidnap as above, relocalized by the odometry's prior: the lost track runs on IMU and stereo landmarks,
+    // and each frame is searched near where it puts the camera (its jump of 1 m counts in the path).
+    const Run r = run(options({{"Kidnap.kidnap_at_s", "2"},
+                               {"Relocalization.relocalize_latest_only", "false"},
+                               {"Relocalization.relocalize_odometry_drift_ratio", "0.1"},
+                               {"TrackMonitor.odometry_while_lost", "true"}}));
+    EXPECT_GE(r.summary.relocalizations, 1) << r.console;
+    EXPECT_NE(r.console.find("of the odometry's prediction"), std::string::npos) << r.console;
+    EXPECT_LT(r.summary.longest_unverified_s, 1.0);
+    EXPECT_LT(r.last_error_m, 0.05) << r.console;
+    // The prediction is the lost track: without odometry_while_lost the map terms pull it, and the options say so.
+    EXPECT_THROW(options({{"Relocalization.relocalize_odometry_drift_ratio", "0.1"}}), core::InputError);
+}
+
 TEST_F(TrackingSessionTest, FalseAlarmIsWithdrawnWhenTheFixConfirmsTheTrack)
 {
     // Checks made to fail at the right pose (any share below 0.99 is examined, any gain fails). The gyroscope bias
@@ -236,4 +252,24 @@ TEST_F(TrackingSessionTest, GlobalStartSearchesOnlyItsRegionPrior)
                               {"Initialization.search_center_m", region(first + Eigen::Vector3d(20, 0, 0))},
                               {"Initialization.search_radius_m", "1.5"}})),
                  core::InputError);
+}
+
+TEST(PoseHistory, ThePathSinceATimeSumsTheStepsAfterItAndAResartForgetsThem)
+{
+    tracking::PoseHistory h;
+    EXPECT_DOUBLE_EQ(h.pathLengthSince(0), 0);
+    EXPECT_FALSE(h.last());
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    for (int k = 0; k <= 4; ++k)
+    {
+        T.translation() = Eigen::Vector3d(k, k % 2 ? 1.0 : 0.0, 0);  // a zigzag: each step sqrt(2) m
+        h.add(k, T);
+    }
+    EXPECT_NEAR(h.pathLengthSince(0), 4 * std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(h.pathLengthSince(2), 2 * std::sqrt(2.0), 1e-12);
+    EXPECT_NEAR(h.pathLengthSince(1.5), 2 * std::sqrt(2.0), 1e-12);  // from the first pose at or after 1.5
+    EXPECT_DOUBLE_EQ(h.pathLengthSince(4), 0);
+    h.forgetFrom(3);
+    EXPECT_NEAR(h.pathLengthSince(0), 2 * std::sqrt(2.0), 1e-12);
+    EXPECT_DOUBLE_EQ(h.last()->translation().x(), 2);
 }

@@ -37,8 +37,9 @@ class BackgroundSearch
     void begin(const std::string& label, const std::optional<SearchPrior>& prior = std::nullopt,
                bool single_fix = false, const std::optional<HeadingPrior>& heading = std::nullopt);
     bool searching() const { return searching_; }
-    /** Queues a frame for the search; the thread takes the queue whenever it is idle. */
-    void push(const dataset::StereoFrame& frame);
+    /** Queues a frame for the search, with where the odometry puts it (if known); the thread takes the queue
+     *  whenever it is idle. */
+    void push(const dataset::StereoFrame& frame, const std::optional<OdometryPrediction>& odometry = std::nullopt);
     /** Without waiting: the start, if the thread has found one (the search has then ended). Rethrows what the
      *  search threw. */
     std::optional<GlobalInitialState> poll();
@@ -52,8 +53,9 @@ class BackgroundSearch
 
     GlobalStarter& starter_;
     bool latest_only_ = true;
-    std::deque<dataset::StereoFrame> queue_;    // this thread's: frames not yet handed over
-    std::vector<dataset::StereoFrame> batch_;   // the worker's while it runs
+    using Queued = std::pair<dataset::StereoFrame, std::optional<OdometryPrediction>>;
+    std::deque<Queued> queue_;                  // this thread's: frames not yet handed over
+    std::vector<Queued> batch_;                 // the worker's while it runs
     std::optional<GlobalInitialState> found_;   // written by the worker, read once it is idle
     std::optional<GlobalInitialState> result_;  // collected, not yet returned
     bool searching_ = false;

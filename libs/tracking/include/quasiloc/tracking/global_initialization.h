@@ -85,6 +85,31 @@ struct HeadingPrior
     std::vector<dataset::ImuSample> imu;  ///< samples after t already received (up to the loss)
 };
 
+/** Where the odometry puts the camera at one frame of a relocalization: the lost track, tracked on the IMU and the
+ *  stereo landmarks without the map terms (the session, with [TrackMonitor] odometry_while_lost), carried from the
+ *  last verified pose. Its error grows with the path since that pose (a drift ratio of the distance travelled, plus
+ *  a floor for the verified pose's own error and the doubtful frames before the loss), not with time: a robot
+ *  that stands still does not drift away from its prediction. The frame is searched within
+ *  kOdometrySphereUncertainties x uncertainty_m of the prediction (reloc::SearchSphere), and an ambiguous fix is
+ *  settled by it (settleByOdometry). */
+struct OdometryPrediction
+{
+    Eigen::Vector3d position_world = Eigen::Vector3d::Zero();  ///< cam0's position
+    double uncertainty_m = 1;                                  ///< how far the truth may lie from it
+};
+/** The search sphere around an odometry prediction, in uncertainties: wide enough that a place the odometry rules
+ *  out (beyond kOdometryRivalUncertainties) is still searched, and seen as the rival it is. */
+constexpr double kOdometrySphereUncertainties = 3;
+/** A place this many uncertainties or more from the prediction is not the one the odometry predicts. */
+constexpr double kOdometryRivalUncertainties = 2;
+
+/** Which of the places an ambiguous fix could be (refined poses T_world_cam) the odometry settles it on: the one
+ *  place within one uncertainty of the prediction when every other place lies at least kOdometryRivalUncertainties
+ *  from it; nullopt otherwise (no place near the prediction, or a rival near it too: both are what the odometry
+ *  allows, so the fix stays ambiguous). */
+std::optional<size_t> settleByOdometry(const std::vector<Eigen::Isometry3d>& places,
+                                       const OdometryPrediction& prediction);
+
 /** R_world_body carried from time t through the gyroscope samples after t (rates minus gyro_bias, each held
  *  from the previous sample's time); t becomes the last sample's time. False, and R_world_body no longer known,
  *  when two samples are more than max_gap_s apart (a rate held over a gap is a guess). */
@@ -117,8 +142,9 @@ struct InitAttempt
 {
     double t = 0;
     reloc::GeometricLocalization result;
-    std::string note;            ///< anchor / pair closed / why the pair failed
-    double search_radius_m = 0;  ///< the SearchPrior's sphere (0: the whole map)
+    std::string note;                            ///< anchor / pair closed / why the pair failed
+    double search_radius_m = 0;                  ///< the SearchPrior's or the odometry's sphere (0: the whole map)
+    std::optional<OdometryPrediction> odometry;  ///< the frame's odometry prediction, if it had one
 };
 
 /** The velocity at a (map frame) that carries the IMU samples from fix a to fix b (preintegrated at the biases of
@@ -177,7 +203,8 @@ class GlobalInitializer
      *  (a search behind the tracker) still gives the pair the whole IMU record between its fixes. After an
      *  ambiguous attempt on a platform standing still, no frame is localized until the IMU sees it move: the view
      *  does not change, nor does the answer. */
-    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool localize_it = true);
+    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool localize_it = true,
+                                           const std::optional<OdometryPrediction>& odometry = std::nullopt);
 
     const std::vector<InitAttempt>& attempts() const { return attempts_; }
     /** The biases the pair check uses now: the static estimate's gyroscope bias while the platform has stood
@@ -191,9 +218,12 @@ class GlobalInitializer
         std::vector<Eigen::Isometry3d> poses;
         std::optional<size_t> best_by_appearance;
     };
-    /** Where a frame at time t is searched (the prior's sphere, the heading prior's bound), or nowhere in
-     *  particular (neither prior). */
-    std::optional<reloc::SearchSphere> searchSphere(double t) const;
+    /** Where a frame at time t is searched (the odometry's sphere when the frame has a prediction, else the prior's
+     *  sphere; the heading prior's bound), or nowhere in particular (no prior). */
+    std::optional<reloc::SearchSphere> searchSphere(double t, const std::optional<OdometryPrediction>& odometry) const;
+    /** An ambiguous fix settled by the odometry (settleByOdometry), unless the image preferred another place. */
+    bool settleByPrediction(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous,
+                            const OdometryPrediction& odometry, std::string& note) const;
     /** The frame localized within `near` (searchSphere at its time). */
     reloc::GeometricLocalization localize(const dataset::StereoFrame& frame,
                                           const std::optional<reloc::SearchSphere>& near, std::string& note,

@@ -36,14 +36,16 @@ class GlobalStarter
      *  feed() returns the start once found (and ends the search); attempt = false: the frame's IMU samples only
      *  (GlobalInitializer::feed). single_fix: the first fix is the start, without velocity
      *  (GlobalInitOptions::single_fix; for a relocalization, whose tracker knows its velocity). heading: the
-     *  orientation the track had (a relocalization), which settles fixes ambiguous between turned places. */
+     *  orientation the track had (a relocalization), which settles fixes ambiguous between turned places. odometry:
+     *  where the lost track puts the frame (searched near it, and settling ambiguity; OdometryPrediction). */
     void begin(const std::string& label, const std::optional<SearchPrior>& prior = std::nullopt,
                bool single_fix = false, const std::optional<HeadingPrior>& heading = std::nullopt);
     /** The IMU biases the next search starts from (its pair check and the start it returns, unless the platform
      *  stands still meanwhile): the calibration's prior for the start, the track's for a relocalization. Not while
      *  a search is under way. */
     void setBiasPrior(const ImuBiasPrior& biases) { init_options_.bias_prior = biases; }
-    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true);
+    std::optional<GlobalInitialState> feed(const dataset::StereoFrame& frame, bool attempt = true,
+                                           const std::optional<OdometryPrediction>& odometry = std::nullopt);
 
     const map::DistanceField& field() const { return localizer_->field(); }
     /** Wall time of the localizer's set-up (its distance field, if this built it, and the candidate positions). */

@@ -15,6 +15,10 @@ class PoseHistory
     void add(double t, const Eigen::Isometry3d& T_world_cam0);
     /** The pose added last at exactly time t, if any (as the trajectory file holds it). */
     std::optional<Eigen::Isometry3d> at(double t) const;
+    /** The length of the path through the positions added at or after time t [m] (0 with fewer than two). */
+    double pathLengthSince(double t) const;
+    /** The pose added last, if any. */
+    std::optional<Eigen::Isometry3d> last() const;
     /** Forgets every pose at or after time t. */
     void forgetFrom(double t);
     /** Poses held: the trajectory's frames so far. */

@@ -114,6 +114,7 @@ struct RelocalizationOptions : public core::DeclaredOptions
     double relocalize_near_m = 0.5, relocalize_speed_m_s = 1.5;
     bool relocalize_single_fix = true;
     double relocalize_heading_margin_deg = 15, relocalize_heading_for_s = 5;
+    double relocalize_odometry_drift_ratio = 0, relocalize_odometry_floor_m = 0.5;
     void declare(core::OptionTable& t) override;
 };
 

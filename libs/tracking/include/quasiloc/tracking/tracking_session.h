@@ -140,6 +140,11 @@ class TrackingSession
     void keepImuSinceVerified(const dataset::StereoFrame& f);
     /** The orientation of the last verified frame and the samples since, for a search after a loss at t_loss. */
     std::optional<HeadingPrior> headingPrior(double t_loss) const;
+    /** Where the lost track puts frame r, for the search ([Relocalization] relocalize_odometry_drift_ratio). */
+    std::optional<OdometryPrediction> odometryPrediction(const FrameReport& r);
+    /** The lost track went faster than the platform can ([Initialization] init_max_speed_m_s): no prediction for
+     *  the rest of the loss. */
+    bool odometry_diverged_ = false;
     /** Frames tracked since the search began, with the track's state at each (a restart tracks the later ones
      *  again, from the biases the track had at the fix). */
     std::deque<std::pair<dataset::StereoFrame, estimation::FrameState>> since_loss_;
