@@ -23,6 +23,10 @@ SEEDS=("$@")
 cd "$ROOT"
 mkdir -p "$OUT"
 TRACK_SET=(--set Tracking.temporal_max_gap_s=0.05 --set Tracking.write_scene=false)
+# More tracker overrides from the environment, e.g. a lever of docs/benchmarks.md:
+#   ROBOT_TRACK_SET="--set TrackMonitor.odometry_while_lost=true --set Relocalization.relocalize_odometry_drift_ratio=0.2"
+read -r -a extra <<< "${ROBOT_TRACK_SET:-}"
+TRACK_SET+=("${extra[@]}")
 runs=()
 for seed in "${SEEDS[@]}"; do
   for start in standing moving; do

@@ -254,7 +254,7 @@ TEST_F(TrackingSessionTest, GlobalStartSearchesOnlyItsRegionPrior)
                  core::InputError);
 }
 
-TEST(PoseHistory, ThePathSinceATimeSumsTheStepsAfterItAndAResartForgetsThem)
+TEST(PoseHistory, ThePathSinceATimeSumsTheStepsAfterItAndARestartForgetsThem)
 {
     tracking::PoseHistory h;
     EXPECT_DOUBLE_EQ(h.pathLengthSince(0), 0);
