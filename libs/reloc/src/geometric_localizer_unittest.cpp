@@ -11,6 +11,7 @@
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/stereo_renderer.h>
 #include <quasiloc/sim/world_builder.h>
+#include <filesystem>
 #include <random>
 
 #include "test_room.h"
@@ -208,4 +209,48 @@ TEST(GeometricLocalizer, BadOptionsAreNamed)
     o = reloc::GeometricLocalizationOptions();
     o.stereo.num_disparities = 50;
     EXPECT_THROW(o.check("track.ini"), core::InputError);
+}
+
+TEST(GeometricLocalizer, PlaceRetrievalFindsTheFrameFromAFractionOfTheCandidates)
+{
+    // The retrieval stage forced on the room (it runs by default only above retrieval_min_positions): the same
+    // answer from the positions near the retrieved places, at headings near theirs.
+    const Fixture& f = fixture();
+    reloc::GeometricLocalizationOptions o = testOptions();
+    o.retrieval_min_positions = 0;
+    o.retrieval_places = 20;
+    const reloc::GeometricLocalizer with(f.map, f.rig, o);
+    ASSERT_NE(with.places(), nullptr);
+    EXPECT_GT(with.places()->size(), 50u);
+    EXPECT_LT(with.places()->size(), with.positions());
+    const Eigen::Isometry3d T_true = queryPose();
+    sim::StereoRenderer renderer(f.world, f.rig, sim::AppearanceOptions(), 7);
+    cv::Mat left, right;
+    renderer.render({core::fromIsometry(T_true)}, 0.0, 0, left, right);
+    const reloc::GeometricLocalization all = f.localizer->localize(left, right, upIn(T_true));
+    const reloc::GeometricLocalization r = with.localize(left, right, upIn(T_true));
+    std::cout << "retrieval: " << r.retrieved_places << " places, " << r.candidates
+              << " candidates (whole: " << all.candidates << "), error " << errorM(r.T_world_cam, T_true) << " m\n";
+    EXPECT_TRUE(r.localized) << r.reason;
+    EXPECT_EQ(r.retrieved_places, 20u);
+    EXPECT_LT(errorM(r.T_world_cam, T_true), 0.04);
+    EXPECT_LT(errorDeg(r.T_world_cam, T_true), 1.0);
+    EXPECT_LT(5 * r.candidates, all.candidates) << "retrieval should leave out most candidates";
+    // A place file of another map is refused, naming the file.
+    const std::string file = (std::filesystem::temp_directory_path() / "quasiloc_other_map.qplaces").string();
+    reloc::PlaceIndex other = *with.places();
+    other.map.hash ^= 1;
+    other.save(file);
+    o.places_file = file;
+    try
+    {
+        reloc::GeometricLocalizer bad(f.map, f.rig, o);
+        ADD_FAILURE() << "a place file of another map was read";
+    }
+    catch (const core::InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("another map"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove(file);
 }
