@@ -45,6 +45,9 @@ class TrackingSessionTest : public ::testing::Test
         cfg.write("Simulation", "output_dir", kSimDir.string());
         cfg.write("Simulation", "duration_s", "5");
         cfg.write("Simulation", "inspection_png", "false");
+        // The exact map: these tests are about the session's mechanics, and their bounds were set on it
+        // (e2e.track_swept_short tracks the swept map).
+        cfg.write("Lidar", "map_source", "exact");
         sim::runSimulation(cfg, "config.ini");
         context_ = std::make_unique<tracking::MapContext>((kSimDir / "lidar_map.map").string(),
                                                           tracking::SessionOptions().quasi);
