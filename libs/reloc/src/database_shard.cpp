@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/fnv_hash.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/reloc/database_builder.h>
 #include <quasiloc/reloc/database_shard.h>
@@ -82,13 +83,13 @@ MapIdentity MapIdentity::ofFile(const std::string& path)
     std::ifstream in(path, std::ios::binary);
     core::require(in.good(), path, "cannot read the map file to identify it");
     MapIdentity id;
-    uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a 64
+    uint64_t h = core::kFnv1aSeed;
     std::vector<char> buf(1 << 20);
     while (in)
     {
         in.read(buf.data(), std::streamsize(buf.size()));
         const std::streamsize got = in.gcount();
-        for (std::streamsize i = 0; i < got; ++i) h = (h ^ uint8_t(buf[size_t(i)])) * 0x100000001b3ULL;
+        h = core::fnv1a(h, buf.data(), size_t(got));
         id.file_bytes += uint64_t(got);
     }
     core::require(in.eof(), path, "read error while identifying the map file");

@@ -1,6 +1,7 @@
 // Places of a map with their descriptors: selection, build in shards, merge, file (place_index.h).
 #include <opencv2/core/utility.hpp>
 #include <quasiloc/core/error.h>
+#include <quasiloc/core/fnv_hash.h>
 #include <quasiloc/core/staged_output.h>
 #include <quasiloc/reloc/place_index.h>
 
@@ -23,13 +24,6 @@ constexpr char kMagic[8] = {'Q', 'L', 'P', 'L', 'A', 'C', 'E', 'S'};
 constexpr uint32_t kVersion = 1;
 constexpr uint64_t kMaxPlaces = uint64_t(1) << 32;
 
-uint64_t fnv(uint64_t h, const void* data, size_t bytes)
-{
-    const auto* p = static_cast<const uint8_t*>(data);
-    for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 0x100000001b3ULL;
-    return h;
-}
-
 template <typename T>
 void put(std::ostream& out, const T& v)
 {
@@ -50,11 +44,11 @@ MapFingerprint MapFingerprint::of(const map::LidarMap& map)
 {
     MapFingerprint f;
     f.points = map.size();
-    uint64_t h = 0xcbf29ce484222325ULL;
+    uint64_t h = core::kFnv1aSeed;
     for (size_t i = 0; i < map.size(); i += 997)
     {
         const float xyz[3] = {map.xs()[i], map.ys()[i], map.zs()[i]};
-        h = fnv(h, xyz, sizeof(xyz));
+        h = core::fnv1a(h, xyz, sizeof(xyz));
     }
     f.hash = h;
     return f;
