@@ -137,4 +137,21 @@ void StaticInitializer::add(const std::vector<dataset::ImuSample>& samples)
 
 std::optional<StaticImuEstimate> StaticInitializer::estimate() const { return estimate_; }
 
+StandstillWatch::StandstillWatch(double gyro_noise_density, double span_s, const StandstillOptions& options)
+    : gyro_noise_density_(gyro_noise_density), span_s_(span_s), options_(options)
+{
+    // The samples kept begin within one sample period after the span's start: most of the span counts.
+    options_.min_still_s = 0.9 * span_s;
+}
+
+bool StandstillWatch::add(const std::vector<dataset::ImuSample>& samples)
+{
+    samples_.insert(samples_.end(), samples.begin(), samples.end());
+    if (samples_.empty()) return false;
+    const double t_oldest = samples_.back().t - span_s_;
+    samples_.erase(samples_.begin(), std::find_if(samples_.begin(), samples_.end(),
+                                                  [t_oldest](const dataset::ImuSample& x) { return x.t >= t_oldest; }));
+    return bool(staticImuEstimate(samples_, gyro_noise_density_, options_));
+}
+
 }  // namespace quasiloc::tracking

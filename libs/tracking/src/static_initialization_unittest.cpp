@@ -76,3 +76,28 @@ TEST(StaticInitialization, TooShortASpanGivesNoEstimate)
     EXPECT_FALSE(tracking::staticImuEstimate(imuSamples(0.3, standing), 1.6968e-4, {}, &why));
     EXPECT_NE(why.find("span"), std::string::npos) << why;
 }
+
+TEST(StaticInitialization, TheWatchSeesEveryStandstillNotOnlyTheFirst)
+{
+    // Standing 2 s, turning at 0.3 rad/s for 1 s, standing 2 s: the watch (1 s span) says standing, moving, standing.
+    const auto samples =
+        imuSamples(5.0, [](double t) { return Eigen::Vector3d(0, t >= 102 && t < 103 ? 0.3 : 0.0, 0); });
+    tracking::StandstillWatch watch(1.6968e-4, 1.0);
+    std::vector<std::pair<double, bool>> said;
+    for (size_t i = 0; i < samples.size(); i += 10)
+    {
+        const std::vector<dataset::ImuSample> frame(samples.begin() + long(i),
+                                                    samples.begin() + long(std::min(samples.size(), i + 10)));
+        said.emplace_back(frame.back().t, watch.add(frame));
+    }
+    const auto at = [&said](double t) {
+        for (const auto& [t_frame, standing] : said)
+            if (t_frame >= t) return standing;
+        return said.back().second;
+    };
+    EXPECT_FALSE(at(100.5));  // less than a span yet
+    EXPECT_TRUE(at(101.9));
+    EXPECT_FALSE(at(102.3));  // the turn shows within a block or two
+    EXPECT_FALSE(at(103.8));  // the span still holds the turn
+    EXPECT_TRUE(at(104.9));
+}

@@ -83,6 +83,7 @@ StereoGate TrackMonitor::stereoGate() const
     // the truth; the tracked pose the stereo would be measured against is the doubtful part.
     const bool odometry = options_.odometry_while_lost && health_ == TrackHealth::Lost;
     g.map_terms = !odometry;
+    if (health_ == TrackHealth::Lost) g.velocity_random_walk = options_.lost_velocity_random_walk;
     if (options_.stereo_check_max_sigmas <= 0 || odometry) return g;
     if (stereo_held_until_)
         g.max_sigmas = options_.stereo_check_release_sigmas;
@@ -96,20 +97,38 @@ void TrackMonitor::holdStereo(const FrameReport& r)
     if (r.stereo_rejected)
     {
         if (!stereo_held_until_)
+        {
             out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo points lie "
                  << std::setprecision(1) << r.stereo_map_sigmas
                  << " sigmas from the map (median): stereo left out, frames unverified (a left/right desync or a "
                     "broken calibration?)"
                  << std::endl;
+            stereo_held_since_ = r.t;
+        }
         stereo_held_until_ = r.t + options_.stereo_check_hold_s;
     }
     else if (stereo_held_until_ && r.t >= *stereo_held_until_)
     {
         out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo has agreed with "
              << "the map for " << std::setprecision(1) << options_.stereo_check_hold_s << " s" << std::endl;
-        stereo_held_until_.reset();
+        releaseStereo();
     }
     if (stereo_held_until_) flagUnverified(r.t - 1e-6);
+    if (stereo_held_until_ && !hold_overlong_ && options_.stereo_hold_max_s > 0 &&
+        r.t - *stereo_held_since_ >= options_.stereo_hold_max_s)
+    {
+        hold_overlong_ = true;
+        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the stereo has been held for "
+             << std::setprecision(1) << r.t - *stereo_held_since_
+             << " s: the pose is checked on every frame until a check confirms it or the track is lost" << std::endl;
+    }
+}
+
+void TrackMonitor::releaseStereo()
+{
+    stereo_held_until_.reset();
+    stereo_held_since_.reset();
+    hold_overlong_ = false;
 }
 
 void TrackMonitor::frameTracked(const FrameReport& r)
@@ -156,7 +175,8 @@ void TrackMonitor::updateUsualFit(const FrameReport& r)
 
 bool TrackMonitor::checkDue(size_t n) const
 {
-    if (health_ == TrackHealth::Lost || stereo_held_until_) return false;
+    // A held stereo is the one the check would weigh: no check, unless the hold has lasted stereo_hold_max_s.
+    if (health_ == TrackHealth::Lost || (stereo_held_until_ && !hold_overlong_)) return false;
     return n % size_t(options_.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
 }
 
@@ -176,6 +196,13 @@ CheckOutcome TrackMonitor::checked(const FrameReport& r, const CheckResult& c)
     // confirmed only when the edges (the left image alone) fit as usual too.
     if (health_ == TrackHealth::Restarted && !edgesAsUsual(r)) return CheckOutcome::PassedUnconfirmed;
     stereo_drifts_ = false;
+    if (hold_overlong_)
+    {
+        // The stereo the gate held explains the map at the tracked pose: it was the edge pose that disagreed.
+        out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t
+             << ": a check confirmed the pose; the held stereo is released" << std::endl;
+        releaseStereo();
+    }
     health_ = TrackHealth::Verified;
     closeUnverified(r.t);
     last_verified_t_ = r.t;

@@ -350,6 +350,67 @@ TEST(TrackMonitor, ALostTrackIsTrackedByOdometryWithTheStereoUngated)
     EXPECT_DOUBLE_EQ(h.monitor.stereoGate().max_sigmas, 3);
 }
 
+TEST(TrackMonitor, AHoldThatLastsIsCheckedOnEveryFrameAndFailedChecksLoseTheTrack)
+{
+    // Every rejected frame renews the hold; after stereo_hold_max_s (3 s) of it the checks are due again.
+    TrackMonitorOptions o = testOptions();
+    o.stereo_hold_max_s = 3;
+    runTable(o,
+             {{"start", start(0.0), H::Verified, 3, false, false},
+              {"stereo rejected", frame({0.2, true, 5.0}), H::Doubted, 2, false, false},
+              {"rejected at 1.2: renewed", frame({1.2, true, 2.5}), H::Doubted, 2, false, false},
+              {"rejected at 2.2: renewed", frame({2.2, true, 2.5}), H::Doubted, 2, false, false},
+              {"held 3 s: checks due", frame({3.2, true, 2.5}), H::Doubted, 2, true, false},
+              {"failed once", check(0.5, 0.7), H::Doubted, 2, true, false},
+              {"still held", frame({3.3, true, 2.5}), H::Doubted, 2, true, false},
+              {"failed twice: lost", check(0.4, 0.8), H::Doubted, 2, true, true},
+              {"search", searchBegun(), H::Lost, 2, false, false},
+              {"end", ended(), H::Lost, 2, false, false}},
+             {{0.0, INFINITY}}, {CheckOutcome::Failed, CheckOutcome::Failed});
+}
+
+TEST(TrackMonitor, WithoutABoundAHoldRenewedByRejectionsIsNeverChecked)
+{
+    Harness h(testOptions());
+    start(0.0)(h);
+    for (double t = 0.2; t < 10; t += 0.5)
+    {
+        frame({t, true, 5.0})(h);
+        EXPECT_FALSE(h.monitor.checkDue(h.n)) << "t " << t;
+    }
+    EXPECT_EQ(h.monitor.health(), H::Doubted);
+}
+
+TEST(TrackMonitor, ACheckThatConfirmsAPoseAfterALongHoldReleasesTheStereo)
+{
+    TrackMonitorOptions o = testOptions();
+    o.stereo_hold_max_s = 3;
+    runTable(o,
+             {{"start", start(0.0), H::Verified, 3, false, false},
+              {"stereo agrees", frame({0.1, true, 1.0}), H::Verified, 3, false, false},
+              {"stereo rejected", frame({0.2, true, 5.0}), H::Doubted, 2, false, false},
+              {"rejected at 1.2", frame({1.2, true, 2.5}), H::Doubted, 2, false, false},
+              {"rejected at 2.2", frame({2.2, true, 2.5}), H::Doubted, 2, false, false},
+              {"held 3 s: checks due", frame({3.2, true, 2.5}), H::Doubted, 2, true, false},
+              {"passed: released", check(0.9, 0.9), H::Verified, 3, false, false},
+              {"2.5 sigmas pass the bound of 3", frame({3.3, true, 2.5}), H::Verified, 3, false, false}},
+             {{0.2 - 1e-6, 3.2}}, {CheckOutcome::Passed});
+}
+
+TEST(TrackMonitor, ALostTrackAsksForAWiderVelocity)
+{
+    TrackMonitorOptions o = testOptions();
+    o.lost_velocity_random_walk = 0.5;
+    Harness h(o);
+    start(0)(h);
+    frame({0.1})(h);
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().velocity_random_walk, 0);
+    searchBegun()(h);
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().velocity_random_walk, 0.5);
+    fix(0.3, false)(h);  // restarted: no longer lost
+    EXPECT_DOUBLE_EQ(h.monitor.stereoGate().velocity_random_walk, 0);
+}
+
 TEST(TrackMonitor, RejectsInconsistentOptions)
 {
     TrackMonitorOptions o;

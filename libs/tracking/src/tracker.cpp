@@ -7,6 +7,7 @@
 #include <quasiloc/core/pose.h>
 #include <quasiloc/map/surface_thickness.h>
 #include <quasiloc/tracking/tracker.h>
+#include <quasiloc/tracking/zero_velocity_update.h>
 
 namespace quasiloc::tracking
 {
@@ -141,17 +142,18 @@ void Tracker::applyStandstill(const StaticImuEstimate& still)
     // A standing platform: velocity zero to within the vibration's sway, gyroscope bias as measured. The blocks'
     // correlations with the rest of the state are dropped (their new values come from the IMU alone).
     constexpr double kStandingSigmaV = 0.01;  // m/s
-    const auto setBlock = [this](int first, double sigma) {
-        prior_.information.middleRows(first, 3).setZero();
-        prior_.information.middleCols(first, 3).setZero();
-        prior_.information.block<3, 3>(first, first) = Eigen::Matrix3d::Identity() / (sigma * sigma);
-    };
-    state_.v_map.setZero();
+    applyZeroVelocity(state_, prior_, kStandingSigmaV);
     state_.gyro_bias = still.gyro_bias;
-    prior_.mean.v_map.setZero();
     prior_.mean.gyro_bias = still.gyro_bias;
-    setBlock(6, kStandingSigmaV);
-    setBlock(9, still.gyro_bias_sigma);
+    resetBlock(prior_, 9, still.gyro_bias_sigma);
+}
+
+bool Tracker::watchStandstill(const dataset::StereoFrame& frame, bool standing_since_start)
+{
+    if (!standstill_watch_) return false;
+    const bool standing = standstill_watch_->add(frame.imu);
+    if (standing && !standing_since_start) applyZeroVelocity(state_, prior_, options_.zero_velocity_sigma_m_s);
+    return standing;
 }
 
 TrackEstimate Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
@@ -179,6 +181,9 @@ TrackEstimate Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, co
     misses_ = 0;
     standstill_.reset();
     if (options_.initialization.static_initialization) standstill_.emplace(imu_noise_.gyro_noise_density);
+    standstill_watch_.reset();
+    if (options_.zero_velocity_updates)
+        standstill_watch_.emplace(imu_noise_.gyro_noise_density, options_.zero_velocity_span_s);
     previous_.reset();
     if (frame && options_.temporal_landmarks)
     {
@@ -227,6 +232,12 @@ bool Tracker::updateStandstill(const dataset::StereoFrame& frame)
     const auto still = standstill_->estimate();
     if (still) applyStandstill(*still);
     return bool(still);
+}
+
+void Tracker::widenVelocityWhileLost(const dataset::StereoFrame& frame, const StereoGate& gate)
+{
+    const double q = gate.velocity_random_walk;
+    if (q > 0) widenVelocity(prior_, q * q * (frame.timestamp - state_.t));
 }
 
 estimation::FrameState Tracker::predict(const dataset::StereoFrame& frame, estimation::ImuPreintegration& imu,
@@ -302,8 +313,12 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     FrameReport& rep = result.report;
     rep.t = frame.timestamp;
 
-    // 1. IMU prediction (after a standstill since the start, from its bias and zero velocity).
-    rep.standing = updateStandstill(frame);
+    // 1. IMU prediction (after a standstill since the start, from its bias and zero velocity; after a standstill
+    // later on, with zero_velocity_updates, from zero velocity; while lost, from a widened velocity).
+    widenVelocityWhileLost(frame, gate);
+    const bool standing_since_start = updateStandstill(frame);
+    const bool standing_now = watchStandstill(frame, standing_since_start);
+    rep.standing = standing_since_start || standing_now;
     estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     const estimation::FrameState predicted = predict(frame, imu, rep);
     // A streamed field readies its tiles around the camera on its worker while this frame is measured.

@@ -111,6 +111,14 @@ void TrackerOptions::declare(core::OptionTable& t)
               "the right image's match of a left keypoint: guided = searched around the frame's dense SGBM "
               "disparity (no features on the right image; needs MapFactors.stereo_map_points = dense, else the "
               "descriptors are used); descriptors = ORB on the right image too, matched along the epipolar band");
+    t.add("zero_velocity_updates", zero_velocity_updates,
+          "whenever the IMU's standstill detector (static_initialization.h) finds the last zero_velocity_span_s "
+          "standing, the previous state's velocity is zero (a robot that stops; off by default: measured on the "
+          "simulated ground robot, docs/benchmarks.md)");
+    t.add("zero_velocity_span_s", zero_velocity_span_s, "s", Range::between(0.5, 10),
+          "zero_velocity_updates: the IMU span the detector judges (a stop is seen this long after it begins)");
+    t.add("zero_velocity_sigma_m_s", zero_velocity_sigma_m_s, "m/s", Range::above(0),
+          "zero_velocity_updates: the standing velocity's sigma per axis (the sway of a standing platform)");
     t.add("guided_patch_radius_px", guided.patch_radius_px, "px", Range::between(1, 15),
           "guided matching: the compared patches are (2 r + 1)^2 pixels of the rectified pair");
     t.add("guided_search_px", guided.search_px, "px", Range::between(1, 20),
@@ -211,6 +219,14 @@ void TrackMonitorOptions::declare(core::OptionTable& t)
           "a restart at a fix that no check has confirmed after this long is a loss (a single fix in a view that "
           "explains many places can be the wrong one, and the stereo of that view then passes every check); 0: never "
           "(the default: measured on the simulated ground robot only)");
+    t.add("lost_velocity_random_walk", lost_velocity_random_walk, "m/s/sqrt(s)", Range::atLeast(0),
+          "while lost, the tracker's velocity variance grows by this squared per second (a lost track's velocity may "
+          "have diverged, and a velocity surer than it is makes the stereo landmarks outliers); 0: off (the default: "
+          "measured on the simulated ground robot only)");
+    t.add("stereo_hold_max_s", stereo_hold_max_s, "s", Range::atLeast(0),
+          "a stereo hold (stereo_check_hold_s, renewed by every rejected frame) that has lasted this long makes the "
+          "loss check due on every frame: it ends when a check confirms the pose (the stereo is released) or in a "
+          "loss; 0: no bound (the default: measured on the simulated ground robot only)");
 }
 
 void TrackMonitorOptions::check(const std::string& input) const

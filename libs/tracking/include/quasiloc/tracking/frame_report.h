@@ -37,7 +37,8 @@ struct FrameReport
     double plane_candidates = 0;  ///< mean candidates per plane factor
     double ms_planes = 0;
     Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero(), acc_bias = Eigen::Vector3d::Zero();  ///< estimated
-    bool standing = false;  ///< the platform has stood still since the start (static_initialization)
+    bool standing = false;  ///< the platform stands: since the start (static_initialization), or now, by the IMU
+                            ///< (zero_velocity_updates); its velocity was set to zero
     /** Their marginal sigmas per axis after the frame (rad/s, m/s^2). */
     Eigen::Vector3d gyro_bias_sigma = Eigen::Vector3d::Zero(), acc_bias_sigma = Eigen::Vector3d::Zero();
     /** Wall times [ms]. ms_image: the camera edge field (on the tracking thread, after the render); ms_align:

@@ -82,4 +82,22 @@ class StaticInitializer
     std::optional<StaticImuEstimate> estimate_;
 };
 
+/** Whether the platform stands now: the detector over the last span_s of IMU samples, on every frame (where
+ *  StaticInitializer looks at the start only). A robot that stops and goes stands many times; its velocity is then
+ *  zero, which the IMU alone cannot tell apart from a slow drift. The detector needs the whole span standing, so a
+ *  stop is seen span_s after it begins and a start within a block. */
+class StandstillWatch
+{
+   public:
+    StandstillWatch(double gyro_noise_density, double span_s, const StandstillOptions& options = {});
+    /** Adds the samples since the last call (in time order); true when the last span_s of them stand still. */
+    bool add(const std::vector<dataset::ImuSample>& samples);
+
+   private:
+    double gyro_noise_density_;
+    double span_s_;
+    StandstillOptions options_;
+    std::vector<dataset::ImuSample> samples_;
+};
+
 }  // namespace quasiloc::tracking

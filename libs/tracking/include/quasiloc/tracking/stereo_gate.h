@@ -20,6 +20,9 @@ struct StereoGate
     /** False while the track is lost: the frame is tracked by odometry alone (IMU and stereo landmarks), since the
      *  map terms at a doubtful pose pull it into a wrong place's optimum and the search's prior with it. */
     bool map_terms = true;
+    /** While the track is lost: the velocity's variance grows by this squared per second [m/s/sqrt(s)] before the
+     *  frame (zero_velocity_update.h), since a lost track's velocity may have diverged; 0: as the marginal says. */
+    double velocity_random_walk = 0;
 
     bool edgesAsUsual(double edge_inlier_ratio) const
     {

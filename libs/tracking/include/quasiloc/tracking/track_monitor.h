@@ -22,8 +22,12 @@
 //                 odometry_while_lost (the map terms are off then, and the stereo landmarks keep the track, the
 //                 search's prior, near the truth).
 //   loss check    due every check_every frames, and on every frame while the track is unverified or a check has
-//                 failed; not while Lost or while the stereo is held (the check weighs the same stereo). It aligns
-//                 the stereo to the map when too little of it is explained, and always while the stereo drifts.
+//                 failed; not while Lost or while the stereo is held (the check weighs the same stereo), unless the
+//                 hold has lasted stereo_hold_max_s (every rejected frame renews a hold, and a track drifting under
+//                 it would go unchecked): then a passed check releases the stereo and failed ones lose the track.
+//                 It aligns the stereo to the map when too little of it is explained, and always while it drifts.
+//   velocity      while Lost the gate asks the tracker to widen its velocity's uncertainty
+//                 (lost_velocity_random_walk): a lost track's velocity may have diverged.
 //   unverified    the stretches of the track no check confirmed, handed to the log as they close: from an input
 //                 fault, a missed map update, a held stereo or a restart to the next passed check; from the last
 //                 confirmed pose to a failed check's pass or to the fix that ended a loss (or to the end).
@@ -115,6 +119,7 @@ class TrackMonitor
     void flagUnverified(double after_t);
     void closeUnverified(double up_to_t);
     void holdStereo(const FrameReport& r);
+    void releaseStereo();
     /** Frame r's stereo lies farther from the map than usual: unverified, and checks align until one passes. */
     void watchStereoDrift(const FrameReport& r);
     /** The running means of the edge fit and the stereo's distance to the map, over frames that agree. */
@@ -128,6 +133,8 @@ class TrackMonitor
     std::optional<double> unverified_after_;           ///< the open unverified stretch
     std::optional<double> input_fault_t_;              ///< the frame read after an input fault, until it is tracked
     std::optional<double> stereo_held_until_;          ///< the stereo was left out: held until then
+    std::optional<double> stereo_held_since_;          ///< the first rejected frame of the hold
+    bool hold_overlong_ = false;                       ///< the hold has lasted stereo_hold_max_s: checks are due
     double last_verified_t_ = 0;
     double restarted_at_t_ = 0;  ///< the fix the track restarted at (Restarted)
     int failed_checks_ = 0;      ///< in a row

@@ -90,6 +90,8 @@ struct TrackerOptions : public core::DeclaredOptions
     double temporal_window_px = 60;
     double temporal_max_gap_s = 0.1;
     int max_landmarks = 150;
+    bool zero_velocity_updates = false;
+    double zero_velocity_span_s = 1.0, zero_velocity_sigma_m_s = 0.01;
     StereoMatching stereo_matching = StereoMatching::Guided;
     GuidedStereoOptions guided;  ///< stereo_matching = guided: the guided_* keys
     bool concurrent_stages = true;
@@ -131,6 +133,8 @@ struct TrackMonitorOptions : public core::DeclaredOptions
     int lost_after_misses = 20;
     double lost_unconfirmed_restart_s = 0;
     bool odometry_while_lost = false;
+    double lost_velocity_random_walk = 0;
+    double stereo_hold_max_s = 0;
     double input_gap_s = 0.15;  ///< three frame periods at 20 Hz
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;

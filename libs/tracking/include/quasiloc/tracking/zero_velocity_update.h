@@ -1,0 +1,25 @@
+#pragma once
+// What the tracker changes in the previous state's prior before a frame, when the IMU or the track's health says
+// something of the velocity that the window's marginal does not know:
+//   - a zero-velocity update: the platform stands (the IMU's standstill detector, static_initialization.h), so the
+//     velocity is zero to within the sway of a standing platform, as OpenVINS's zero-velocity update does;
+//   - a widened velocity: while the track is lost its velocity may have diverged (the marginal grows only by the
+//     IMU's noise densities, not by the tilt and bias errors a lost track accumulates), and a velocity that is surer
+//     than it is turns the stereo landmarks that disagree with it into outliers of the window's robust loss.
+// Tangent order of the prior: prior_factor.h ([dtheta; dp; v; b_g; b_a]).
+#include <quasiloc/estimation/prior_factor.h>
+
+namespace quasiloc::tracking
+{
+/** The block of 3 tangent coordinates from `first` becomes independent of the rest, with `sigma` per axis (its
+ *  correlations with the other blocks are dropped: its new value does not come from them). */
+void resetBlock(estimation::StatePrior& prior, int first, double sigma);
+
+/** The state (and the prior's mean) stand: velocity zero, with sigma_v [m/s] per axis. */
+void applyZeroVelocity(estimation::FrameState& state, estimation::StatePrior& prior, double sigma_v);
+
+/** The velocity's covariance grows by `variance` [m^2/s^2] per axis; the other blocks' marginals and the
+ *  correlations stay as they were. */
+void widenVelocity(estimation::StatePrior& prior, double variance);
+
+}  // namespace quasiloc::tracking

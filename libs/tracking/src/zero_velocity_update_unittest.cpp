@@ -1,0 +1,69 @@
+// The changes to a state prior before a frame: a zero-velocity update and a widened velocity.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <quasiloc/tracking/zero_velocity_update.h>
+
+namespace quasiloc::tracking
+{
+namespace
+{
+/** A prior with every block correlated: the covariance of a random 15x15 square root. */
+estimation::StatePrior correlatedPrior(estimation::Matrix15d& covariance)
+{
+    std::srand(3);
+    const estimation::Matrix15d a = estimation::Matrix15d::Random() * 0.3;
+    covariance = a * a.transpose() + 0.01 * estimation::Matrix15d::Identity();
+    estimation::StatePrior prior;
+    prior.mean.v_map = Eigen::Vector3d(0.4, -0.2, 0.05);
+    prior.information = covariance.inverse();
+    return prior;
+}
+}  // namespace
+
+TEST(ZeroVelocityUpdate, WideningAddsVarianceToTheVelocityAlone)
+{
+    estimation::Matrix15d covariance;
+    estimation::StatePrior prior = correlatedPrior(covariance);
+    widenVelocity(prior, 0.25);
+    const estimation::Matrix15d widened = prior.information.inverse();
+    estimation::Matrix15d expected = covariance;
+    expected.block<3, 3>(6, 6) += 0.25 * Eigen::Matrix3d::Identity();
+    EXPECT_LT((widened - expected).cwiseAbs().maxCoeff(), 1e-9) << widened - expected;
+    EXPECT_DOUBLE_EQ(prior.mean.v_map.x(), 0.4);  // the mean stays
+}
+
+TEST(ZeroVelocityUpdate, NoVarianceLeavesThePriorAsItWas)
+{
+    estimation::Matrix15d covariance;
+    estimation::StatePrior prior = correlatedPrior(covariance);
+    const estimation::Matrix15d before = prior.information;
+    widenVelocity(prior, 0);
+    EXPECT_EQ(prior.information, before);
+}
+
+TEST(ZeroVelocityUpdate, AStandingPlatformHasZeroVelocityIndependentOfTheRest)
+{
+    estimation::Matrix15d covariance;
+    estimation::StatePrior prior = correlatedPrior(covariance);
+    const estimation::Matrix15d before = prior.information;
+    estimation::FrameState state = prior.mean;
+    applyZeroVelocity(state, prior, 0.01);
+    EXPECT_EQ(state.v_map, Eigen::Vector3d::Zero());
+    EXPECT_EQ(prior.mean.v_map, Eigen::Vector3d::Zero());
+    const estimation::Matrix15d cov = prior.information.inverse();
+    EXPECT_NEAR(cov(7, 7), 1e-4, 1e-12);
+    const double to_pose = cov.block<3, 6>(6, 0).cwiseAbs().maxCoeff();
+    const double to_biases = cov.block<3, 6>(6, 9).cwiseAbs().maxCoeff();
+    EXPECT_LT(to_pose, 1e-12);
+    EXPECT_LT(to_biases, 1e-12);
+    // The other blocks' information is what it was.
+    const estimation::Matrix6d pose_after = prior.information.topLeftCorner<6, 6>();
+    const estimation::Matrix6d biases_after = prior.information.bottomRightCorner<6, 6>();
+    const estimation::Matrix6d pose_before = before.topLeftCorner<6, 6>();
+    const estimation::Matrix6d biases_before = before.bottomRightCorner<6, 6>();
+    EXPECT_EQ(pose_after, pose_before);
+    EXPECT_EQ(biases_after, biases_before);
+}
+
+}  // namespace quasiloc::tracking
