@@ -6,28 +6,59 @@ namespace quasiloc::app
 {
 void LocalizeRunOptions::declare(core::OptionTable& t)
 {
-    t.add("database", database, "the database (quasiloc-build-db)");
+    t.add("database", database, "the database (quasiloc-build-db); modes fast and full");
     t.add("input_rawlog", input_rawlog, "the stereo rawlog whose left images are queried");
     t.add("calibration_ini", calibration_ini, "optional: overrides the rawlog's calibration");
     t.add("groundtruth", groundtruth, "optional TUM of T_world_cam0, for the error table");
-    t.add("map_file", map_file, "the LiDAR map (query_image = quasi)");
+    t.add("map_file", map_file, "the LiDAR map (mode stereo, and query_image = quasi)");
     t.add("output_dir", output_dir, "where the outputs go");
-    t.add("modes", modes, "fast, full or both");
+    t.add("modes", modes,
+          "any of fast, full (the left image against the database, in that budget) and stereo (the raw stereo pair's "
+          "geometry against the map, [GeometricLocalization])");
     t.addEnum("query_image", query_image, {{"camera", QueryImage::Camera}, {"quasi", QueryImage::Quasi}},
               "the camera's left image, or the quasi-image rendered at the ground-truth pose");
     t.add("every_n", every_n, "", core::Range::atLeast(1), "query every N-th frame");
     t.add("max_queries", max_queries, "", core::Range::atLeast(0), "queries at most (0: all)");
+    t.addEnum("gravity", gravity, {{"imu", QueryGravity::Imu}, {"level", QueryGravity::Level}},
+              "stereo mode: up from the accelerometer (mean over gravity_window_s before the frame), or the camera "
+              "taken as level (image rows and optical axis horizontal) for a pair without IMU");
+    t.add("gravity_window_s", gravity_window_s, "s", core::Range::between(0.005, 5),
+          "stereo mode, gravity = imu: the accelerometer span averaged for up");
 }
 
-std::vector<reloc::LocalizationMode> LocalizeRunOptions::checkedModes(const std::string& name) const
+std::vector<QueryMode> LocalizeRunOptions::checkedModes(const std::string& name) const
 {
     const std::string key = name + ": [Localize] ";
     core::require(query_image == QueryImage::Camera || (!map_file.empty() && !groundtruth.empty()), key + "query_image",
                   "quasi needs map_file and groundtruth (the query is rendered at the ground-truth pose)");
-    std::vector<reloc::LocalizationMode> out;
-    for (const auto& m : modes) out.push_back(reloc::localizationModeFromString(m, key + "modes"));
-    core::require(!out.empty(), key + "modes", "needs fast, full or both");
+    std::vector<QueryMode> out;
+    for (const auto& m : modes)
+    {
+        QueryMode mode{m};
+        mode.stereo = m == "stereo";
+        if (!mode.stereo) mode.budget = reloc::localizationModeFromString(m, key + "modes");
+        out.push_back(mode);
+    }
+    core::require(!out.empty(), key + "modes", "needs any of fast, full, stereo");
+    core::require(!needsDatabase(out) || !database.empty(), key + "database", "modes fast and full need a database");
+    core::require(!hasStereo(out) || !map_file.empty(), key + "map_file", "mode stereo needs the map");
+    core::require(!hasStereo(out) || query_image == QueryImage::Camera, key + "query_image",
+                  "mode stereo localizes the camera's stereo pair; quasi applies to the database modes only");
     return out;
+}
+
+bool needsDatabase(const std::vector<QueryMode>& modes)
+{
+    for (const auto& m : modes)
+        if (!m.stereo) return true;
+    return false;
+}
+
+bool hasStereo(const std::vector<QueryMode>& modes)
+{
+    for (const auto& m : modes)
+        if (m.stereo) return true;
+    return false;
 }
 
 }  // namespace quasiloc::app

@@ -1,5 +1,6 @@
-// quasiloc-localize: global localization of the left images of a stereo rawlog, every N frames, against a
-// database built by quasiloc-build-db (libs/reloc/localizer.h), in the Fast and/or Full budget.
+// quasiloc-localize: global localization of every N-th frame of a stereo rawlog with no initial guess: its left
+// image against a database built by quasiloc-build-db (libs/reloc/localizer.h), in the Fast and/or Full budget, and/or
+// its raw stereo pair against the LiDAR map by geometry (mode stereo: stereo_queries.h).
 //
 //     quasiloc-localize <config.ini> [--set Section.key=value]... [--print-timing]
 //
@@ -7,6 +8,7 @@
 // the ground-truth pose instead of the camera image: a check of the localization machinery without the
 // camera-to-map modality gap. Other sections: [Localization] [PointMatching] (and [QuasiImage] for quasi queries).
 //
+// Other sections: [GeometricLocalization] for mode stereo.
 // Outputs in output_dir, all or nothing: queries.txt (every query timestamp), and per mode <mode>.tum (the
 // localized queries' T_world_cam0), <mode>.csv (per query: status, reason, inliers, errors, time per stage),
 // <mode>_diagnostics.txt (per query: retrieved views with scores and groups, matches, PnP hypotheses), then
@@ -21,6 +23,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
@@ -47,8 +50,9 @@ using app::QueryRow;
 
 const char* kUsage =
     "usage: quasiloc-localize <config.ini> [--set Section.key=value]... [--print-timing]\n"
-    "Globally localizes every N-th left image of a rawlog against a quasiloc-build-db database; writes per-query\n"
-    "results, diagnostics and a Recall/mATE summary into [Localize] output_dir.";
+    "Globally localizes every N-th frame of a rawlog: its left image against a quasiloc-build-db database (modes\n"
+    "fast, full) and/or its stereo pair against the LiDAR map (mode stereo); writes per-query results, diagnostics\n"
+    "and a Recall/mATE summary into [Localize] output_dir.";
 
 /** Every option of the run, loaded and checked. */
 struct RunOptions
@@ -56,7 +60,8 @@ struct RunOptions
     LocalizeRunOptions run;
     reloc::LocalizerOptions localizer;
     quasi::QuasiOptions quasi;
-    std::vector<reloc::LocalizationMode> modes;
+    reloc::GeometricLocalizationOptions geometric;
+    std::vector<app::QueryMode> modes;
 };
 
 RunOptions loadOptions(const core::CommandLine& cmd)
@@ -65,17 +70,20 @@ RunOptions loadOptions(const core::CommandLine& cmd)
     const std::string name = cmd.config_path;
     RunOptions o;
     core::loadOptionsChecked(o.run, cfg, "Localize", name);
-    core::requireInputFiles(name, "Localize", {{"database", o.run.database}, {"input_rawlog", o.run.input_rawlog}});
+    o.modes = o.run.checkedModes(name);
+    core::requireInputFiles(name, "Localize", {{"input_rawlog", o.run.input_rawlog}});
+    if (app::needsDatabase(o.modes)) core::requireInputFiles(name, "Localize", {{"database", o.run.database}});
     core::requireInputFiles(
         name, "Localize",
         {{"calibration_ini", o.run.calibration_ini}, {"groundtruth", o.run.groundtruth}, {"map_file", o.run.map_file}},
         false);
-    o.modes = o.run.checkedModes(name);
     core::loadOptionsChecked(o.localizer, cfg, "Localization", name);
     core::loadOptionsChecked(o.localizer.matching, cfg, "PointMatching", name);
     o.localizer.check(name);
     core::loadOptionsChecked(o.quasi, cfg, "QuasiImage", name);
     o.quasi.check(name);
+    core::loadOptionsChecked(o.geometric, cfg, "GeometricLocalization", name);
+    o.geometric.check(name);
     return o;
 }
 
@@ -104,14 +112,15 @@ QueryRow localizeOne(reloc::Localizer& localizer, const cv::Mat& image, const da
     return row;
 }
 
-void report(const QueryRow& row, const dataset::StereoFrame& f, reloc::LocalizationMode mode, const reloc::Database& db,
+/** One query's diagnostics line (`account`: how it was decided) and console line. */
+void report(const QueryRow& row, const dataset::StereoFrame& f, const std::string& mode, const std::string& account,
             std::ostream& diagnostics)
 {
     const std::string error =
         row.has_gt && row.report.localized ? ", error " + std::to_string(row.err_m) + " m" : std::string();
     diagnostics << "query t=" << std::setprecision(17) << f.timestamp << std::setprecision(6) << " (frame " << f.index
-                << ")" << error << ": " << reloc::describe(row.report, db) << "\n";
-    std::cout << "t " << std::fixed << std::setprecision(3) << f.timestamp << " " << reloc::toString(mode) << ": "
+                << ")" << error << ": " << account << "\n";
+    std::cout << "t " << std::fixed << std::setprecision(3) << f.timestamp << " " << mode << ": "
               << (row.report.localized ? "localized" : "not localized") << ", inliers " << row.report.inliers << error
               << ", " << row.report.ms.total << " ms" << std::endl;
 }
@@ -127,7 +136,17 @@ void recordStageTimes(const reloc::LocalizationReport& r, mrpt::system::CTimeLog
         timer.registerUserMeasure(stage, ms * 1e-3, true);
 }
 
-Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset::FrameSource& source,
+/** The stereo localizer of mode stereo (nullptr without it). */
+std::unique_ptr<app::StereoQueries> makeStereoQueries(const RunOptions& o, const core::StereoRig& rig)
+{
+    if (!app::hasStereo(o.modes)) return nullptr;
+    auto stereo =
+        std::make_unique<app::StereoQueries>(o.run.map_file, rig, o.geometric, o.run.gravity, o.run.gravity_window_s);
+    std::cout << "stereo queries against " << o.run.map_file << ": " << stereo->summary() << std::endl;
+    return stereo;
+}
+
+Queries localizeQueries(const RunOptions& o, const reloc::Database* db, dataset::FrameSource& source,
                         mrpt::system::CTimeLogger& timer)
 {
     const core::CameraModel& camera = source.rig().left;
@@ -138,7 +157,9 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset:
         map = std::make_unique<map::LidarMap>(map::LidarMap::load(o.run.map_file));
         renderer = std::make_unique<quasi::QuasiRenderer>(*map, o.quasi);
     }
-    reloc::Localizer localizer(db, o.localizer);
+    std::unique_ptr<reloc::Localizer> localizer;
+    if (db) localizer = std::make_unique<reloc::Localizer>(*db, o.localizer);
+    const auto stereo = makeStereoQueries(o, source.rig());
     Queries out;
     out.rows.resize(o.modes.size());
     out.diagnostics.resize(o.modes.size());
@@ -147,6 +168,7 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset:
     quasi::QuasiImage q;
     while (source.next(f) && (o.run.max_queries == 0 || out.count < o.run.max_queries))
     {
+        if (stereo) stereo->observe(f);
         if (f.index % size_t(o.run.every_n) != 0) continue;
         if (renderer && !f.T_world_cam0) continue;  // nothing to render at
         ++out.count;
@@ -159,8 +181,12 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database& db, dataset:
         }
         for (size_t m = 0; m < o.modes.size(); ++m)
         {
-            out.rows[m].push_back(localizeOne(localizer, image, f, camera, o.modes[m]));
-            report(out.rows[m].back(), f, o.modes[m], db, out.diagnostics[m]);
+            const app::QueryMode& mode = o.modes[m];
+            out.rows[m].push_back(mode.stereo ? stereo->localize(f)
+                                              : localizeOne(*localizer, image, f, camera, mode.budget));
+            const std::string account =
+                mode.stereo ? stereo->describeLast() : reloc::describe(out.rows[m].back().report, *db);
+            report(out.rows[m].back(), f, mode.name, account, out.diagnostics[m]);
             recordStageTimes(out.rows[m].back().report, timer);
         }
     }
@@ -175,7 +201,7 @@ std::string writeOutputs(RunOptions& o, const Queries& queries, const std::strin
     std::vector<ModeSummary> summaries;
     for (size_t m = 0; m < o.modes.size(); ++m)
     {
-        const std::string mode = reloc::toString(o.modes[m]);
+        const std::string& mode = o.modes[m].name;
         core::Trajectory traj;
         traj.header = "quasiloc-localize " + mode + ": T_world_cam0 of the localized queries";
         for (const auto& r : queries.rows[m])
@@ -192,7 +218,8 @@ std::string writeOutputs(RunOptions& o, const Queries& queries, const std::strin
                                {{"Localize", &o.run},
                                 {"Localization", &o.localizer},
                                 {"PointMatching", &o.localizer.matching},
-                                {"QuasiImage", &o.quasi}},
+                                {"QuasiImage", &o.quasi},
+                                {"GeometricLocalization", &o.geometric}},
                                "quasiloc-localize effective configuration");
     out.commit();
     return md;
@@ -217,26 +244,45 @@ std::string noGroundTruthLine(const RunOptions& o, const std::string& mode)
            ".tum --queries " + dir + "/queries.txt --groundtruth <TUM of T_world_cam0>";
 }
 
+/** What was localized against what, for the summary's head. */
+std::string queriesDescription(const RunOptions& o, const reloc::Database* db, const std::string& image)
+{
+    std::string what;
+    if (db)
+        what = "database " + o.run.database + " (" + db->summary() + "); queries: every " +
+               std::to_string(o.run.every_n) + "th left " + image + " of " + o.run.input_rawlog;
+    if (app::hasStereo(o.modes))
+        what += std::string(db ? "\n\n" : "") + "mode stereo: every " + std::to_string(o.run.every_n) +
+                "th raw stereo pair of " + o.run.input_rawlog + " against the map " + o.run.map_file + ", up from " +
+                (o.run.gravity == app::QueryGravity::Imu ? "the IMU" : "a level camera") +
+                "; its stage columns: extract = stereo matching, retrieval = place retrieval, rerank = coarse "
+                "search, PnP = refinement and polish; inliers = stereo points the map explains";
+    return what;
+}
+
 int run(const core::CommandLine& cmd)
 {
     RunOptions o = loadOptions(cmd);
-    const reloc::Database db = reloc::Database::load(o.run.database);
-    std::cout << "database " << o.run.database << ": " << db.summary() << std::endl;
+    std::optional<reloc::Database> db;
+    if (app::needsDatabase(o.modes))
+    {
+        db = reloc::Database::load(o.run.database);
+        std::cout << "database " << o.run.database << ": " << db->summary() << std::endl;
+    }
     dataset::FrameSourceOptions so;
     so.groundtruth_tum = o.run.groundtruth;
     so.calibration_ini = o.run.calibration_ini;
     auto source = dataset::openRawlog(o.run.input_rawlog, so);
     mrpt::system::CTimeLogger timer(true, "quasiloc-localize");
-    const Queries queries = localizeQueries(o, db, *source, timer);
+    const Queries queries = localizeQueries(o, db ? &*db : nullptr, *source, timer);
     core::require(queries.count > 0, o.run.input_rawlog,
                   "no query frame (check every_n, and ground truth for query_image = quasi)");
     const std::string image =
         o.run.query_image == QueryImage::Camera ? "camera image" : "quasi-image at the ground-truth pose";
-    const std::string what = "database " + o.run.database + " (" + db.summary() + "); queries: every " +
-                             std::to_string(o.run.every_n) + "th left " + image + " of " + o.run.input_rawlog;
+    const std::string what = queriesDescription(o, db ? &*db : nullptr, image);
     const std::string md = writeOutputs(o, queries, what);
     std::cout << "\n" << md << "outputs in " << o.run.output_dir << std::endl;
-    if (!anyGroundTruth(queries)) std::cout << noGroundTruthLine(o, reloc::toString(o.modes.front())) << std::endl;
+    if (!anyGroundTruth(queries)) std::cout << noGroundTruthLine(o, o.modes.front().name) << std::endl;
     if (cmd.print_timing) std::cout << timer.getStatsAsText();
     timer.clear(true);  // CTimeLogger prints what it holds when destroyed
     return 0;

@@ -118,6 +118,7 @@ std::vector<Section> sections()
     add("quasiloc-localize", "Localization", make<reloc::LocalizerOptions>());
     add("quasiloc-localize", "PointMatching", nullptr);
     add("quasiloc-localize", "QuasiImage", make<quasi::QuasiOptions>());
+    add("quasiloc-localize", "GeometricLocalization", nullptr);
     add("quasiloc-eval", "Eval", make<eval::EvalOptions>());
     add("quasiloc-eval", "Eval.<sequence>", make<eval::SequenceOptions>());
     return out;

@@ -1,7 +1,8 @@
 # quasiloc-build-db + quasiloc-localize on a 5 s simulated V1_01 sequence (the top-level config.ini's world):
 # a database of the part of the room the sequence flies through, then global localization of every 10th frame.
 # Quasi-image queries (the map rendered at the true pose: the localization machinery without the camera-to-map
-# modality gap) must localize within 0.3 m for at least half the queries; camera queries may fail (cross-modal
+# modality gap) must localize within 0.3 m for at least half the queries; stereo queries (the pair's geometry
+# against the map, no database) for two of three; camera queries may fail (cross-modal
 # matching is the open problem, docs/experiments.md) but must never give a pose more than 1 m off. The camera queries run without ground
 # truth (no error fields, one line saying so) and are scored afterwards by quasiloc-eval. Bad input: named, nothing
 # written.
@@ -46,6 +47,20 @@ echo "quasi-image queries: Recall@0.3 m $recall %, wrong $wrong_quasi; camera qu
 awk -v r="$recall" 'BEGIN { exit !(r >= 50) }' || fail "quasi-image Recall@0.3 m $recall % < 50 %"
 [ "$wrong_quasi" = 0 ] || fail "$wrong_quasi quasi-image queries localized more than 1 m off"
 [ "$wrong_camera" = 0 ] || fail "$wrong_camera camera queries localized more than 1 m off"
+# Stereo queries: the raw pair's geometry against the map, no database (the database given in the INI is not read).
+"$BIN/quasiloc-localize" $CFG --set Localize.modes=stereo --set Localize.database="$WORK/none.qdb" \
+  --set Localize.input_rawlog="$SIM/V1_01_easy.rawlog" --set Localize.groundtruth="$SIM/gt.tum" \
+  --set Localize.map_file="$SIM/lidar_map.map" --set Localize.max_queries=3 \
+  --set Localize.output_dir="$WORK/stereo" > "$WORK/stereo.log" 2>&1 || { cat "$WORK/stereo.log"; fail "stereo queries failed"; }
+cat "$WORK/stereo.log"
+[ -s "$WORK/stereo/stereo.tum" ] && [ -s "$WORK/stereo/stereo_diagnostics.txt" ] || fail "stereo outputs missing"
+recall_stereo=$(field "$WORK/stereo/summary.json" recall_0.3m)
+[ "$(field "$WORK/stereo/summary.json" wrong_over_1m)" = 0 ] || fail "stereo queries localized more than 1 m off"
+awk -v r="$recall_stereo" 'BEGIN { exit !(r >= 66) }' || fail "stereo Recall@0.3 m $recall_stereo % < 66 %"
+expect_failure "$WORK/bad_stereo.txt" "$BIN/quasiloc-localize" $CFG --set Localize.modes=stereo \
+  --set Localize.map_file= --set Localize.input_rawlog="$SIM/V1_01_easy.rawlog" --set Localize.output_dir="$WORK/bad_stereo"
+expect_contains "$WORK/bad_stereo.txt" "map_file"
+[ ! -e "$WORK/bad_stereo" ] || fail "output written despite the error"
 # Bad input: a file that is not a database is named, nothing is written.
 echo "not a database" > "$WORK/bad.qdb"
 expect_failure "$WORK/bad.txt" "$BIN/quasiloc-localize" $CFG --set Localize.database="$WORK/bad.qdb" \
