@@ -123,7 +123,7 @@ GeometricLocalization GeometricLocalizer::localize(const cv::Mat& left_raw, cons
                                                    const Eigen::Vector3d& up_cam, const SearchSphere* near) const
 {
     const auto t0 = Clock::now();
-    if (!places_)
+    if (!retrieval_)
     {
         const std::vector<Eigen::Vector3f> points = stereo_.compute(left_raw, right_raw);
         const double ms_cloud = msSince(t0);
@@ -295,7 +295,7 @@ GeometricLocalization GeometricLocalizer::localizePoints(const std::vector<Eigen
     }
     // Place retrieval on a large map: only the positions near the best places, at headings near theirs.
     std::vector<std::vector<bool>> yaws_near;
-    if (places_ && searched.size() > size_t(options_.retrieval_min_positions))
+    if (retrieval_ && searched.size() > size_t(options_.retrieval_min_positions))
     {
         const auto tr = Clock::now();
         const std::vector<RetrievedPlace> retrieved = retrieve(place_points ? *place_points : points_cam, up_cam, near);

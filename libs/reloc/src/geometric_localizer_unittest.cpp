@@ -254,3 +254,29 @@ TEST(GeometricLocalizer, PlaceRetrievalFindsTheFrameFromAFractionOfTheCandidates
     }
     std::filesystem::remove(file);
 }
+
+TEST(GeometricLocalizer, PlacesAreBuiltOnlyWhenASearchNeedsThem)
+{
+    // A search within a small prior sphere holds fewer positions than retrieval_min_positions and is searched whole:
+    // the places of the whole map are not built for it. The first search over more positions builds them.
+    const Fixture& f = fixture();
+    reloc::GeometricLocalizationOptions o = testOptions();
+    o.retrieval_min_positions = 100;
+    const reloc::GeometricLocalizer lazy(f.map, f.rig, o);
+    ASSERT_GT(lazy.positions(), 100u);
+    EXPECT_EQ(lazy.placesBuildSeconds(), 0.0);
+    const Eigen::Isometry3d T_true = queryPose();
+    sim::StereoRenderer renderer(f.world, f.rig, sim::AppearanceOptions(), 7);
+    cv::Mat left, right;
+    renderer.render({core::fromIsometry(T_true)}, 0.0, 0, left, right);
+    const reloc::SearchSphere near(T_true.translation(), 0.5);
+    const reloc::GeometricLocalization r = lazy.localize(left, right, upIn(T_true), &near);
+    EXPECT_TRUE(r.localized) << r.reason;
+    EXPECT_EQ(r.retrieved_places, 0u);
+    EXPECT_EQ(lazy.placesBuildSeconds(), 0.0) << "a search inside the prior built the places";
+    const reloc::GeometricLocalization whole = lazy.localize(left, right, upIn(T_true));
+    EXPECT_GT(whole.retrieved_places, 0u);
+    EXPECT_GT(lazy.placesBuildSeconds(), 0.0);
+    ASSERT_NE(lazy.places(), nullptr);
+    EXPECT_GT(lazy.places()->size(), 50u);
+}

@@ -7,7 +7,9 @@
 //  1. query: the frame's stereo points in the left camera frame (stereo_cloud.h);
 //  1b. on a large map (more than retrieval_min_positions candidate positions to search), place retrieval first
 //     (place_retrieval.h): the query's horizontal range profile against the profiles precomputed at the map's places
-//     (place_index.h; built when the localizer is made, or read from places_file), and the coarse search below scores
+//     (place_index.h; read from places_file when the localizer is made, or else built at the first search that
+//     needs them, so a run whose searches all stay within a small region prior never pays for them), and the
+//     coarse search below scores
 //     only the candidate positions within retrieval_radius_m of the retrieval_places best places, at the headings
 //     within retrieval_yaw_margin_deg of theirs. The ambiguity test then weighs the places found there. A query whose
 //     stereo points cover fewer than retrieval_min_sectors cells is "not localized" (searching the whole map would
@@ -34,6 +36,7 @@
 // Frames: world z up (gravity along -z), as in the map frames of EuRoC/Vicon and KITTI.
 #include <Eigen/Geometry>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <quasiloc/core/declared_options.h>
 #include <quasiloc/map/distance_field.h>
@@ -180,12 +183,14 @@ class GeometricLocalizer
     const map::DistanceField& field() const { return *field_; }
     size_t positions() const { return positions_.size(); }
     const std::vector<Eigen::Vector3d>& candidatePositions() const { return positions_; }
-    /** The places and their profiles (nullptr: no retrieval stage on this map). */
-    const PlaceIndex* places() const { return places_.get(); }
+    /** The places and their profiles (nullptr: no retrieval stage on this map), built at the first call when no
+     *  places_file was given. Thread-safe. */
+    const PlaceIndex* places() const;
     /** The retrieval stage alone: the best places for the query (empty when it has too few covered cells);
      *  top_k 0: retrieval_places. */
     std::vector<RetrievedPlace> retrieve(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Vector3d& up_cam,
                                          const SearchSphere* near = nullptr, size_t top_k = 0) const;
+    /** Time spent building or reading the places (0 until they exist). */
     double placesBuildSeconds() const { return places_build_s_; }
 
     /** Point-to-point ICP of T_world_cam against the map points (the polish stage alone). */
@@ -194,6 +199,7 @@ class GeometricLocalizer
    private:
     std::vector<double> pointWeights(const std::vector<Eigen::Vector3f>& points_cam) const;
     void setUpPlaces(const map::LidarMap& map, const std::string& input);
+    void buildPlaces() const;
     /** Per searched position, the coarse yaws to score near the retrieved places (all false: none). */
     std::vector<std::vector<bool>> retrievedYaws(const std::vector<size_t>& searched,
                                                  const std::vector<RetrievedPlace>& retrieved) const;
@@ -204,8 +210,11 @@ class GeometricLocalizer
     StereoCloud stereo_;
     StereoCloud place_stereo_;                ///< the same matching, points up to place_query_depth_m
     std::vector<Eigen::Vector3d> positions_;  ///< candidate camera positions (world)
-    std::unique_ptr<PlaceIndex> places_;
-    double places_build_s_ = 0;
+    bool retrieval_ = false;                  ///< the map has a retrieval stage (large, or a places_file given)
+    MapFingerprint map_fingerprint_;
+    mutable std::once_flag places_once_;
+    mutable std::unique_ptr<PlaceIndex> places_;
+    mutable double places_build_s_ = 0;
 };
 
 /** The candidate camera positions of `o` on `map` (grid order), as the localizer samples them. InputError naming
