@@ -148,12 +148,15 @@ void Tracker::applyStandstill(const StaticImuEstimate& still)
     resetBlock(prior_, 9, still.gyro_bias_sigma);
 }
 
-bool Tracker::watchStandstill(const dataset::StereoFrame& frame, bool standing_since_start)
+bool Tracker::zeroVelocityUpdate(bool imu_standing, const FrameMeasurement& m)
 {
-    if (!standstill_watch_) return false;
-    const bool standing = standstill_watch_->add(frame.imu);
-    if (standing && !standing_since_start) applyZeroVelocity(state_, prior_, options_.zero_velocity_sigma_m_s);
-    return standing;
+    if (!imu_standing || !previous_) return false;
+    constexpr size_t kMinMatches = 10;
+    const double motion_px =
+        medianImageMotionPx(previous_->left.points.keypoints, m.left.points.keypoints, m.temporal, kMinMatches);
+    if (!(motion_px <= options_.zero_velocity_max_motion_px)) return false;
+    applyZeroVelocity(state_, prior_, options_.zero_velocity_sigma_m_s);
+    return true;
 }
 
 TrackEstimate Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
@@ -316,9 +319,8 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     // 1. IMU prediction (after a standstill since the start, from its bias and zero velocity; after a standstill
     // later on, with zero_velocity_updates, from zero velocity; while lost, from a widened velocity).
     widenVelocityWhileLost(frame, gate);
-    const bool standing_since_start = updateStandstill(frame);
-    const bool standing_now = watchStandstill(frame, standing_since_start);
-    rep.standing = standing_since_start || standing_now;
+    rep.standing = updateStandstill(frame);
+    const bool imu_standing = standstill_watch_ && standstill_watch_->add(frame.imu) && !rep.standing;
     estimation::ImuPreintegration imu(imu_noise_, state_.gyro_bias, state_.acc_bias);
     const estimation::FrameState predicted = predict(frame, imu, rep);
     // A streamed field readies its tiles around the camera on its worker while this frame is measured.
@@ -338,6 +340,7 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     result.measurement = pending->get();
     const FrameMeasurement& m = *result.measurement;
     if (rep.keyframe) rep.ms_image = m.ms_edge_field;
+    if (zeroVelocityUpdate(imu_standing, m)) rep.standing = true;
     const bool stereo_ok = gateStereo(m, alignment, gate, rep);
     addVisualTerms(frame, result.measurement, alignment, stereo_ok, gate.map_terms, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;

@@ -119,6 +119,9 @@ void TrackerOptions::declare(core::OptionTable& t)
           "zero_velocity_updates: the IMU span the detector judges (a stop is seen this long after it begins)");
     t.add("zero_velocity_sigma_m_s", zero_velocity_sigma_m_s, "m/s", Range::above(0),
           "zero_velocity_updates: the standing velocity's sigma per axis (the sway of a standing platform)");
+    t.add("zero_velocity_max_motion_px", zero_velocity_max_motion_px, "px", Range::above(0),
+          "zero_velocity_updates: the image must agree, the median motion of the keypoints matched to the previous "
+          "frame at most this (an IMU cannot tell standing from a steady straight run)");
     t.add("guided_patch_radius_px", guided.patch_radius_px, "px", Range::between(1, 15),
           "guided matching: the compared patches are (2 r + 1)^2 pixels of the rectified pair");
     t.add("guided_search_px", guided.search_px, "px", Range::between(1, 20),

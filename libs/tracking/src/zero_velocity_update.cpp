@@ -2,6 +2,8 @@
 #include <quasiloc/tracking/zero_velocity_update.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
 
 namespace quasiloc::tracking
 {
@@ -33,6 +35,23 @@ void widenVelocity(estimation::StatePrior& prior, double variance)
     covariance.block<3, 3>(kVelocity, kVelocity) += variance * Eigen::Matrix3d::Identity();
     const estimation::Matrix15d widened = covariance.ldlt().solve(identity);
     prior.information = 0.5 * (widened + widened.transpose());
+}
+
+double medianImageMotionPx(const std::vector<cv::KeyPoint>& previous, const std::vector<cv::KeyPoint>& current,
+                           const std::vector<frontend::PointMatch>& matches, size_t min_matches)
+{
+    std::vector<double> motion;
+    motion.reserve(matches.size());
+    for (const frontend::PointMatch& m : matches)
+        if (m.query >= 0 && m.train >= 0 && size_t(m.query) < previous.size() && size_t(m.train) < current.size())
+        {
+            const cv::Point2f d = current[size_t(m.train)].pt - previous[size_t(m.query)].pt;
+            motion.push_back(std::hypot(d.x, d.y));
+        }
+    if (motion.empty() || motion.size() < min_matches) return NAN;
+    const auto middle = motion.begin() + long(motion.size() / 2);
+    std::nth_element(motion.begin(), middle, motion.end());
+    return *middle;
 }
 
 }  // namespace quasiloc::tracking

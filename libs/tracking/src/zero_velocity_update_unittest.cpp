@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <cmath>
 #include <quasiloc/tracking/zero_velocity_update.h>
 
 namespace quasiloc::tracking
@@ -66,4 +67,27 @@ TEST(ZeroVelocityUpdate, AStandingPlatformHasZeroVelocityIndependentOfTheRest)
     EXPECT_EQ(biases_after, biases_before);
 }
 
+}  // namespace quasiloc::tracking
+
+namespace quasiloc::tracking
+{
+TEST(ZeroVelocityUpdate, TheImageMotionIsTheMedianOverTheMatches)
+{
+    std::vector<cv::KeyPoint> previous, current;
+    std::vector<frontend::PointMatch> matches;
+    for (int i = 0; i < 11; ++i)
+    {
+        previous.emplace_back(cv::Point2f(10.f * float(i), 5.f), 1.f);
+        // Nine points still (0.2 px of noise), two moving far: the median is a still one.
+        current.emplace_back(cv::Point2f(10.f * float(i) + (i < 9 ? 0.2f : 30.f), 5.f), 1.f);
+        frontend::PointMatch m;
+        m.query = i;
+        m.train = i;
+        matches.push_back(m);
+    }
+    EXPECT_NEAR(medianImageMotionPx(previous, current, matches, 10), 0.2, 1e-5);
+    EXPECT_TRUE(std::isnan(medianImageMotionPx(previous, current, matches, 12)));  // too few matches
+    for (size_t i = 0; i < 6; ++i) current[i].pt.x += 3.f;                         // most points move: a run
+    EXPECT_NEAR(medianImageMotionPx(previous, current, matches, 10), 3.2, 1e-5);
+}
 }  // namespace quasiloc::tracking

@@ -16,7 +16,8 @@
 // IMU biases: the tracker starts from the prior it is given (the calibration's, or a static initialization's);
 // while the platform has stood still since the start each frame's prior takes the standing span's gyroscope bias and
 // a zero velocity (a zero-velocity update); once it moves, the window estimates the biases with their random walk.
-// With zero_velocity_updates, every later standstill the IMU detects zeroes the velocity too; while the track is lost
+// With zero_velocity_updates, every later standstill the IMU and the image agree on zeroes the velocity too (after
+// the frame's measurement, before the window); while the track is lost
 // the gate may widen the velocity's uncertainty (zero_velocity_update.h).
 //
 // Keyframes: a map alignment every keyframe_every frames; a correction larger than the gate is a miss
@@ -125,9 +126,10 @@ class Tracker
      *  the standing span's gyroscope bias and a zero velocity (as OpenVINS's zero-velocity update), so a start
      *  that is tracked from its first frame still gets what a static initialization gives. */
     void applyStandstill(const StaticImuEstimate& still);
-    /** zero_velocity_updates: true when the IMU says the platform stands now; then (unless it has stood since the
-     *  start, which applyStandstill covers) the previous state's velocity is zero to within zero_velocity_sigma_m_s. */
-    bool watchStandstill(const dataset::StereoFrame& frame, bool standing_since_start);
+    /** zero_velocity_updates: when the IMU says the platform stands now and the image agrees (the median motion of
+     *  the points matched to the previous frame is at most zero_velocity_max_motion_px), the previous state's
+     *  velocity is zero to within zero_velocity_sigma_m_s; true then. */
+    bool zeroVelocityUpdate(bool imu_standing, const FrameMeasurement& m);
     /** The gate's velocity_random_walk over the time since the previous state (while lost). */
     void widenVelocityWhileLost(const dataset::StereoFrame& frame, const StereoGate& gate);
     /** The IMU's prediction of the frame's state, and the alignment prior's sigmas into `rep`. */

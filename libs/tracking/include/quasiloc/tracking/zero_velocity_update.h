@@ -7,7 +7,10 @@
 //     IMU's noise densities, not by the tilt and bias errors a lost track accumulates), and a velocity that is surer
 //     than it is turns the stereo landmarks that disagree with it into outliers of the window's robust loss.
 // Tangent order of the prior: prior_factor.h ([dtheta; dp; v; b_g; b_a]).
+#include <opencv2/core/types.hpp>
 #include <quasiloc/estimation/prior_factor.h>
+#include <quasiloc/frontend/point_matcher.h>
+#include <vector>
 
 namespace quasiloc::tracking
 {
@@ -21,5 +24,11 @@ void applyZeroVelocity(estimation::FrameState& state, estimation::StatePrior& pr
 /** The velocity's covariance grows by `variance` [m^2/s^2] per axis; the other blocks' marginals and the
  *  correlations stay as they were. */
 void widenVelocity(estimation::StatePrior& prior, double variance);
+
+/** The median image motion [px] of the matched keypoints (query: `previous`, train: `current`); NaN with fewer
+ *  than min_matches. An IMU that reads standing cannot tell standing from a steady straight run (both read gravity
+ *  and vibration alone); the image can. */
+double medianImageMotionPx(const std::vector<cv::KeyPoint>& previous, const std::vector<cv::KeyPoint>& current,
+                           const std::vector<frontend::PointMatch>& matches, size_t min_matches);
 
 }  // namespace quasiloc::tracking
