@@ -4,6 +4,7 @@
 #include <quasiloc/estimation/pose_parametrization.h>
 #include <quasiloc/tracking/global_initialization.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -109,6 +110,104 @@ bool GlobalInitializer::settleByAnchor(reloc::GeometricLocalization& r, const Am
     note +=
         (note.empty() ? "" : "; ") + std::string("ambiguity settled by the anchor (pose ") + std::to_string(pick) + ")";
     return true;
+}
+
+bool differentPlaces(const Eigen::Isometry3d& T_a, const Eigen::Isometry3d& T_b)
+{
+    return core::translationDistance(T_a, T_b) > 0.3 || angleBetweenDeg(T_a.linear(), T_b.linear()) > 5;
+}
+
+std::optional<size_t> preferredRememberedPlace(const Eigen::Isometry3d& answer, double answer_ratio,
+                                               const std::vector<ScoredPlace>& remembered, double min_ratio,
+                                               double ambiguity_ratio)
+{
+    std::optional<size_t> best;
+    for (size_t i = 0; i < remembered.size(); ++i)
+        if (!best || remembered[i].inlier_ratio > remembered[*best].inlier_ratio) best = i;
+    if (!best) return std::nullopt;
+    const ScoredPlace& b = remembered[*best];
+    if (!differentPlaces(b.T_world_cam, answer) || b.inlier_ratio < min_ratio ||
+        answer_ratio >= ambiguity_ratio * b.inlier_ratio)
+        return std::nullopt;
+    for (size_t i = 0; i < remembered.size(); ++i)
+        if (i != *best && differentPlaces(remembered[i].T_world_cam, b.T_world_cam) &&
+            remembered[i].inlier_ratio >= ambiguity_ratio * b.inlier_ratio)
+            return std::nullopt;  // two remembered places explain the frame nearly as well
+    return best;
+}
+
+void GlobalInitializer::carryRemembered(const std::vector<dataset::ImuSample>& samples)
+{
+    const Eigen::Vector3d gyro_bias = biases().gyro_bias;
+    std::vector<RememberedPlace> kept;
+    for (RememberedPlace& p : remembered_)
+    {
+        Eigen::Isometry3d T_world_body = p.place.T_world_cam * T_body_cam_.inverse();
+        Eigen::Matrix3d R_world_body = T_world_body.linear();
+        if (!carryOrientation(R_world_body, p.t_carried, samples, gyro_bias)) continue;  // a rate over a gap: a guess
+        T_world_body.linear() = R_world_body;
+        p.place.T_world_cam = T_world_body * T_body_cam_;
+        kept.push_back(p);
+    }
+    remembered_ = std::move(kept);
+}
+
+void GlobalInitializer::preferRemembered(const dataset::StereoFrame& frame,
+                                         const std::optional<reloc::SearchSphere>& near,
+                                         reloc::GeometricLocalization& r, AmbiguousFix& ambiguous, std::string& note)
+{
+    if (remembered_.empty()) return;
+    const std::vector<Eigen::Vector3f> points = localizer_.stereoPoints(frame.left, frame.right);
+    std::vector<RememberedPlace> kept;
+    for (RememberedPlace& p : remembered_)
+    {
+        Eigen::Isometry3d T = p.place.T_world_cam;
+        localizer_.refine(points, T);
+        localizer_.polish(points, T);
+        const double ratio = localizer_.inlierRatio(points, T);
+        if (ratio < options_.place_min_inlier_ratio) continue;  // the frame does not support it (any more)
+        if (near && ((T.translation() - near->centre).norm() > near->radius_m || !near->headingAdmits(T.linear())))
+            continue;  // refined out of where this frame is searched
+        const bool same = std::any_of(kept.begin(), kept.end(), [&](const RememberedPlace& k) {
+            return !differentPlaces(k.place.T_world_cam, T) && k.place.inlier_ratio >= ratio;
+        });
+        if (same) continue;
+        kept.erase(std::remove_if(kept.begin(), kept.end(),
+                                  [&](const RememberedPlace& k) { return !differentPlaces(k.place.T_world_cam, T); }),
+                   kept.end());
+        kept.push_back({{T, ratio, p.place.t}, frame.timestamp});
+    }
+    remembered_ = std::move(kept);
+    std::vector<ScoredPlace> scored;
+    for (const RememberedPlace& p : remembered_) scored.push_back(p.place);
+    const std::optional<size_t> pick = preferredRememberedPlace(
+        r.T_world_cam, r.inlier_ratio, scored, options_.place_min_inlier_ratio, options_.place_ambiguity_ratio);
+    if (!pick) return;
+    std::ostringstream s;
+    s.precision(3);
+    s << std::fixed << "a place found at t " << scored[*pick].t << " explains " << 100 * scored[*pick].inlier_ratio
+      << " % against the search's " << 100 * r.inlier_ratio << " %: taken";
+    r.T_world_cam = scored[*pick].T_world_cam;
+    r.inlier_ratio = scored[*pick].inlier_ratio;
+    r.localized = true;
+    r.ambiguous = false;
+    r.reason.clear();
+    ambiguous = {};
+    note += (note.empty() ? "" : "; ") + s.str();
+}
+
+void GlobalInitializer::remember(const reloc::GeometricLocalization& r, double t)
+{
+    if (options_.remembered_places <= 0 || r.inlier_ratio < options_.place_min_inlier_ratio) return;
+    remembered_.erase(
+        std::remove_if(remembered_.begin(), remembered_.end(),
+                       [&](const RememberedPlace& p) { return !differentPlaces(p.place.T_world_cam, r.T_world_cam); }),
+        remembered_.end());
+    remembered_.push_back({{r.T_world_cam, r.inlier_ratio, t}, t});
+    std::stable_sort(remembered_.begin(), remembered_.end(), [](const RememberedPlace& a, const RememberedPlace& b) {
+        return a.place.inlier_ratio > b.place.inlier_ratio;
+    });
+    if (remembered_.size() > size_t(options_.remembered_places)) remembered_.resize(size_t(options_.remembered_places));
 }
 
 std::optional<size_t> settleByOdometry(const std::vector<Eigen::Isometry3d>& places,
@@ -273,6 +372,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     for (const auto& s : frame.imu) recent_imu_.push_back(s);
     static_.add(frame.imu);
     carryHeading(frame.imu);
+    carryRemembered(frame.imu);
     while (!recent_imu_.empty() && recent_imu_.front().t < frame.timestamp - options_.gravity_window_s)
         recent_imu_.pop_front();
     if (recent_imu_.empty()) return std::nullopt;  // no gravity direction yet
@@ -305,6 +405,11 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
             s << " (answer " << angleBetweenDeg(attempt.result.T_world_cam.linear(), *near->R_world_cam)
               << " deg from it)";
         appearance_note += (appearance_note.empty() ? "" : "; ") + s.str();
+    }
+    if (!odometry && options_.remembered_places > 0)
+    {  // the odometry's relocalization settles by its prediction instead
+        preferRemembered(frame, near, attempt.result, ambiguous, appearance_note);
+        remember(attempt.result, frame.timestamp);
     }
     if (anchor_ && !attempt.result.localized && attempt.result.ambiguous)
         settleByAnchor(attempt.result, ambiguous, frame.timestamp, appearance_note);

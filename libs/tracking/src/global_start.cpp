@@ -31,6 +31,9 @@ GlobalStarter::GlobalStarter(MapContext& context, const core::StereoRig& rig, co
     init_options_.max_disagreement_deg = o.init_max_disagreement_deg;
     init_options_.max_speed_m_s = o.init_max_speed_m_s;
     init_options_.static_initialization = o.static_initialization;
+    init_options_.remembered_places = o.init_remembered_places;
+    init_options_.place_min_inlier_ratio = localization.min_inlier_ratio;
+    init_options_.place_ambiguity_ratio = localization.ambiguity_ratio;
     std::ostringstream r;
     r << std::fixed << std::setprecision(1) << "# global localization by geometry: distance field and "
       << localizer_->positions() << " candidate positions built in " << ms << " ms\n"

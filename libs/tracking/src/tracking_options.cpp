@@ -23,6 +23,9 @@ void InitializationOptions::declare(core::OptionTable& t)
     t.add("init_global_sigma_v", init_global_sigma_v, "m/s", Range::above(0), "its velocity uncertainty");
     t.add("static_initialization", static_initialization,
           "a platform standing still from the first IMU sample measures its gyroscope bias (static_initialization.h)");
+    t.add("init_remembered_places", init_remembered_places, "", Range::atLeast(0),
+          "global: places of earlier attempts refined against each frame; one explaining clearly more than the "
+          "search's answer replaces it (0: none)");
     t.add("search_radius_m", search_radius_m, "m", Range::atLeast(0),
           "global: search only within this of search_center_m (a region of a large map); 0: the whole map");
     t.add("search_center_m", search_center_m, "m", Range::any(), "global: the region's centre, [x y z] in the map");

@@ -49,6 +49,7 @@ struct InitializationOptions : public core::DeclaredOptions
     double init_velocity_interval_s = 0.5, init_max_disagreement_deg = 2.0, init_max_speed_m_s = 4.0;
     double init_global_sigma_m = 0.05, init_global_sigma_deg = 1.0, init_global_sigma_v = 0.15;
     bool static_initialization = true;
+    int init_remembered_places = 3;  ///< global_initialization.h: earlier attempts' places rescored per frame
     /** A region the global start searches (large maps): within search_radius_m of search_center_m (world). */
     Eigen::Vector3d search_center_m = Eigen::Vector3d::Zero();
     double search_radius_m = 0;
