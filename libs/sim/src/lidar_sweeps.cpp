@@ -57,7 +57,7 @@ class SweepCaster
         }
         hit.range = range;
         const Eigen::Vector3f p = cube_.centre + range * d;
-        hit.glass = !hit.moving && scene_.onGlass(p);
+        hit.glass = !hit.moving && (tri.material == kGlass || scene_.onGlass(p));
         const float b1 = px->b1, b2 = px->b2;
         const Eigen::Vector2f uv = (1 - b1 - b2) * mesh.vertices[tri.v[0]].uv + b1 * mesh.vertices[tri.v[1]].uv +
                                    b2 * mesh.vertices[tri.v[2]].uv;

@@ -246,6 +246,33 @@ Layers makeLayers(MaterialId id, int n, Rng& rng)
             return {noise(8, 5), noise(64, 3),
                     noise(4, 4), {0.35f, 0.30f, 0.15f, 0.40f, 0.20f, 0.30f, 0.12f, 1.1f, false},
                     2.0f,        "concrete"};
+        case kAsphalt:
+            return {noise(16, 5), noise(128, 3),
+                    noise(8, 4),  {0.12f, 0.20f, 0.10f, 0.12f, 0.15f, 0.15f, 0.10f, 1.0f, false},
+                    2.0f,         "asphalt"};
+        case kRoadPaint:
+            return {noise(8, 3),  noise(64, 3),
+                    noise(16, 3), {0.75f, 0.15f, 0.10f, 0.80f, 0.10f, 0.20f, 0.05f, 1.0f, false},
+                    1.0f,         "road_paint"};
+        case kGlass:
+            return {noise(2, 3), noise(32, 3),
+                    noise(4, 3), {0.10f, 0.15f, 0.10f, 0.05f, 0.05f, 0.05f, 0.02f, 1.0f, false},
+                    2.0f,        "window_glass"};
+        case kFoliage:
+            return {noise(32, 4), noise(64, 3),
+                    noise(16, 3), {0.12f, 0.25f, 0.15f, 0.45f, 0.20f, 0.30f, 0.15f, 1.0f, false},
+                    1.5f,         "foliage"};
+        case kBark:
+            return {stripes(n, 12, 0.4f),
+                    noise(32, 4),
+                    noise(8, 3),
+                    {0.15f, 0.20f, 0.10f, 0.35f, 0.15f, 0.25f, 0.08f, 1.0f, false},
+                    0.5f,
+                    "bark"};
+        case kCarPaint:
+            return {noise(4, 3), noise(32, 3),
+                    noise(8, 3), {0.30f, 0.30f, 0.10f, 0.40f, 0.20f, 0.20f, 0.08f, 1.0f, false},
+                    2.0f,        "car_paint"};
         case kPersonClothes:
         default:
             return {stripes(n, 5, 0.5f),

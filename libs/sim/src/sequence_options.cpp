@@ -38,9 +38,13 @@ void SimulationOptions::declare(core::OptionTable& t)
           "a Kalibr camchain YAML of the stereo rig (cam0 = left; T_cam_imu gives the body = IMU frame), instead of "
           "cam0_yaml / cam1_yaml (share/quasiloc/sim/d435i_camchain.yaml: a RealSense D435i)");
     t.addEnum("motion", motion,
-              {{"trajectory", MotionSource::trajectory}, {"ground_robot", MotionSource::ground_robot}},
+              {{"trajectory", MotionSource::trajectory},
+               {"ground_robot", MotionSource::ground_robot},
+               {"car", MotionSource::car}},
               "trajectory: along `trajectory` (or EuRoC's ground truth); ground_robot: a ground robot's tour of the "
-              "office floor generated from seed (robot_motion.h, keys robot_*; needs [World] world = floor)");
+              "office floor generated from seed (robot_motion.h, keys robot_*; needs [World] world = floor); car: a "
+              "car's route along the campus streets generated from seed (car_motion.h, keys car_*; needs [World] "
+              "world = campus)");
     t.add("robot_min_speed_m_s", robot.min_speed_m_s, "m/s", Range::between(0.05, 5),
           "ground_robot: lowest cruise speed of a segment");
     t.add("robot_max_speed_m_s", robot.max_speed_m_s, "m/s", Range::between(0.05, 5),
@@ -71,6 +75,30 @@ void SimulationOptions::declare(core::OptionTable& t)
           "ground_robot: roll / pitch vibration, largest term (2-3 Hz) at full speed or yaw rate");
     t.add("robot_pitch_per_accel_deg", robot.pitch_per_accel_deg, "deg/(m/s^2)", Range::between(0, 10),
           "ground_robot: the body's pitch while accelerating");
+    t.add("car_max_speed_m_s", car.max_speed_m_s, "m/s", Range::between(0.5, 40), "car: top speed on a straight");
+    t.add("car_turn_speed_m_s", car.turn_speed_m_s, "m/s", Range::between(0.5, 20), "car: top speed on a turn's arc");
+    t.add("car_max_accel_m_s2", car.max_accel_m_s2, "m/s^2", Range::between(0.1, 10),
+          "car: largest acceleration and deceleration of the speed profile");
+    t.add("car_turn_radius_m", car.turn_radius_m, "m", Range::between(2, 50),
+          "car: radius of the arcs that round the lane's corners at intersections");
+    t.add("car_lane_offset_m", car.lane_offset_m, "m", Range::between(0, 10),
+          "car: the driving lane's centre, right of the street's centreline");
+    t.add("car_stop_probability", car.stop_probability, "", Range::between(0, 1),
+          "car: chance of a stop before an intersection's zebra crossing");
+    t.add("car_stop_min_s", car.stop_min_s, "s", Range::between(0, 60), "car: shortest stop");
+    t.add("car_stop_max_s", car.stop_max_s, "s", Range::between(0, 60), "car: longest stop");
+    t.add("car_standing_s", car.standing_s, "s", Range::between(0.5, 60),
+          "car: the car stands still this long at the start and at the end (the first frame 0.5 s into the start)");
+    t.add("car_route_length_m", car.route_length_m, "m", Range::between(10, 1e5),
+          "car: the route's length along the streets (whole streets: the last one may exceed it)");
+    t.add("car_camera_height_m", car.camera_height_m, "m", Range::between(0.3, 4),
+          "car: cam0 above the road (looking horizontally forward)");
+    t.add("car_camera_forward_m", car.camera_forward_m, "m", Range::between(-3, 5),
+          "car: cam0 ahead of the base origin (the rear axle)");
+    t.add("car_pitch_per_accel_deg", car.pitch_per_accel_deg, "deg/(m/s^2)", Range::between(0, 10),
+          "car: the body's pitch while accelerating or braking");
+    t.add("car_roll_per_lateral_accel_deg", car.roll_per_lateral_accel_deg, "deg/(m/s^2)", Range::between(0, 10),
+          "car: the body's roll in turns");
     t.add("spline_knot_spacing_s", spline_knot_spacing_s, "s", Range::between(0.005, 2),
           "knot spacing of the spline fitted to the trajectory");
     t.add("write_map", write_map, "write lidar_map.map (and the 32-beam map with [Lidar] beam_map)");
@@ -93,7 +121,8 @@ void SimulationOptions::check(const std::string& in) const
                   "must be >= robot_min_speed_m_s");
     core::require(robot.stop_max_s >= robot.stop_min_s, in + " robot_stop_max_s", "must be >= robot_stop_min_s");
     core::require(motion == MotionSource::trajectory || trajectory.empty(), in + " trajectory",
-                  "is not read with motion = ground_robot");
+                  "is not read with motion = ground_robot or car");
+    core::require(car.stop_max_s >= car.stop_min_s, in + " car_stop_max_s", "must be >= car_stop_min_s");
 }
 
 void ImuNoiseOptions::declare(core::OptionTable& t)

@@ -11,9 +11,14 @@ using core::Range;
 
 void WorldOptions::declare(core::OptionTable& t)
 {
-    t.addEnum("world", world, {{"v1", ViconRoom::v1}, {"v2", ViconRoom::v2}, {"floor", ViconRoom::office_floor}},
+    t.addEnum("world", world,
+              {{"v1", ViconRoom::v1},
+               {"v2", ViconRoom::v2},
+               {"floor", ViconRoom::office_floor},
+               {"campus", ViconRoom::campus}},
               "the EuRoC Vicon room (1 or 2): shell and clutter from its GMM and line maps; floor: the ground "
-              "robot's office floor of rooms along a corridor (floor_world.h, keys floor_*)");
+              "robot's office floor of rooms along a corridor (floor_world.h, keys floor_*); campus: outdoor streets "
+              "and blocks of buildings (campus_world.h, keys campus_*; needs [Simulation] motion = car)");
     t.add("gmm_patches", gmm_patches, "interior GMM components as elliptical patches");
     t.add("gmm_sigma_scale", gmm_sigma_scale, "", Range::between(0.1, 5), "patch semi-axis = scale * sigma");
     t.add("gmm_min_semi_axis_m", gmm_min_semi_axis_m, "m", Range::between(0.001, 1),
@@ -55,6 +60,27 @@ void WorldOptions::declare(core::OptionTable& t)
     t.add("floor_posters_per_room", floor.posters_per_room, "", Range::between(0, 50), "world = floor");
     t.add("floor_corridor_posters", floor.corridor_posters, "", Range::between(0, 100),
           "world = floor: posters on the corridor's otherwise plain walls");
+    t.add("campus_block_size_m", campus.block_size_m, "m", Range::between(30, 500),
+          "world = campus: street centreline spacing (a block and a street); the campus spans "
+          "(campus_blocks_per_side x this)^2 between its outer streets (10 x 100 m = 1 km^2)");
+    t.add("campus_blocks_per_side", campus.blocks_per_side, "", Range::between(1, 50), "world = campus");
+    t.add("campus_street_width_m", campus.street_width_m, "m", Range::between(6, 40),
+          "world = campus: carriageway kerb to kerb (two driving lanes and a parking strip each side)");
+    t.add("campus_sidewalk_width_m", campus.sidewalk_width_m, "m", Range::between(1.5, 10), "world = campus");
+    t.add("campus_building_min_height_m", campus.building_min_height_m, "m", Range::between(3, 200),
+          "world = campus: lowest building");
+    t.add("campus_building_max_height_m", campus.building_max_height_m, "m", Range::between(3, 200),
+          "world = campus: highest building (>= campus_building_min_height_m)");
+    t.add("campus_storey_m", campus.storey_m, "m", Range::between(2.5, 6),
+          "world = campus: one row of windows per storey");
+    t.add("campus_trees_per_side", campus.trees_per_side, "", Range::between(0, 50),
+          "world = campus: trees on the sidewalk of each side of a block");
+    t.add("campus_parked_cars_per_side", campus.parked_cars_per_side, "", Range::between(0, 50),
+          "world = campus: cars parked along each side of a block");
+    t.add("campus_people_per_side", campus.people_per_side, "", Range::between(0, 50),
+          "world = campus: people standing on the sidewalk of each side of a block");
+    t.add("campus_margin_m", campus.margin_m, "m", Range::between(1, 200),
+          "world = campus: pavement beyond the outer streets, up to the boundary wall");
 }
 
 void WorldOptions::check(const std::string& in) const

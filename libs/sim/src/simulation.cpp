@@ -100,7 +100,11 @@ std::string readme(const SimulationOptions& o, const WorldOptions& wo, const Lid
                    const SimulationResult& r, bool beam, const core::StereoRig& rig)
 {
     std::ostringstream s;
-    if (o.motion == MotionSource::ground_robot)
+    if (o.motion == MotionSource::car)
+        s << "Simulated car sequence written by sim-rawlog (quasiloc sim library).\n\n"
+          << "World: an outdoor campus of streets and blocks (campus_world.h), motion: a car's route along its\n"
+          << "streets (car_motion.h), seed " << o.seed << ".\n";
+    else if (o.motion == MotionSource::ground_robot)
         s << "Simulated ground-robot sequence written by sim-rawlog (quasiloc sim library).\n\n"
           << "World: an office floor of rooms along a corridor (floor_world.h), motion: a ground robot's tour of it\n"
           << "(robot_motion.h), " << (o.robot.start_moving ? "started moving" : "started standing") << ", seed "
@@ -157,6 +161,7 @@ struct SimulatedMotion
     double first_frame_offset_s = 0;  ///< after spline.tStart()
     std::string source;               ///< the trajectory file, or the robot's tour in words
     std::optional<FloorLayout> floor;
+    std::optional<CampusLayout> campus;
     std::vector<Eigen::Vector3f> path_cam0;  ///< robot only: cam0 positions along the whole tour (5 cm apart or less)
 };
 
@@ -193,6 +198,38 @@ SimulatedMotion robotMotion(const SimulationOptions& so, const WorldOptions& wo,
                   "ground robot tour: %zu waypoints, %.1f m, %zu rooms entered, %zu turns in "
                   "place, %zu waits",
                   robot.waypoints.size(), robot.length_m, robot.rooms_visited, robot.turns_in_place, robot.stops);
+    m.source = text;
+    return m;
+}
+
+SimulatedMotion carMotion(const SimulationOptions& so, const WorldOptions& wo, const core::StereoRig& rig,
+                          const std::string& config_name)
+{
+    core::require(wo.world == ViconRoom::campus, config_name + " [World] world",
+                  "must be campus with [Simulation] motion = car");
+    SimulatedMotion m;
+    m.campus = makeCampusLayout(wo.campus, config_name + " [World]");
+    const CarMotion car = driveCarRoute(*m.campus, planCarRoute(*m.campus, so.car, so.seed), so.car, kRobotClockStart_s,
+                                        so.seed, config_name + " [Simulation]");
+    const mrpt::poses::CPose3D T_base_cam0 = carBaseToCamera(so.car);
+    const mrpt::poses::CPose3D T_cam0_body = core::fromIsometry(core::toIsometry(rig.T_body_left).inverse());
+    core::Trajectory body;
+    body.header = "T_world_body of the car";
+    for (const core::TimedPose& tp : car.T_world_base.poses)
+    {
+        const mrpt::poses::CPose3D T_world_cam0 = tp.pose + T_base_cam0;
+        body.poses.push_back({tp.t, T_world_cam0 + T_cam0_body});
+        const Eigen::Vector3f p(float(T_world_cam0.x()), float(T_world_cam0.y()), float(T_world_cam0.z()));
+        if (m.path_cam0.empty() || (m.path_cam0.back() - p).norm() > 0.25f) m.path_cam0.push_back(p);
+    }
+    TrajectorySplineOptions spo;
+    spo.knot_spacing_s = so.spline_knot_spacing_s;
+    m.spline = TrajectorySpline::fitBodyTrajectory(body, spo);
+    m.first_frame_offset_s = car.first_frame_offset_s + so.start_offset_s;
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  "car route: %zu intersections, %.1f m in %.1f s, top speed %.1f m/s, %zu turns, %zu stops",
+                  car.intersections.size(), car.length_m, car.duration_s, car.top_speed_m_s, car.turns, car.stops);
     m.source = text;
     return m;
 }
@@ -247,13 +284,17 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
 
     // Inputs: calibration, trajectory, spline.
     const core::StereoRig rig = loadRig(so);
-    const bool robot = so.motion == MotionSource::ground_robot;
+    const bool robot = so.motion == MotionSource::ground_robot, car = so.motion == MotionSource::car;
     core::require(robot || wo.world != ViconRoom::office_floor, config_name + " [World] world",
                   "floor needs [Simulation] motion = ground_robot");
-    const SimulatedMotion motion = robot ? robotMotion(so, wo, rig, config_name) : trajectoryMotion(so, rig);
+    core::require(car || wo.world != ViconRoom::campus, config_name + " [World] world",
+                  "campus needs [Simulation] motion = car");
+    const SimulatedMotion motion = robot ? robotMotion(so, wo, rig, config_name)
+                                   : car ? carMotion(so, wo, rig, config_name)
+                                         : trajectoryMotion(so, rig);
     const std::string& traj_path = motion.source;
     const TrajectorySpline& spline = motion.spline;
-    if (robot) log(motion.source);
+    if (robot || car) log(motion.source);
     const mrpt::poses::CPose3D T_body_cam0 = rig.T_body_left;
     auto T_world_cam0 = [&](double t) { return spline.T_world_body(t) + T_body_cam0; };
 
@@ -283,7 +324,7 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     // World: clear of every trajectory of the room and of the simulated one.
     auto clock = std::chrono::steady_clock::now();
     std::vector<Eigen::Vector3f> keep_clear =
-        robot ? motion.path_cam0 : loadRoomTrajectoryPositions(so.shared_dir, roomName(wo.world));
+        robot || car ? motion.path_cam0 : loadRoomTrajectoryPositions(so.shared_dir, roomName(wo.world));
     for (int64_t t : frame_ns)
     {
         const mrpt::poses::CPose3D T = T_world_cam0(t * 1e-9);
@@ -291,6 +332,7 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
     }
     timer.enter("world");
     const World world = robot ? buildFloorWorld(wo, *motion.floor, so.seed, keep_clear, &r.world)
+                        : car ? buildCampusWorld(wo, *motion.campus, so.seed, keep_clear, &r.world)
                               : buildWorld(wo, so.shared_dir, so.seed, keep_clear, &r.world);
     timer.leave("world");
     r.world_time_s = seconds(clock);
@@ -319,6 +361,7 @@ SimulationResult runSimulation(const mrpt::config::CConfigFileBase& cfg, const s
         if (robot)  // a tour of the floor, at least two minutes of the robot's driving long
             for (const Eigen::Vector2d& w : planFloorTour(*motion.floor, so.robot, 120.0, so.seed ^ 0x3A9ull))
                 waypoints.emplace_back(float(w.x()), float(w.y()), 0.f);
+        if (car) waypoints = campusMappingTour(*motion.campus);  // every street, as a mapping car drives them
         const SweptMap swept_map = buildSweptMap(world, waypoints, lo, so.seed, (out_final / "lidar_map.map").string());
         timer.leave("lidar map (sweeps)");
         lidar_map = swept_map.build.map;

@@ -21,6 +21,12 @@ const SpectralMaterial kSpectral[kNumMaterials] = {
     /* kCheckerBoard   */ {0.45f, 0.45f, 0.90f, 0.95f, "white board, black carbon toner squares"},
     /* kConcrete       */ {0.30f, 0.38f, 0.15f, 0.50f, "grey construction concrete"},
     /* kPersonClothes  */ {0.25f, 0.55f, 0.20f, 0.00f, "dyed cotton clothing"},
+    /* kAsphalt        */ {0.08f, 0.12f, 0.20f, 0.40f, "weathered asphalt road surface"},
+    /* kRoadPaint      */ {0.70f, 0.85f, 0.08f, 0.30f, "white road paint with retro-reflective glass beads"},
+    /* kGlass          */ {0.10f, 0.05f, 0.10f, 0.30f, "window glass (the LiDAR's return is dropped)"},
+    /* kFoliage        */ {0.08f, 0.50f, 0.25f, -0.30f, "green leaves (chlorophyll: dark in red, bright at 905 nm)"},
+    /* kBark           */ {0.15f, 0.30f, 0.15f, 0.40f, "tree bark"},
+    /* kCarPaint       */ {0.30f, 0.45f, 0.10f, 0.40f, "car body paint"},
 };
 }  // namespace
 

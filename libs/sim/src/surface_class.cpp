@@ -19,14 +19,20 @@ SurfaceClass surfaceClassOf(uint16_t material)
 {
     switch (material)
     {
-        case kFloorCarpet: return SurfaceClass::road;
+        case kFloorCarpet:
+        case kAsphalt: return SurfaceClass::road;
+        case kRoadPaint:
         case kPoster:
         case kCheckerBoard: return SurfaceClass::marking;
         case kWallPlaster:
         case kCeilingPanels:
         case kWoodPanel:
         case kCurtain:
+        case kGlass:
         case kConcrete: return SurfaceClass::facade;
+        case kFoliage:
+        case kBark: return SurfaceClass::vegetation;
+        case kCarPaint:
         case kMattress:
         case kCardboard:
         case kMetalPole:

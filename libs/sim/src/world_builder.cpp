@@ -229,7 +229,10 @@ void addLights(const Eigen::AlignedBox3f& room, const WorldOptions& o, World& w)
 
 std::string roomName(ViconRoom room)
 {
-    return room == ViconRoom::office_floor ? "floor" : room == ViconRoom::v1 ? "v1" : "v2";
+    return room == ViconRoom::office_floor ? "floor"
+           : room == ViconRoom::campus     ? "campus"
+           : room == ViconRoom::v1         ? "v1"
+                                           : "v2";
 }
 
 std::string gmmPath(const std::string& shared_dir, const std::string& world)
@@ -267,6 +270,8 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
     o.check("[World]");
     core::require(o.world != ViconRoom::office_floor, "[World] world",
                   "floor is built by buildFloorWorld (floor_world.h), not from EuRoC room data");
+    core::require(o.world != ViconRoom::campus, "[World] world",
+                  "campus is built by buildCampusWorld (campus_world.h), not from EuRoC room data");
     const std::string room = roomName(o.world);
     const std::vector<map::GmmComponent> gmm = map::readGmmFile(gmmPath(shared_dir, room));
     const std::vector<LineSegment3D> lines = readLineSegments(linesPath(shared_dir, room));

@@ -16,8 +16,8 @@
 //  - beam divergence: five rays over the footprint; where they are not one plane (opposite rays do not average to the
 //    centre's range within 2 cm, or some hit nothing) their depths give a mixed range (their mean) when they lie
 //    within sweep_mixed_max_gap_m, else the nearest;
-//  - range noise sweep_range_noise_mm along the beam; returns on glass panes (sweep_glass_panes windows in the outer
-//    walls): none;
+//  - range noise sweep_range_noise_mm along the beam; returns on glass (sweep_glass_panes windows in the outer walls,
+//    and every triangle of material kGlass: the campus's windows and car cabins): none;
 //  - intensity = 255 x (material's intrinsic NIR reflectivity x incidence x range fall-off (incidence_weight,
 //    range_falloff_m as for the exact map) x the ring's gain (log-normal, sweep_ring_gain_error) + noise),
 //    quantised to 8 bits like a real sensor's;

@@ -37,6 +37,12 @@ enum MaterialId : uint16_t
     kCheckerBoard,
     kConcrete,
     kPersonClothes,
+    kAsphalt,    ///< outdoor road surface
+    kRoadPaint,  ///< road markings: white paint with retro-reflective beads (bright at 905 nm)
+    kGlass,      ///< windows: the camera sees a dark pane, the LiDAR gets no return (lidar_sweeps.h)
+    kFoliage,    ///< tree crowns
+    kBark,       ///< tree trunks
+    kCarPaint,   ///< car bodies
     kNumMaterials
 };
 

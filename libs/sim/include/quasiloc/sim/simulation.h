@@ -26,6 +26,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <quasiloc/core/declared_options.h>
+#include <quasiloc/sim/car_motion.h>
 #include <quasiloc/sim/imu_synthesizer.h>
 #include <quasiloc/sim/lidar_sampler.h>
 #include <quasiloc/sim/robot_motion.h>
@@ -35,12 +36,14 @@
 
 namespace quasiloc::sim
 {
-/** How the rig moves: along a given trajectory (EuRoC's ground truth or `trajectory`), or as a ground robot
- *  through the office floor (robot_motion.h; needs [World] world = floor). */
+/** How the rig moves: along a given trajectory (EuRoC's ground truth or `trajectory`), as a ground robot
+ *  through the office floor (robot_motion.h; needs [World] world = floor), or as a car through the campus
+ *  (car_motion.h; needs [World] world = campus). */
 enum class MotionSource
 {
     trajectory,
-    ground_robot
+    ground_robot,
+    car
 };
 
 /** Section [Simulation]; each key's unit, range and meaning: declare() (sequence_options.cpp). */
@@ -58,6 +61,7 @@ struct SimulationOptions : public core::DeclaredOptions
     std::string camchain;  ///< a Kalibr camchain instead of cam0_yaml / cam1_yaml
     MotionSource motion = MotionSource::trajectory;
     GroundRobotOptions robot;  ///< motion = ground_robot (keys robot_*)
+    CarOptions car;            ///< motion = car (keys car_*)
     double spline_knot_spacing_s = 0.1;
     bool write_map = true;
     bool write_map_materials = false;

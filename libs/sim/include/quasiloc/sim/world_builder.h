@@ -13,6 +13,7 @@
 //    least clearance_m from every triangle: a GMM patch too close is shrunk (x0.6, up to 3 times) and then
 //    dropped; a procedural object too close is not placed.
 #include <quasiloc/core/declared_options.h>
+#include <quasiloc/sim/campus_world.h>
 #include <quasiloc/sim/euroc_room_data.h>
 #include <quasiloc/sim/floor_world.h>
 #include <quasiloc/sim/world.h>
@@ -21,14 +22,16 @@
 
 namespace quasiloc::sim
 {
-/** The world: a EuRoC Vicon room, or the ground robot's office floor (floor_world.h). */
+/** The world: a EuRoC Vicon room, the ground robot's office floor (floor_world.h), or the outdoor campus
+ *  (campus_world.h). */
 enum class ViconRoom
 {
     v1,
     v2,
-    office_floor
+    office_floor,
+    campus
 };
-/** "v1", "v2" (how the room's data files and sequences are named), "floor". */
+/** "v1", "v2" (how the room's data files and sequences are named), "floor", "campus". */
 std::string roomName(ViconRoom room);
 
 /** Section [World]; each key's unit, range and meaning: declare() (sim_options.cpp). */
@@ -52,7 +55,8 @@ struct WorldOptions : public core::DeclaredOptions
     int texture_size_px = 512;
     MaterialSet materials = MaterialSet::procedural;
     int shadow_map_px = 512;
-    FloorOptions floor;  ///< world = floor only (keys floor_*)
+    FloorOptions floor;    ///< world = floor only (keys floor_*)
+    CampusOptions campus;  ///< world = campus only (keys campus_*)
 
     void declare(core::OptionTable& t) override;
     /** The declared ranges, then the rules a range cannot say (InputError naming `input` and the key). */
