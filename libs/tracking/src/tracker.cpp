@@ -150,11 +150,13 @@ void Tracker::applyStandstill(const StaticImuEstimate& still)
 
 bool Tracker::zeroVelocityUpdate(bool imu_standing, const FrameMeasurement& m)
 {
-    if (!imu_standing || !previous_) return false;
-    constexpr size_t kMinMatches = 10;
-    const double motion_px =
-        medianImageMotionPx(previous_->left.points.keypoints, m.left.points.keypoints, m.temporal, kMinMatches);
-    if (!(motion_px <= options_.zero_velocity_max_motion_px)) return false;
+    if (!standstill_watch_ || !previous_) return false;
+    // Over at least a third of a second at 30 Hz: frame to frame, a slow run forward hardly moves the keypoints.
+    constexpr int kMinTrackFrames = 10;
+    constexpr size_t kMinTracks = 10;
+    const double motion_px = keypoint_tracks_.add(previous_.get(), previous_->left.points.keypoints, &m,
+                                                  m.left.points.keypoints, m.temporal, kMinTrackFrames, kMinTracks);
+    if (!imu_standing || !(motion_px <= options_.zero_velocity_max_motion_px)) return false;
     applyZeroVelocity(state_, prior_, options_.zero_velocity_sigma_m_s);
     return true;
 }

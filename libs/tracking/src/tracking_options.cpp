@@ -118,13 +118,14 @@ void TrackerOptions::declare(core::OptionTable& t)
           "whenever the IMU's standstill detector (static_initialization.h) finds the last zero_velocity_span_s "
           "standing, the previous state's velocity is zero (a robot that stops; off by default: measured on the "
           "simulated ground robot, docs/benchmarks.md)");
-    t.add("zero_velocity_span_s", zero_velocity_span_s, "s", Range::between(0.5, 10),
-          "zero_velocity_updates: the IMU span the detector judges (a stop is seen this long after it begins)");
+    t.add("zero_velocity_span_s", zero_velocity_span_s, "s", Range::between(0.75, 10),
+          "zero_velocity_updates: the IMU span the detector judges (a stop is seen this long after it begins; at "
+          "least three of the detector's 0.25 s blocks)");
     t.add("zero_velocity_sigma_m_s", zero_velocity_sigma_m_s, "m/s", Range::above(0),
           "zero_velocity_updates: the standing velocity's sigma per axis (the sway of a standing platform)");
     t.add("zero_velocity_max_motion_px", zero_velocity_max_motion_px, "px", Range::above(0),
-          "zero_velocity_updates: the image must agree, the median motion of the keypoints matched to the previous "
-          "frame at most this (an IMU cannot tell standing from a steady straight run)");
+          "zero_velocity_updates: the image must agree, the median motion of the keypoints followed over at least "
+          "10 frames at most this since their first sighting (an IMU cannot tell standing from a steady straight run)");
     t.add("guided_patch_radius_px", guided.patch_radius_px, "px", Range::between(1, 15),
           "guided matching: the compared patches are (2 r + 1)^2 pixels of the rectified pair");
     t.add("guided_search_px", guided.search_px, "px", Range::between(1, 20),

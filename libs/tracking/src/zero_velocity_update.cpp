@@ -54,4 +54,37 @@ double medianImageMotionPx(const std::vector<cv::KeyPoint>& previous, const std:
     return *middle;
 }
 
+double KeypointTracks::add(const void* previous_id, const std::vector<cv::KeyPoint>& previous, const void* current_id,
+                           const std::vector<cv::KeyPoint>& current, const std::vector<frontend::PointMatch>& matches,
+                           int min_frames, size_t min_tracks)
+{
+    if (previous_id != last_id_ || origins_.size() != previous.size())
+    {
+        origins_.clear();
+        for (const cv::KeyPoint& k : previous) origins_.push_back({k.pt, 0});
+    }
+    std::vector<Origin> next;
+    next.reserve(current.size());
+    for (const cv::KeyPoint& k : current) next.push_back({k.pt, 0});
+    std::vector<double> motion;
+    for (const frontend::PointMatch& m : matches)
+    {
+        if (m.query < 0 || m.train < 0 || size_t(m.query) >= origins_.size() || size_t(m.train) >= next.size())
+            continue;
+        Origin& o = next[size_t(m.train)];
+        o = {origins_[size_t(m.query)].pt, origins_[size_t(m.query)].frames + 1};
+        if (o.frames >= min_frames)
+        {
+            const cv::Point2f d = current[size_t(m.train)].pt - o.pt;
+            motion.push_back(std::hypot(d.x, d.y));
+        }
+    }
+    origins_ = std::move(next);
+    last_id_ = current_id;
+    if (motion.empty() || motion.size() < min_tracks) return NAN;
+    const auto middle = motion.begin() + long(motion.size() / 2);
+    std::nth_element(motion.begin(), middle, motion.end());
+    return *middle;
+}
+
 }  // namespace quasiloc::tracking

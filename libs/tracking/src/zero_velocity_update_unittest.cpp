@@ -91,3 +91,38 @@ TEST(ZeroVelocityUpdate, TheImageMotionIsTheMedianOverTheMatches)
     EXPECT_NEAR(medianImageMotionPx(previous, current, matches, 10), 3.2, 1e-5);
 }
 }  // namespace quasiloc::tracking
+
+namespace quasiloc::tracking
+{
+TEST(ZeroVelocityUpdate, KeypointTracksSeeASlowRunThatFramesToFramesHide)
+{
+    // 20 keypoints, matched one to one in every frame. Each frame moves them by 0.4 px: below a pixel frame to
+    // frame, 4 px over the 10 frames the tracks must span.
+    const auto frame = [](float shift) {
+        std::vector<cv::KeyPoint> k;
+        for (int i = 0; i < 20; ++i) k.emplace_back(cv::Point2f(20.f * float(i) + shift, 50.f), 1.f);
+        return k;
+    };
+    std::vector<frontend::PointMatch> matches;
+    for (int i = 0; i < 20; ++i)
+    {
+        frontend::PointMatch m;
+        m.query = m.train = i;
+        matches.push_back(m);
+    }
+    std::vector<std::vector<cv::KeyPoint>> frames;
+    for (int f = 0; f <= 12; ++f) frames.push_back(frame(0.4f * float(f)));
+    KeypointTracks tracks;
+    double motion = NAN;
+    for (int f = 1; f <= 12; ++f)
+    {
+        motion = tracks.add(&frames[size_t(f - 1)], frames[size_t(f - 1)], &frames[size_t(f)], frames[size_t(f)],
+                            matches, 10, 10);
+        if (f < 10) EXPECT_TRUE(std::isnan(motion)) << "frame " << f;  // tracks too short yet
+    }
+    EXPECT_NEAR(motion, 0.4 * 12, 1e-4);  // followed from the first frame
+    EXPECT_NEAR(medianImageMotionPx(frames[11], frames[12], matches, 10), 0.4, 1e-4);
+    // A frame matched to another than the last one added: the tracks start again.
+    EXPECT_TRUE(std::isnan(tracks.add(&frames[0], frames[0], &frames[1], frames[1], matches, 10, 10)));
+}
+}  // namespace quasiloc::tracking

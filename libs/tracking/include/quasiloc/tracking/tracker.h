@@ -46,6 +46,7 @@
 #include <quasiloc/tracking/static_initialization.h>
 #include <quasiloc/tracking/stereo_gate.h>
 #include <quasiloc/tracking/tracking_options.h>
+#include <quasiloc/tracking/zero_velocity_update.h>
 #include <string>
 
 namespace quasiloc::tracking
@@ -127,7 +128,7 @@ class Tracker
      *  that is tracked from its first frame still gets what a static initialization gives. */
     void applyStandstill(const StaticImuEstimate& still);
     /** zero_velocity_updates: when the IMU says the platform stands now and the image agrees (the median motion of
-     *  the points matched to the previous frame is at most zero_velocity_max_motion_px), the previous state's
+     *  the keypoints followed over the last frames is at most zero_velocity_max_motion_px), the previous state's
      *  velocity is zero to within zero_velocity_sigma_m_s; true then. */
     bool zeroVelocityUpdate(bool imu_standing, const FrameMeasurement& m);
     /** The gate's velocity_random_walk over the time since the previous state (while lost). */
@@ -203,6 +204,7 @@ class Tracker
     std::unique_ptr<MapLineExtractor> line_extractor_;      ///< map_lines
     std::optional<StaticInitializer> standstill_;
     std::optional<StandstillWatch> standstill_watch_;  ///< zero_velocity_updates
+    KeypointTracks keypoint_tracks_;                   ///< zero_velocity_updates: the image's motion
     const map::DistanceField* distance_field_ = nullptr;
 
     /** The last frame whose stereo entered the window, at previous_t_: the temporal landmarks' other end. */

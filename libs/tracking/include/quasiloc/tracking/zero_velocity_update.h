@@ -31,4 +31,27 @@ void widenVelocity(estimation::StatePrior& prior, double variance);
 double medianImageMotionPx(const std::vector<cv::KeyPoint>& previous, const std::vector<cv::KeyPoint>& current,
                            const std::vector<frontend::PointMatch>& matches, size_t min_matches);
 
+/** Keypoints followed through consecutive frames' matches: where each keypoint of the newest frame was first seen,
+ *  and how many frames ago. From one frame to the next a slow run forward moves most points by less than a pixel
+ *  (ORB keypoints lie on their pyramid level's pixel grid); over a third of a second it moves them by several. */
+class KeypointTracks
+{
+   public:
+    /** The frame `current` with its matches to `previous` (query: previous, train: current). When `previous` is not
+     *  the frame added last, the tracks start again at `previous`. Returns the median motion [px] since their first
+     *  sighting of the tracks followed over at least min_frames frames; NaN with fewer than min_tracks of them. */
+    double add(const void* previous_id, const std::vector<cv::KeyPoint>& previous, const void* current_id,
+               const std::vector<cv::KeyPoint>& current, const std::vector<frontend::PointMatch>& matches,
+               int min_frames, size_t min_tracks);
+
+   private:
+    struct Origin
+    {
+        cv::Point2f pt;
+        int frames = 0;  ///< frames followed
+    };
+    const void* last_id_ = nullptr;
+    std::vector<Origin> origins_;  ///< per keypoint of the frame added last
+};
+
 }  // namespace quasiloc::tracking
