@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/quasi/histogram_matching.h>
+#include <quasiloc/tracking/edge_trust.h>
 #include <quasiloc/tracking/map_points.h>
 #include <quasiloc/tracking/tracker.h>
 
@@ -218,6 +219,15 @@ void Tracker::addVisualTerms(const dataset::StereoFrame& frame, const std::share
 {
     const MapFactorOptions& f = options_.factors;
     const bool points = options_.temporal_landmarks;
+    if (f.edge_trust_sigmas > 0 && a.T_map_body && !in.direct_terms.empty() && distance_field_)
+    {  // the keyframe's quasi-image was rendered at the prediction
+        StereoSurface stereo;
+        stereoMapPoints(*m, stereo.p_cam, stereo.sigma_m);
+        stereo.truncation_m = f.stereo_map_truncation_m;
+        stereo.effective_points = f.stereo_map_effective_points;
+        weighEdgeTerm(*distance_field_, core::toIsometry(quasi_.T_world_cam), *a.T_map_body * T_body_cam_, stereo,
+                      f.edge_trust_sigmas, in.direct_terms);
+    }
     if (a.T_world_cam && f.map_planes && points && stereo_ok) addMapPlanes(*m, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_points && points) addMapPoints(frame, m->left, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_lines)

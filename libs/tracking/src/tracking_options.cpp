@@ -70,6 +70,10 @@ void MapFactorOptions::declare(core::OptionTable& t)
           "point-to-plane factors with an association distribution on keyframes (map_planes.h)");
     t.add("plane_effective_points", plane_effective_points, "", Range::above(0),
           "all plane factors together count as this many independent observations");
+    t.add("edge_trust_sigmas", edge_trust_sigmas, "", Range::atLeast(0),
+          "the map edge term's weight on a keyframe is exp(-(d / this)^2 / 2), d [sigmas] = the square root of "
+          "how much the stereo surface term's cost grows from the prediction to the edge optimum (edge_trust.h); "
+          "0: always trusted");
 }
 
 void MapFactorOptions::check(const std::string& input) const

@@ -71,6 +71,7 @@ struct MapFactorOptions : public core::DeclaredOptions
     double point_window_px = 3, point_sigma_px = 1.5;
     bool map_planes = false;
     double plane_effective_points = 50;
+    double edge_trust_sigmas = 0;  ///< edge_trust.h: the edge term's per-keyframe weight (0: always trusted)
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;
 };
