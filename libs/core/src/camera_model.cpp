@@ -46,8 +46,8 @@ CameraModel CameraModel::pinhole(int width, int height, double fx, double fy, do
 
 CameraModel CameraModel::downscaled(int factor) const
 {
-    core::require(factor >= 1 && width % factor == 0 && height % factor == 0, "CameraModel::downscaled",
-                  "factor " + std::to_string(factor) + " must be >= 1 and divide the image size " +
+    core::require(factor >= 1 && width >= factor && height >= factor, "CameraModel::downscaled",
+                  "factor " + std::to_string(factor) + " must be >= 1 and at most the image size " +
                       std::to_string(width) + "x" + std::to_string(height));
     const double s = 1.0 / factor;
     CameraModel c = *this;

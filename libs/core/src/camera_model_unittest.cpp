@@ -106,7 +106,21 @@ TEST_P(AllModels, DownscaledCameraSeesEachPointAtTheSamePlaceOfTheCoarserGrid)
         EXPECT_LT((u - ((px.array() + 0.5) / 2 - 0.5).matrix()).norm(), 1e-9) << "model " << GetParam();
     }
     EXPECT_THROW((void)c.downscaled(0), quasiloc::core::InputError);
-    EXPECT_THROW((void)c.downscaled(7), quasiloc::core::InputError);  // 7 divides none of the three sizes
+    EXPECT_THROW((void)c.downscaled(c.width + 1), quasiloc::core::InputError);
+}
+
+TEST(CameraModel, DownscaledOddSizeKeepsTheWholeCoarsePixels)
+{
+    // A real KITTI camera: 1242x375 pixels.
+    const CameraModel c = CameraModel::pinhole(1242, 375, 721.5, 721.5, 609.6, 172.9);
+    const CameraModel h = c.downscaled(2);
+    EXPECT_EQ(h.width, 621);
+    EXPECT_EQ(h.height, 187);
+    EXPECT_DOUBLE_EQ(h.fx, 721.5 / 2);
+    EXPECT_DOUBLE_EQ(h.cy, (172.9 + 0.5) / 2 - 0.5);
+    const CameraModel t = c.downscaled(4);
+    EXPECT_EQ(t.width, 310);
+    EXPECT_EQ(t.height, 93);
 }
 
 TEST_P(AllModels, AnalyticJacobianEqualsNumeric)

@@ -173,7 +173,7 @@ std::shared_ptr<const DirectAlignmentModel> MapRefiner::prepareDirect(const core
     mrpt::system::CTicTac tic;
     // The model reads the planes on blocks only: rendered at a lower resolution, the same blocks cost a fraction of
     // the render's per-pixel work (completion, see-through filter). buildDirectAlignmentModel checks that the
-    // downscale divides the blocks; CameraModel::downscaled that it divides the image.
+    // downscale divides the blocks; CameraModel::downscaled keeps the whole coarse pixels of any image size.
     const core::CameraModel render_camera = camera.downscaled(downscale);
     renderer_.render(core::fromIsometry(T_world_cam_pred), render_camera, q_, encode,
                      renderer_.options().completionRadiusAt(downscale));

@@ -40,7 +40,8 @@ class CameraModel
 
     /** The same camera at 1/factor of the resolution (factor 2: each pixel covers 2 x 2 of this one's): a pixel
      *  centre u of this camera is (u + 0.5) / factor - 0.5 there; the distortion, on normalised coordinates, is
-     *  unchanged. InputError unless the width and height are multiples of factor (>= 1). */
+     *  unchanged. Its size is the whole coarse pixels: a last row or column of fewer than factor pixels is left
+     *  out (a 1242x375 KITTI image is 621x187 at factor 2). InputError for a factor < 1 or above the size. */
     CameraModel downscaled(int factor) const;
 
     /** Projects p_cam. Returns false (and leaves outputs unspecified) when z <= min_depth.
