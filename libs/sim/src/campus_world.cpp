@@ -190,16 +190,7 @@ void addStreetFurniture(const CampusLayout& l, const CampusOptions& o, const Cle
                         float cell, Rng& rng, Mesh& mesh, WorldStats& st)
 {
     std::uniform_real_distribution<double> u01(0, 1);
-    auto place = [&](const Mesh& piece) {
-        if (!grid.empty() && grid.minDistance(piece, clear) < clear)
-        {
-            ++st.objects_rejected;
-            return false;
-        }
-        mesh.append(piece);
-        ++st.objects_placed;
-        return true;
-    };
+    auto place = [&](const Mesh& piece) { return placeIfClear(piece, grid, clear, mesh, st); };
     const double kerb_z = l.kerb;
     for (int i = 0; i < l.blocks; ++i)
         for (int j = 0; j < l.blocks; ++j)
@@ -309,12 +300,7 @@ World buildCampusWorld(const WorldOptions& o, const CampusLayout& l, uint64_t se
     sun.position = centre + Eigen::Vector3f(0.4f * side + 300.f, 0.25f * side + 200.f, 1.5f * side + 600.f);
     sun.intensity = float(o.light_intensity) * (sun.position - centre).squaredNorm();
     w.lights.push_back(sun);
-    w.computeIrradiance(o.shadow_map_px);
-    st.triangles = w.mesh.triangles.size();
-    st.vertices = w.mesh.vertices.size();
-    st.area_m2 = w.mesh.area();
-    st.min_clearance_m = keep_clear.empty() ? 0.0 : grid.minDistance(w.mesh, 5.f);
-    if (stats_out) *stats_out = st;
+    finishWorld(w, grid, o.shadow_map_px, st, stats_out);
     return w;
 }
 

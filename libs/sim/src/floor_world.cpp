@@ -183,16 +183,7 @@ void addClutter(const FloorLayout& l, const WorldOptions& o, const ClearanceGrid
 {
     const float cell = float(o.max_cell_m), clear = float(o.clearance_m);
     std::uniform_real_distribution<double> u01(0, 1);
-    auto place = [&](const Mesh& piece) {
-        if (!grid.empty() && grid.minDistance(piece, clear) < clear)
-        {
-            ++st.objects_rejected;
-            return false;
-        }
-        mesh.append(piece);
-        ++st.objects_placed;
-        return true;
-    };
+    auto place = [&](const Mesh& piece) { return placeIfClear(piece, grid, clear, mesh, st); };
     for (const FloorRoom& r : l.rooms)
     {
         std::vector<Eigen::AlignedBox2d> taken;
@@ -304,12 +295,7 @@ World buildFloorWorld(const WorldOptions& o, const FloorLayout& l, uint64_t seed
     addShell(l, static_cast<float>(o.max_cell_m), rng, w.mesh);
     addClutter(l, o, grid, rng, w.mesh, st);
     addLights(l, o, w);
-    w.computeIrradiance(o.shadow_map_px);
-    st.triangles = w.mesh.triangles.size();
-    st.vertices = w.mesh.vertices.size();
-    st.area_m2 = w.mesh.area();
-    st.min_clearance_m = keep_clear.empty() ? 0.0 : grid.minDistance(w.mesh, 5.f);
-    if (stats_out) *stats_out = st;
+    finishWorld(w, grid, o.shadow_map_px, st, stats_out);
     return w;
 }
 

@@ -72,14 +72,6 @@ float distanceToShell(const Eigen::Vector3f& p, const Eigen::AlignedBox3f& room)
     return std::min(d_lo.minCoeff(), d_hi.minCoeff());
 }
 
-/** Tries `mesh_piece` against the clearance grid; appends it when clear. */
-bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh)
-{
-    if (grid.minDistance(piece, clearance) < clearance) return false;
-    mesh.append(piece);
-    return true;
-}
-
 void addGmmPatches(const std::vector<map::GmmComponent>& gmm, const Eigen::AlignedBox3f& room, const WorldOptions& o,
                    const ClearanceGrid& grid, Rng& rng, Mesh& mesh, WorldStats& st)
 {
@@ -288,13 +280,32 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
     if (o.gmm_patches) addGmmPatches(gmm, w.room, o, grid, rng, w.mesh, st);
     addObjects(w.room, o, grid, rng, w.mesh, st);
     addLights(w.room, o, w);
-    w.computeIrradiance(o.shadow_map_px);
+    finishWorld(w, grid, o.shadow_map_px, st, stats_out);
+    return w;
+}
+
+bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh)
+{
+    if (grid.minDistance(piece, clearance) < clearance) return false;
+    mesh.append(piece);
+    return true;
+}
+
+bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh, WorldStats& st)
+{
+    const bool placed = placeIfClear(piece, grid, clearance, mesh);
+    ++(placed ? st.objects_placed : st.objects_rejected);
+    return placed;
+}
+
+void finishWorld(World& w, const ClearanceGrid& grid, int shadow_map_px, WorldStats& st, WorldStats* stats_out)
+{
+    w.computeIrradiance(shadow_map_px);
     st.triangles = w.mesh.triangles.size();
     st.vertices = w.mesh.vertices.size();
     st.area_m2 = w.mesh.area();
-    st.min_clearance_m = keep_clear.empty() ? 0.0 : grid.minDistance(w.mesh, 5.f);
+    st.min_clearance_m = grid.empty() ? 0.0 : grid.minDistance(w.mesh, 5.f);
     if (stats_out) *stats_out = st;
-    return w;
 }
 
 double minClearance(const Mesh& mesh, const std::vector<Eigen::Vector3f>& positions, double max_search_m)

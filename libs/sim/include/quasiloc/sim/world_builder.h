@@ -84,6 +84,17 @@ std::vector<Eigen::Vector3f> loadRoomTrajectoryPositions(const std::string& shar
 World buildWorld(const WorldOptions& options, const std::string& shared_dir, uint64_t seed,
                  const std::vector<Eigen::Vector3f>& keep_clear, WorldStats* stats = nullptr);
 
+class ClearanceGrid;
+
+/** Appends `piece` to `mesh` when every triangle of it stays `clearance` away from the grid's positions (always, with
+ *  no positions). */
+bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh);
+/** The same, counted in st.objects_placed or st.objects_rejected. */
+bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh, WorldStats& st);
+/** The last step of every world: its irradiance (lights and shadows), then st's mesh figures and the clearance of
+ *  every triangle from the grid's positions; st is copied to *stats_out when given. */
+void finishWorld(World& w, const ClearanceGrid& grid, int shadow_map_px, WorldStats& st, WorldStats* stats_out);
+
 /** Minimum distance between any position and any triangle, searched up to max_search_m (returned if none closer). */
 double minClearance(const Mesh& mesh, const std::vector<Eigen::Vector3f>& positions, double max_search_m = 5.0);
 
