@@ -148,15 +148,32 @@ void Tracker::applyStandstill(const StaticImuEstimate& still)
     resetBlock(prior_, 9, still.gyro_bias_sigma);
 }
 
-bool Tracker::zeroVelocityUpdate(bool imu_standing, const FrameMeasurement& m)
+void Tracker::measureImageMotion(const FrameMeasurement& m)
 {
-    if (!standstill_watch_ || !previous_) return false;
-    // Over at least a third of a second at 30 Hz: frame to frame, a slow run forward hardly moves the keypoints.
-    constexpr int kMinTrackFrames = 10;
+    image_motion_ = ImageMotion{};
+    if (!previous_) return;
+    // Standing is judged over at least a third of a second at 30 Hz: frame to frame, a slow run forward hardly
+    // moves the keypoints. Moving is seen sooner: a few frames move them by more than their pyramid grid's steps.
+    constexpr int kStandingTrackFrames = 10, kMovingTrackFrames = 3;
     constexpr size_t kMinTracks = 10;
-    const double motion_px = keypoint_tracks_.add(previous_.get(), previous_->left.points.keypoints, &m,
-                                                  m.left.points.keypoints, m.temporal, kMinTrackFrames, kMinTracks);
-    if (!imu_standing || !(motion_px <= options_.zero_velocity_max_motion_px)) return false;
+    const std::vector<cv::KeyPoint>& before = previous_->left.points.keypoints;
+    const std::vector<cv::KeyPoint>& now = m.left.points.keypoints;
+    image_motion_.tracked_px =
+        keypoint_tracks_.add(previous_.get(), before, &m, now, m.temporal, kStandingTrackFrames, kMinTracks);
+    image_motion_.short_tracked_px =
+        short_keypoint_tracks_.add(previous_.get(), before, &m, now, m.temporal, kMovingTrackFrames, kMinTracks);
+    image_motion_.frame_px = medianImageMotionPx(before, now, m.temporal, kMinTracks);
+}
+
+bool Tracker::ImageMotion::moving(double max_px) const
+{
+    return frame_px > max_px || short_tracked_px > max_px || tracked_px > max_px;
+}
+
+bool Tracker::zeroVelocityUpdate(bool imu_standing)
+{
+    if (!standstill_watch_ || !imu_standing) return false;
+    if (!(image_motion_.tracked_px <= options_.zero_velocity_max_motion_px)) return false;
     applyZeroVelocity(state_, prior_, options_.zero_velocity_sigma_m_s);
     return true;
 }
@@ -189,6 +206,9 @@ TrackEstimate Tracker::start(double t, const Eigen::Isometry3d& T_world_cam0, co
     standstill_watch_.reset();
     if (options_.zero_velocity_updates)
         standstill_watch_.emplace(imu_noise_.gyro_noise_density, options_.zero_velocity_span_s);
+    keypoint_tracks_ = KeypointTracks{};
+    short_keypoint_tracks_ = KeypointTracks{};
+    image_motion_ = ImageMotion{};
     previous_.reset();
     if (frame && options_.temporal_landmarks)
     {
@@ -229,7 +249,8 @@ bool Tracker::updateStandstill(const dataset::StereoFrame& frame)
 {
     if (!standstill_) return false;
     standstill_->add(frame.imu);
-    if (standstill_->moved())
+    // A restart during a steady run reads as standing to the IMU (gravity and vibration alone): the image ends it.
+    if (standstill_->moved() || image_motion_.moving(options_.standstill_end_motion_px))
     {
         standstill_.reset();
         return false;
@@ -342,7 +363,8 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     result.measurement = pending->get();
     const FrameMeasurement& m = *result.measurement;
     if (rep.keyframe) rep.ms_image = m.ms_edge_field;
-    if (zeroVelocityUpdate(imu_standing, m)) rep.standing = true;
+    measureImageMotion(m);
+    if (zeroVelocityUpdate(imu_standing)) rep.standing = true;
     const bool stereo_ok = gateStereo(m, alignment, gate, rep);
     addVisualTerms(frame, result.measurement, alignment, stereo_ok, gate.map_terms, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;

@@ -130,6 +130,11 @@ void TrackerOptions::declare(core::OptionTable& t)
     t.add("zero_velocity_max_motion_px", zero_velocity_max_motion_px, "px", Range::above(0),
           "zero_velocity_updates: the image must agree, the median motion of the keypoints followed over at least "
           "10 frames at most this since their first sighting (an IMU cannot tell standing from a steady straight run)");
+    t.add("standstill_end_motion_px", standstill_end_motion_px, "px", Range::above(0),
+          "the start's standstill (static_initialization) ends when the image moves: the keypoints' median motion "
+          "from one frame to the next, or since the first sighting of those followed over 3 or 10 frames, above "
+          "this (a start or a restart during a steady run reads as standing to the IMU; a standing camera's "
+          "keypoints jump by their pyramid level's grid step, 1-1.7 px)");
     t.add("guided_patch_radius_px", guided.patch_radius_px, "px", Range::between(1, 15),
           "guided matching: the compared patches are (2 r + 1)^2 pixels of the rectified pair");
     t.add("guided_search_px", guided.search_px, "px", Range::between(1, 20),

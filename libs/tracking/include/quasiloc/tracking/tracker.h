@@ -15,7 +15,8 @@
 //
 // IMU biases: the tracker starts from the prior it is given (the calibration's, or a static initialization's);
 // while the platform has stood still since the start each frame's prior takes the standing span's gyroscope bias and
-// a zero velocity (a zero-velocity update); once it moves, the window estimates the biases with their random walk.
+// a zero velocity (a zero-velocity update); once it moves (the IMU says so, or the image: a start or a restart during
+// a steady run reads as standing to the IMU), the window estimates the biases with their random walk.
 // With zero_velocity_updates, every later standstill the IMU and the image agree on zeroes the velocity too (after
 // the frame's measurement, before the window); while the track is lost
 // the gate may widen the velocity's uncertainty (zero_velocity_update.h).
@@ -28,6 +29,7 @@
 // the relocalization and the policy are TrackingSession's and TrackMonitor's (tracking_session.h, track_monitor.h).
 // Options: tracking_options.h.
 #include <Eigen/Geometry>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <quasiloc/core/stereo_rig.h>
@@ -127,10 +129,19 @@ class Tracker
      *  the standing span's gyroscope bias and a zero velocity (as OpenVINS's zero-velocity update), so a start
      *  that is tracked from its first frame still gets what a static initialization gives. */
     void applyStandstill(const StaticImuEstimate& still);
+    /** How far the left image's keypoints moved (medians, NaN: too few): from the previous frame, and since their
+     *  first sighting for those followed over at least 3 and at least 10 frames. */
+    struct ImageMotion
+    {
+        double frame_px = NAN, short_tracked_px = NAN, tracked_px = NAN;
+        bool moving(double max_px) const;
+    };
+    /** The frame's image motion against the previous frame (before the frame becomes the previous one). */
+    void measureImageMotion(const FrameMeasurement& m);
     /** zero_velocity_updates: when the IMU says the platform stands now and the image agrees (the median motion of
      *  the keypoints followed over the last frames is at most zero_velocity_max_motion_px), the previous state's
      *  velocity is zero to within zero_velocity_sigma_m_s; true then. */
-    bool zeroVelocityUpdate(bool imu_standing, const FrameMeasurement& m);
+    bool zeroVelocityUpdate(bool imu_standing);
     /** The gate's velocity_random_walk over the time since the previous state (while lost). */
     void widenVelocityWhileLost(const dataset::StereoFrame& frame, const StereoGate& gate);
     /** The IMU's prediction of the frame's state, and the alignment prior's sigmas into `rep`. */
@@ -204,7 +215,8 @@ class Tracker
     std::unique_ptr<MapLineExtractor> line_extractor_;      ///< map_lines
     std::optional<StaticInitializer> standstill_;
     std::optional<StandstillWatch> standstill_watch_;  ///< zero_velocity_updates
-    KeypointTracks keypoint_tracks_;                   ///< zero_velocity_updates: the image's motion
+    KeypointTracks keypoint_tracks_, short_keypoint_tracks_;
+    ImageMotion image_motion_;  ///< the last frame's
     const map::DistanceField* distance_field_ = nullptr;
 
     /** The last frame whose stereo entered the window, at previous_t_: the temporal landmarks' other end. */

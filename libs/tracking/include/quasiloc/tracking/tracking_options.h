@@ -94,6 +94,7 @@ struct TrackerOptions : public core::DeclaredOptions
     int max_landmarks = 150;
     bool zero_velocity_updates = false;
     double zero_velocity_span_s = 1.0, zero_velocity_sigma_m_s = 0.01, zero_velocity_max_motion_px = 1.0;
+    double standstill_end_motion_px = 3.0;
     StereoMatching stereo_matching = StereoMatching::Guided;
     GuidedStereoOptions guided;  ///< stereo_matching = guided: the guided_* keys
     bool concurrent_stages = true;
