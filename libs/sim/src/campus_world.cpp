@@ -278,15 +278,12 @@ CampusLayout makeCampusLayout(const CampusOptions& o, const std::string& input)
 World buildCampusWorld(const WorldOptions& o, const CampusLayout& l, uint64_t seed,
                        const std::vector<Eigen::Vector3f>& keep_clear, WorldStats* stats_out)
 {
-    Rng rng(seed * 6364136223846793005ull + 1442695040888963407ull);
-    World w;
+    Rng rng = worldRng(seed);
+    World w = startWorld(o, seed, "campus");
     WorldStats st;
-    w.name = "campus";
     const float top = float(o.campus.building_max_height_m + 1);
     w.room = Eigen::AlignedBox3f(at(l.extent.min().x(), l.extent.min().y(), 0),
                                  at(l.extent.max().x(), l.extent.max().y(), top));
-    w.materials = makeMaterials(o.materials, seed, o.texture_size_px);
-    w.ambient = static_cast<float>(o.ambient);
     const float cell = float(o.max_cell_m);
     addGround(l, cell, w.mesh);
     addMarkings(l, cell, w.mesh);

@@ -284,13 +284,10 @@ FloorLayout makeFloorLayout(const FloorOptions& o, uint64_t seed, const std::str
 World buildFloorWorld(const WorldOptions& o, const FloorLayout& l, uint64_t seed,
                       const std::vector<Eigen::Vector3f>& keep_clear, WorldStats* stats_out)
 {
-    Rng rng(seed * 6364136223846793005ull + 1442695040888963407ull);
-    World w;
+    Rng rng = worldRng(seed);
+    World w = startWorld(o, seed, "floor");
     WorldStats st;
-    w.name = "floor";
     w.room = l.extent.cast<float>();
-    w.materials = makeMaterials(o.materials, seed, o.texture_size_px);
-    w.ambient = static_cast<float>(o.ambient);
     const ClearanceGrid grid(keep_clear, 0.5f);
     addShell(l, static_cast<float>(o.max_cell_m), rng, w.mesh);
     addClutter(l, o, grid, rng, w.mesh, st);

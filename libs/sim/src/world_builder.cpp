@@ -267,13 +267,10 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
     const std::string room = roomName(o.world);
     const std::vector<map::GmmComponent> gmm = map::readGmmFile(gmmPath(shared_dir, room));
     const std::vector<LineSegment3D> lines = readLineSegments(linesPath(shared_dir, room));
-    Rng rng(seed * 6364136223846793005ull + 1442695040888963407ull);
-    World w;
+    Rng rng = worldRng(seed);
+    World w = startWorld(o, seed, room);
     WorldStats st;
-    w.name = room;
     w.room = roomExtent(gmm, lines);
-    w.materials = makeMaterials(o.materials, seed, o.texture_size_px);
-    w.ambient = static_cast<float>(o.ambient);
     const ClearanceGrid grid(keep_clear, 0.5f);
     addShell(w.room, static_cast<float>(o.max_cell_m), rng, w.mesh);
     st.gmm_components = gmm.size();
@@ -283,6 +280,17 @@ World buildWorld(const WorldOptions& o, const std::string& shared_dir, uint64_t 
     finishWorld(w, grid, o.shadow_map_px, st, stats_out);
     return w;
 }
+
+World startWorld(const WorldOptions& o, uint64_t seed, const std::string& name)
+{
+    World w;
+    w.name = name;
+    w.materials = makeMaterials(o.materials, seed, o.texture_size_px);
+    w.ambient = static_cast<float>(o.ambient);
+    return w;
+}
+
+std::mt19937_64 worldRng(uint64_t seed) { return Rng(seed * 6364136223846793005ull + 1442695040888963407ull); }
 
 bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh)
 {

@@ -17,6 +17,7 @@
 #include <quasiloc/sim/euroc_room_data.h>
 #include <quasiloc/sim/floor_world.h>
 #include <quasiloc/sim/world.h>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -91,6 +92,10 @@ class ClearanceGrid;
 bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh);
 /** The same, counted in st.objects_placed or st.objects_rejected. */
 bool placeIfClear(const Mesh& piece, const ClearanceGrid& grid, float clearance, Mesh& mesh, WorldStats& st);
+/** The first step of every world: its name, materials (seeded by `seed`) and ambient light from `o`. */
+World startWorld(const WorldOptions& o, uint64_t seed, const std::string& name);
+/** The random stream a world's layout draws from (a different stream from its materials'). */
+std::mt19937_64 worldRng(uint64_t seed);
 /** The last step of every world: its irradiance (lights and shadows), then st's mesh figures and the clearance of
  *  every triangle from the grid's positions; st is copied to *stats_out when given. */
 void finishWorld(World& w, const ClearanceGrid& grid, int shadow_map_px, WorldStats& st, WorldStats* stats_out);
