@@ -24,6 +24,16 @@ void LocalizeRunOptions::declare(core::OptionTable& t)
               "taken as level (image rows and optical axis horizontal) for a pair without IMU");
     t.add("gravity_window_s", gravity_window_s, "s", core::Range::between(0.005, 5),
           "stereo mode, gravity = imu: the accelerometer span averaged for up");
+    t.add("stereo_span_frames", span.frames, "frames", core::Range::between(1, 400),
+          "stereo mode: the stereo clouds of this many frames up to the queried one, joined into its camera by a "
+          "frame-to-frame stereo odometry (ORB, PnP, the gyroscope as a check) and localized as one query; 1: the "
+          "queried pair alone. A refused odometry step ends the span there");
+    t.add("stereo_span_cloud_step", span.cloud_step, "frames", core::Range::between(1, 100),
+          "stereo mode, stereo_span_frames > 1: every N-th frame of the span (counted back from the queried one) "
+          "gives its stereo cloud; the odometry runs on every frame");
+    t.add("stereo_span_max_points", span.max_points, "points", core::Range::between(200, 100000),
+          "stereo mode, stereo_span_frames > 1: the joined cloud thinned to at most this many points (after one "
+          "point per query_voxel_m voxel)");
 }
 
 std::vector<QueryMode> LocalizeRunOptions::checkedModes(const std::string& name) const

@@ -33,6 +33,9 @@ struct LocalizeRunOptions : public core::DeclaredOptions
     /** Stereo queries: where up is. The IMU when the recording has one; level for a single pair without it. */
     QueryGravity gravity = QueryGravity::Imu;
     double gravity_window_s = 0.2;
+    /** Stereo queries: the clouds of the last frames joined by the camera's own motion (1: the queried pair alone).
+     *  Measured spans: docs/place_retrieval.md, "Multi-frame stereo queries". */
+    StereoSpanSettings span;
 
     void declare(core::OptionTable& t) override;
     /** The modes; InputError naming `name` and the key for no or an unknown mode, a database mode without database,

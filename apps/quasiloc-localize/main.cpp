@@ -140,8 +140,8 @@ void recordStageTimes(const reloc::LocalizationReport& r, mrpt::system::CTimeLog
 std::unique_ptr<app::StereoQueries> makeStereoQueries(const RunOptions& o, const core::StereoRig& rig)
 {
     if (!app::hasStereo(o.modes)) return nullptr;
-    auto stereo =
-        std::make_unique<app::StereoQueries>(o.run.map_file, rig, o.geometric, o.run.gravity, o.run.gravity_window_s);
+    auto stereo = std::make_unique<app::StereoQueries>(o.run.map_file, rig, o.geometric, o.run.gravity,
+                                                       o.run.gravity_window_s, o.run.span);
     std::cout << "stereo queries against " << o.run.map_file << ": " << stereo->summary() << std::endl;
     return stereo;
 }
@@ -168,7 +168,8 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database* db, dataset:
     quasi::QuasiImage q;
     while (source.next(f) && (o.run.max_queries == 0 || out.count < o.run.max_queries))
     {
-        if (stereo) stereo->observe(f);
+        if (stereo)
+            stereo->observe(f, (size_t(o.run.every_n) - f.index % size_t(o.run.every_n)) % size_t(o.run.every_n));
         if (f.index % size_t(o.run.every_n) != 0) continue;
         if (renderer && !f.T_world_cam0) continue;  // nothing to render at
         ++out.count;

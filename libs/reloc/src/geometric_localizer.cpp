@@ -140,6 +140,14 @@ GeometricLocalization GeometricLocalizer::localize(const cv::Mat& left_raw, cons
     return r;
 }
 
+std::pair<std::vector<Eigen::Vector3f>, std::vector<Eigen::Vector3f>> GeometricLocalizer::queryClouds(
+    const cv::Mat& left_raw, const cv::Mat& right_raw) const
+{
+    if (!retrieval_) return {stereo_.compute(left_raw, right_raw), {}};
+    const StereoDisparity d = stereo_.disparity(left_raw, right_raw);
+    return {stereo_.points(d), place_stereo_.points(d)};
+}
+
 double GeometricLocalizer::inlierRatio(const std::vector<Eigen::Vector3f>& points_cam,
                                        const Eigen::Isometry3d& T_world_cam) const
 {

@@ -24,7 +24,7 @@ std::vector<Eigen::Vector3f> joinClouds(const std::vector<const std::vector<Eige
 {
     std::unordered_set<Eigen::Vector3i, VoxelHash> taken;
     std::vector<Eigen::Vector3f> out;
-    const float inv = float(1.0 / voxel_m);
+    const float inv = voxel_m > 0 ? float(1.0 / voxel_m) : 1.0f;
     for (size_t c = 0; c < clouds.size() && c < T_query_cloud.size(); ++c)
     {
         const Eigen::Matrix3f R = T_query_cloud[c].linear().cast<float>();
@@ -34,7 +34,7 @@ std::vector<Eigen::Vector3f> joinClouds(const std::vector<const std::vector<Eige
             const Eigen::Vector3f q = R * p + t;
             const Eigen::Vector3i key(int(std::floor(q.x() * inv)), int(std::floor(q.y() * inv)),
                                       int(std::floor(q.z() * inv)));
-            if (taken.insert(key).second) out.push_back(q);
+            if (voxel_m <= 0 || taken.insert(key).second) out.push_back(q);
         }
     }
     if (max_points > 0 && out.size() > max_points)
@@ -71,12 +71,14 @@ JoinedClouds StereoSpan::join(double voxel_m, size_t max_points, size_t max_plac
             place_points.push_back(&f.place_points);
             poses.push_back(T_newest_k);
             oldest_t = f.t;
+            out.T_newest_oldest = T_newest_k;
             ++out.frames;
         }
         if (!f.linked || i == 0) break;
         out.path_m += f.T_prev_this.translation().norm();
         T_newest_k = T_newest_k * f.T_prev_this.inverse();  // the frame before, in the newest camera
     }
+    out.oldest_t = oldest_t;
     out.span_s = frames_kept_.back().t - oldest_t;
     out.points = joinClouds(points, poses, voxel_m, max_points);
     out.place_points = joinClouds(place_points, poses, voxel_m, max_place_points);

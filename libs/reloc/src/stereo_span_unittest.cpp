@@ -42,6 +42,8 @@ TEST(StereoSpan, JoinsLinkedFramesInTheNewestCamera)
     EXPECT_LT((T2 * j.points[1].cast<double>() - b).norm(), 1e-5);
     EXPECT_LT((T2 * j.points[2].cast<double>() - a).norm(), 1e-5);
     EXPECT_EQ(j.place_points.size(), 1u);
+    EXPECT_NEAR(j.oldest_t, 0.0, 1e-12);
+    EXPECT_TRUE(j.T_newest_oldest.isApprox(T2.inverse() * T0, 1e-9));
 }
 
 TEST(StereoSpan, ARefusedLinkEndsTheChainAndOldFramesDrop)

@@ -46,6 +46,7 @@
 #include <quasiloc/reloc/stereo_cloud.h>
 #include <quasiloc/reloc/view_sampling.h>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace quasiloc::reloc
@@ -171,6 +172,10 @@ class GeometricLocalizer
     {
         return stereo_.compute(left_raw, right_raw);
     }
+    /** Both clouds of a raw stereo pair from one matching: stereoPoints and, on a map with a retrieval stage,
+     *  placeStereoPoints (else empty). A multi-frame query joins these of several frames (stereo_span.h). */
+    std::pair<std::vector<Eigen::Vector3f>, std::vector<Eigen::Vector3f>> queryClouds(const cv::Mat& left_raw,
+                                                                                      const cv::Mat& right_raw) const;
     /** The points of a raw stereo pair for its place profile: up to place_query_depth_m. */
     std::vector<Eigen::Vector3f> placeStereoPoints(const cv::Mat& left_raw, const cv::Mat& right_raw) const
     {

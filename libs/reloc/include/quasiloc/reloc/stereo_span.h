@@ -34,10 +34,13 @@ struct JoinedClouds
     int linked_frames = 0;  ///< frames reached through the motion links (the newest included)
     double span_s = 0;      ///< time from the oldest joined frame to the newest
     double path_m = 0;      ///< camera path over the joined frames (sum of the links' translations)
+    double oldest_t = 0;    ///< time of the oldest joined frame
+    Eigen::Isometry3d T_newest_oldest = Eigen::Isometry3d::Identity();  ///< that frame's camera in the newest
 };
 
 /** Joins clouds given with their poses in the query frame: each moved by its pose, in the order given, thinned to
- *  one point per voxel_m voxel (the first point wins), then to at most max_points (every k-th). */
+ *  one point per voxel_m voxel (the first point wins; voxel_m 0: no voxels), then to at most max_points (every k-th).
+ */
 std::vector<Eigen::Vector3f> joinClouds(const std::vector<const std::vector<Eigen::Vector3f>*>& clouds,
                                         const std::vector<Eigen::Isometry3d>& T_query_cloud, double voxel_m,
                                         size_t max_points);
