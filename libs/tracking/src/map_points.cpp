@@ -43,4 +43,17 @@ std::vector<estimation::PointMatch> associateMapPoints(
     return out;
 }
 
+int countCorrectMatches(const std::vector<estimation::PointMatch>& matches, const core::CameraModel& camera,
+                        const Eigen::Isometry3d& T_world_cam_true, double correct_px)
+{
+    const Eigen::Isometry3d T_cam_world = T_world_cam_true.inverse();
+    int n = 0;
+    for (const estimation::PointMatch& m : matches)
+    {
+        Eigen::Vector2d u;
+        n += camera.project(T_cam_world * m.p_map, u) && (u - m.px).norm() <= correct_px;
+    }
+    return n;
+}
+
 }  // namespace quasiloc::tracking

@@ -28,7 +28,7 @@ const char* const kCsvHeader =
     "line_candidates,line_window_px,ms_lines,ms_search,quasi_keypoints,point_factors,ms_points,plane_factors,plane_"
     "candidates,ms_planes,"
     "bg_sigma_x,bg_sigma_y,bg_sigma_z,ba_sigma_x,ba_sigma_y,ba_sigma_z,standing,stereo_map_sigmas,stereo_rejected,"
-    "ms_window_solve,ms_window_marginal,unverified\n";
+    "ms_window_solve,ms_window_marginal,point_candidates,point_correct,unverified\n";
 
 RunLog::RunLog() { traj_.header = "quasiloc-track estimate: T_world_cam0 (the left camera in the map frame)"; }
 
@@ -67,7 +67,8 @@ void RunLog::addFrame(const dataset::StereoFrame& f, const FrameReport& r, doubl
         << "," << r.plane_factors << "," << r.plane_candidates << "," << r.ms_planes << "," << r.gyro_bias_sigma.x()
         << "," << r.gyro_bias_sigma.y() << "," << r.gyro_bias_sigma.z() << "," << r.acc_bias_sigma.x() << ","
         << r.acc_bias_sigma.y() << "," << r.acc_bias_sigma.z() << "," << r.standing << "," << r.stereo_map_sigmas << ","
-        << r.stereo_rejected << "," << r.ms_window_solve << "," << r.ms_window_marginal;
+        << r.stereo_rejected << "," << r.ms_window_solve << "," << r.ms_window_marginal << "," << r.point_candidates
+        << "," << r.point_correct;
     row.csv = csv.str();
     rows_.push_back(std::move(row));
 }

@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/quasi/histogram_matching.h>
+#include <quasiloc/tracking/crossmodal_points.h>
 #include <quasiloc/tracking/edge_trust.h>
 #include <quasiloc/tracking/map_points.h>
 #include <quasiloc/tracking/tracker.h>
@@ -120,6 +121,26 @@ void Tracker::addMapPoints(const dataset::StereoFrame& frame, const frontend::Fr
                            const Eigen::Isometry3d& T_world_cam, estimation::WindowInput& in, FrameReport& rep)
 {
     mrpt::system::CTicTac tic;
+    if (options_.factors.map_point_descriptor == MapPointDescriptor::OrientationField)
+    {
+        // Across the modality gap by structure, each observation with its candidate map points, reweighted as
+        // structural factors (crossmodal_points.h).
+        const CrossModalPointOptions& po = options_.factors.point_field;
+        CrossModalPointStats stats;
+        const auto associations = associateCrossModalPoints(describeCameraForMapPoints(grayImage(frame.left), po),
+                                                            quasi_, map_, stereo_.left.model, T_world_cam,
+                                                            rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, po, &stats);
+        appendAxisLineFactors(associations, options_.factors.point_sigma_px, in.lines);
+        rep.quasi_keypoints = stats.map_keypoints;
+        rep.point_factors = int(associations.size());
+        size_t candidates = 0;
+        for (const auto& a : associations) candidates += a.p_map.size();
+        rep.point_candidates = associations.empty() ? 0 : double(candidates) / double(associations.size());
+        if (frame.T_world_cam0)
+            rep.point_correct = countCorrect(associations, stereo_.left.model, core::toIsometry(*frame.T_world_cam0));
+        rep.ms_points = tic.Tac() * 1e3;
+        return;
+    }
     // The quasi-image's 8-bit image its features are extracted on: its gray image, or its reflectivity matched to
     // the camera image's histogram.
     cv::Mat quasi_gray = quasi_.gray;
@@ -135,6 +156,9 @@ void Tracker::addMapPoints(const dataset::StereoFrame& frame, const frontend::Fr
                                    frontend_options_.point_matching, po);
     rep.quasi_keypoints = int(fq.points.keypoints.size());
     rep.point_factors = int(in.points.size());
+    rep.point_candidates = in.points.empty() ? 0 : 1;
+    if (frame.T_world_cam0)
+        rep.point_correct = countCorrectMatches(in.points, stereo_.left.model, core::toIsometry(*frame.T_world_cam0));
     rep.ms_points = tic.Tac() * 1e3;
 }
 
@@ -229,9 +253,10 @@ void Tracker::addVisualTerms(const dataset::StereoFrame& frame, const std::share
                       f.edge_trust_sigmas, in.direct_terms);
     }
     if (a.T_world_cam && f.map_planes && points && stereo_ok) addMapPlanes(*m, *a.T_world_cam, in, rep);
-    if (a.T_world_cam && f.map_points && points) addMapPoints(frame, m->left, *a.T_world_cam, in, rep);
     if (a.T_world_cam && f.map_lines)
         addMapLines(m->lines, a.map_lines, *a.T_world_cam, rep.prior_sigma_m, rep.prior_sigma_deg * kDeg, in, rep);
+    // After the lines: with the orientation field the point associations are appended to in.lines.
+    if (a.T_world_cam && f.map_points && points) addMapPoints(frame, m->left, *a.T_world_cam, in, rep);
     if (points && map_terms && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok)
         addStereoMapTerm(*m, in);
     rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());

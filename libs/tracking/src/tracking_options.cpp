@@ -66,6 +66,28 @@ void MapFactorOptions::declare(core::OptionTable& t)
     t.add("point_window_px", point_window_px, "px", Range::above(0),
           "a match lies within this of the map point's projection at the aligned pose");
     t.add("point_sigma_px", point_sigma_px, "px", Range::above(0), "a point factor's pixel sigma");
+    t.addEnum("map_point_descriptor", map_point_descriptor,
+              {{"orb", MapPointDescriptor::Orb}, {"orientation_field", MapPointDescriptor::OrientationField}},
+              "orb: ORB of the quasi-image matched to the camera's ORB keypoints within point_window_px, factors "
+              "in H_0; orientation_field: the camera image searched densely for each rank-equalised reflectivity "
+              "corner by orientation field, ratio test, each camera observation with its distribution over nearby "
+              "map points, as reweighted structural factors (crossmodal_points.h, docs/crossmodal_matching.md)");
+    t.addEnum("point_field_channel", point_field.channel,
+              {{"reflectivity", CrossModalChannel::Reflectivity}, {"depth_edges", CrossModalChannel::DepthEdges}},
+              "orientation_field: the map channel, the rank-equalised reflectivity or the depth edges (for maps "
+              "without intensities)");
+    t.add("point_field_keypoints", point_field.keypoints, "", Range::atLeast(1),
+          "orientation_field: map keypoints per keyframe at most");
+    t.add("point_field_window_base_px", point_field.window_base_px, "px", Range::above(0),
+          "orientation_field: search radius = this + f (sigma_rad + sigma_m / depth), the prediction's sigmas ...");
+    t.add("point_field_window_max_px", point_field.window_max_px, "px", Range::above(0),
+          "... at most this: the cap binds, the association is made at the aligned pose");
+    t.add("point_field_ratio", point_field.ratio, "", Range::between(0.1, 1),
+          "orientation_field: best / second best descriptor distance below this");
+    t.add("point_field_candidates", point_field.max_candidates, "", Range::atLeast(1),
+          "orientation_field: map points per camera observation at most (those the ratio test cannot rule out)");
+    t.add("point_field_temperature", point_field.temperature, "", Range::above(0),
+          "orientation_field: p_c ~ exp(-(d_c - d_best) / this), d the squared descriptor distance (unit vectors)");
     t.add("map_planes", map_planes,
           "point-to-plane factors with an association distribution on keyframes (map_planes.h)");
     t.add("plane_effective_points", plane_effective_points, "", Range::above(0),

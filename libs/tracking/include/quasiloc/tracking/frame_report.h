@@ -32,6 +32,10 @@ struct FrameReport
     double line_window_px = 0;
     double ms_lines = 0;
     int quasi_keypoints = 0, point_factors = 0;  ///< map_points: the quasi-image's keypoints, point factors
+    /** map_points: mean candidate map points per association (1 with ORB), and the associations whose (nominal)
+     *  map point projects within 3 px of the camera pixel at the true pose (-1: no ground truth). */
+    double point_candidates = 0;
+    int point_correct = -1;
     double ms_points = 0;
     int plane_factors = 0;        ///< map_planes
     double plane_candidates = 0;  ///< mean candidates per plane factor

@@ -34,4 +34,8 @@ std::vector<estimation::PointMatch> associateMapPoints(
     const frontend::Features& camera_features, const frontend::Features& quasi_features, const quasi::QuasiImage& q,
     const map::LidarMap& map, const core::CameraModel& camera, const Eigen::Isometry3d& T_world_cam,
     const frontend::PointMatchingOptions& matching, const MapPointOptions& options);
+
+/** How many matches' map points project within correct_px of their camera pixel at the true pose. */
+int countCorrectMatches(const std::vector<estimation::PointMatch>& matches, const core::CameraModel& camera,
+                        const Eigen::Isometry3d& T_world_cam_true, double correct_px = 3);
 }  // namespace quasiloc::tracking

@@ -8,6 +8,7 @@
 // docs/options.md lists every key with its unit, range, default and documentation; docs/experiments.md the
 // measurements behind the defaults.
 #include <quasiloc/core/declared_options.h>
+#include <quasiloc/tracking/crossmodal_points.h>
 #include <quasiloc/tracking/guided_stereo_options.h>
 
 #include <string>
@@ -33,6 +34,13 @@ enum class StereoMatching
 {
     Guided,      ///< around the frame's dense SGBM disparity, patches along the rectified row (guided_stereo.h)
     Descriptors  ///< ORB on the right image too, matched by descriptor along the epipolar band (stereo_matcher.h)
+};
+
+/** How map points are associated with the camera image (map_points). */
+enum class MapPointDescriptor
+{
+    Orb,              ///< ORB of the quasi-image's gray image against the camera's ORB keypoints (map_points.h)
+    OrientationField  ///< the camera against the rank-equalised reflectivity by orientation field (crossmodal_points.h)
 };
 
 /** Which stereo points the surface factor uses. */
@@ -69,6 +77,8 @@ struct MapFactorOptions : public core::DeclaredOptions
     int line_max_candidates = 3;
     bool map_points = false;
     double point_window_px = 3, point_sigma_px = 1.5;
+    MapPointDescriptor map_point_descriptor = MapPointDescriptor::Orb;
+    CrossModalPointOptions point_field;  ///< map_point_descriptor = orientation_field: the point_field_* keys
     bool map_planes = false;
     double plane_effective_points = 50;
     double edge_trust_sigmas = 0;  ///< edge_trust.h: the edge term's per-keyframe weight (0: always trusted)
