@@ -148,6 +148,18 @@ std::pair<std::vector<Eigen::Vector3f>, std::vector<Eigen::Vector3f>> GeometricL
     return {stereo_.points(d), place_stereo_.points(d)};
 }
 
+bool depthAwareInlier(const map::DistanceField& field, const Eigen::Vector3f& p_world, const Eigen::Vector3f& ray_world,
+                      double inlier_m, double depth_tolerance_m, bool along_normal)
+{
+    if (!along_normal) return field.distance(p_world) < float(inlier_m + depth_tolerance_m);
+    Eigen::Vector3f g;
+    const float d = field.distance(p_world, g);
+    const float n = g.norm(), r = ray_world.norm();
+    // Where the field has no gradient (beyond its truncation, or between surfaces) the whole tolerance holds.
+    const double share = n > 0.5f && r > 0 ? std::abs(g.dot(ray_world)) / (n * r) : 1.0;
+    return d < float(inlier_m + depth_tolerance_m * share);
+}
+
 double GeometricLocalizer::inlierRatio(const std::vector<Eigen::Vector3f>& points_cam,
                                        const Eigen::Isometry3d& T_world_cam) const
 {
@@ -156,7 +168,8 @@ double GeometricLocalizer::inlierRatio(const std::vector<Eigen::Vector3f>& point
     const Eigen::Vector3f t = T_world_cam.translation().cast<float>();
     size_t in = 0;
     for (const auto& p : points_cam)
-        in += field_->distance(R * p + t) < float(options_.inlier_m + 2 * stereo_.depthSigma(p.z()));
+        in += depthAwareInlier(*field_, R * p + t, R * p, options_.inlier_m, 2 * stereo_.depthSigma(p.z()),
+                               options_.check_depth_along_normal);
     return double(in) / double(points_cam.size());
 }
 

@@ -62,6 +62,11 @@ void GeometricLocalizationOptions::declare(core::OptionTable& t)
     t.add("polish_truncations_m", polish_truncations_m, "m", Range::above(0),
           "point-to-point ICP of the best pose (empty: none)");
     t.add("inlier_m", inlier_m, "m", Range::above(0), "a query point this close to the map is an inlier");
+    t.add("check_depth_along_normal", check_depth_along_normal,
+          "the tracker's loss check: a point's depth tolerance (2 depth sigmas) counts only along the map's normal "
+          "(times |ray . normal|), since a depth error moves a point along its ray: far points on surfaces seen at a "
+          "grazing angle (the road, a street's facades) keep a tight tolerance across them (off by default: "
+          "measured on the simulated campus car only, docs/benchmarks.md)");
     t.add("min_inlier_ratio", min_inlier_ratio, "", Range{0, 1, true, false}, "answer only with this share of inliers");
     t.add("ambiguity_ratio", ambiguity_ratio, "", Range{0, 1, true, false},
           "not localized when another place reaches this share of the answer's inliers");

@@ -75,14 +75,43 @@ void FrameMeasurer::matchStereo(FrameMeasurement& m) const
     for (size_t k = 0; k < m.stereo.size(); ++k) m.stereo_of_left[size_t(m.stereo[k].left)] = int(k);
 }
 
-void FrameMeasurer::matchTemporal(FrameMeasurement& m, const FrameMeasurement* previous, double previous_t) const
+std::vector<cv::Point2f> predictedKeypoints(const FrameMeasurement& previous, const core::CameraModel& camera,
+                                            const Eigen::Isometry3d& T_cam_prevcam)
 {
-    // The temporal matching looks for a keypoint within temporal_window_px of where it was: across a gap (dropped
-    // frames) the camera has moved farther than that, and what it matches there are other points.
+    const std::vector<cv::KeyPoint>& keypoints = previous.left.points.keypoints;
+    std::vector<cv::Point2f> centers(keypoints.size());
+    for (size_t i = 0; i < keypoints.size(); ++i)
+    {
+        const cv::Point2f& k = keypoints[i].pt;
+        centers[i] = k;
+        const int s = i < previous.stereo_of_left.size() ? previous.stereo_of_left[i] : -1;
+        Eigen::Vector2d px;
+        if (s >= 0 && camera.project(T_cam_prevcam * previous.stereo[size_t(s)].p_left, px))
+            centers[i] = cv::Point2f(float(px.x()), float(px.y()));
+        else if (camera.project(T_cam_prevcam.linear() * camera.unproject(Eigen::Vector2d(k.x, k.y)), px))
+            centers[i] = cv::Point2f(float(px.x()), float(px.y()));
+    }
+    return centers;
+}
+
+void FrameMeasurer::matchTemporal(FrameMeasurement& m, const FrameMeasurement* previous, double previous_t,
+                                  const std::optional<Eigen::Isometry3d>& T_cam_prevcam) const
+{
+    // The temporal matching looks for a keypoint within temporal_window_px of where it was (or of where the
+    // predicted motion moves it): across a gap (dropped frames) the camera has moved farther than that, and what it
+    // matches there are other points.
     if (!previous || previous->stereo.empty() || m.t - previous_t > options_.temporal_max_gap_s) return;
     frontend::PointMatchingOptions pm = left_frontend_.options().point_matching;
     pm.window_px = options_.temporal_window_px;
-    m.temporal = frontend::matchPoints(previous->left.points, m.left.points, pm);
+    if (!T_cam_prevcam)
+    {
+        m.temporal = frontend::matchPoints(previous->left.points, m.left.points, pm);
+        return;
+    }
+    frontend::SearchRegion region;
+    region.centers = predictedKeypoints(*previous, rig_.left, *T_cam_prevcam);
+    region.radius_px = options_.temporal_window_px;
+    m.temporal = frontend::matchPoints(previous->left.points, m.left.points, pm, &region);
 }
 
 void FrameMeasurer::edgeField(const cv::Mat& image, FrameMeasurement& m) const
@@ -97,7 +126,8 @@ void FrameMeasurer::edgeField(const cv::Mat& image, FrameMeasurement& m) const
 }
 
 void FrameMeasurer::addPointTasks(const dataset::StereoFrame& frame, PendingMeasurement& p,
-                                  std::shared_ptr<const FrameMeasurement> previous, double previous_t)
+                                  std::shared_ptr<const FrameMeasurement> previous, double previous_t,
+                                  const std::optional<Eigen::Isometry3d>& motion)
 {
     // In the order they are claimed: the left image's points, the dense disparity, the right image's points
     // (descriptor matching), then the matchings and the dense cloud, each after its inputs. Small tasks, so that
@@ -119,9 +149,9 @@ void FrameMeasurer::addPointTasks(const dataset::StereoFrame& frame, PendingMeas
     if (!guidedStereo())
         stereo_inputs.push_back(
             tasks.add([this, &frame, &m] { right_frontend_.extractPoints(frame.right, cv::Mat(), m.right); }));
-    tasks.add([this, &tasks, &m, left, previous, previous_t] {
+    tasks.add([this, &tasks, &m, left, previous, previous_t, motion] {
         tasks.wait(left);
-        matchTemporal(m, previous.get(), previous_t);
+        matchTemporal(m, previous.get(), previous_t, motion);
     });
     tasks.add([this, &tasks, &m, stereo_inputs] {
         for (size_t i : stereo_inputs) tasks.wait(i);
@@ -159,7 +189,7 @@ std::unique_ptr<PendingMeasurement> FrameMeasurer::start(const dataset::StereoFr
     std::unique_ptr<PendingMeasurement> p(new PendingMeasurement());
     FrameMeasurement& m = *p->m_;
     m.t = frame.timestamp;
-    if (request.points) addPointTasks(frame, *p, std::move(previous), previous_t);
+    if (request.points) addPointTasks(frame, *p, std::move(previous), previous_t, request.T_cam_prevcam);
     if (request.lines) p->tasks_.add([this, &frame, &m] { m.lines = line_detector_->detect(grayImage(frame.left)); });
     if (request.edge_field)
     {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <map>
 #include <sstream>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
@@ -40,6 +41,58 @@ void biasSigmas(const estimation::StatePrior& prior, Eigen::Vector3d& gyro, Eige
     acc = cov.diagonal().segment<3>(12).cwiseMax(0).cwiseSqrt();
 }
 }  // namespace
+
+std::vector<estimation::MapDistanceTerm> stereoMapTermsByTruncation(const std::vector<Eigen::Vector3d>& p_cam,
+                                                                    const std::vector<double>& sigma_m,
+                                                                    double truncation_m, double truncation_sigmas,
+                                                                    double effective_points)
+{
+    core::require(p_cam.size() == sigma_m.size() && truncation_m > 0, "stereoMapTermsByTruncation",
+                  "needs one sigma per point and a truncation > 0");
+    const double step = std::sqrt(2.0);
+    std::map<int, estimation::MapDistanceTerm> by_step;
+    for (size_t i = 0; i < p_cam.size(); ++i)
+    {
+        const double wanted = std::max(truncation_m, truncation_sigmas * sigma_m[i]);
+        const int k = std::max(0, int(std::ceil(std::log(wanted / truncation_m) / std::log(step) - 1e-9)));
+        estimation::MapDistanceTerm& term = by_step[k];
+        term.truncation_m = truncation_m * std::pow(step, k);
+        term.p_cam.push_back(p_cam[i]);
+        term.sigma_m.push_back(sigma_m[i]);
+    }
+    std::vector<estimation::MapDistanceTerm> terms;
+    for (auto& [k, term] : by_step)
+    {
+        term.effective_points = by_step.size() == 1
+                                    ? effective_points
+                                    : effective_points * double(term.p_cam.size()) / double(p_cam.size());
+        terms.push_back(std::move(term));
+    }
+    return terms;
+}
+
+double sigmaAlongNormal(const map::DistanceField& field, const Eigen::Isometry3d& T_world_cam,
+                        const Eigen::Vector3d& p_cam, double sigma_m, double map_sigma_m)
+{
+    if (!(sigma_m > map_sigma_m) || !(p_cam.norm() > 0)) return sigma_m;
+    // The field is unsigned: on a surface its gradient vanishes. Probed a few voxels off the point along each axis,
+    // the steepest gradient is the surface's normal (off a floor, above it; along the floor, none).
+    constexpr float kProbe_m = 0.12f;
+    const Eigen::Vector3f p = (T_world_cam * p_cam).cast<float>();
+    Eigen::Vector3f normal = Eigen::Vector3f::Zero();
+    for (int axis = 0; axis < 3; ++axis)
+        for (float side : {-1.f, 1.f})
+        {
+            Eigen::Vector3f g;
+            field.distance(p + side * kProbe_m * Eigen::Vector3f::Unit(axis), g);
+            if (g.squaredNorm() > normal.squaredNorm()) normal = g;
+        }
+    if (!(normal.norm() > 0.5f)) return sigma_m;  // no surface within the probes
+    const Eigen::Vector3d ray = T_world_cam.linear() * p_cam.normalized();
+    const double share = std::abs(normal.cast<double>().normalized().dot(ray));
+    const double depth_sigma = std::sqrt(sigma_m * sigma_m - map_sigma_m * map_sigma_m);
+    return std::hypot(map_sigma_m, depth_sigma * share);
+}
 
 ImuBiasPrior TrackEstimate::biasPrior() const
 {
@@ -319,12 +372,15 @@ void Tracker::solveWindow(const estimation::FrameState& predicted, const estimat
     biasSigmas(prior_, rep.gyro_bias_sigma, rep.acc_bias_sigma);
 }
 
-MeasurementRequest Tracker::request(bool keyframe) const
+MeasurementRequest Tracker::request(bool keyframe, const estimation::FrameState& predicted) const
 {
     MeasurementRequest r;
     r.points = options_.temporal_landmarks;
     r.edge_field = keyframe;
     r.lines = keyframe && options_.factors.map_lines;
+    // The previous measurement is the previous state's frame (temporalLandmarks keeps them together).
+    if (options_.temporal_predicted_window && previous_)
+        r.T_cam_prevcam = (predicted.T_map_body * T_body_cam_).inverse() * (state_.T_map_body * T_body_cam_);
     return r;
 }
 
@@ -353,7 +409,8 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
 
     // 2. The frame's measurement starts on the measurement stage's thread; meanwhile the map alignment on keyframes
     // (its model stays alive until the window has used it).
-    std::unique_ptr<PendingMeasurement> pending = measurer_.start(frame, request(rep.keyframe), previous_, previous_t_);
+    std::unique_ptr<PendingMeasurement> pending =
+        measurer_.start(frame, request(rep.keyframe, predicted), previous_, previous_t_);
     estimation::WindowInput in;
     const MapAlignment alignment = rep.keyframe ? alignToMap(predicted, *pending, in, rep) : MapAlignment{};
     rep.alignment_misses = misses_;
@@ -366,6 +423,7 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     measureImageMotion(m);
     if (zeroVelocityUpdate(imu_standing)) rep.standing = true;
     const bool stereo_ok = gateStereo(m, alignment, gate, rep);
+    in.current = predicted;  // where the map terms look up the map's normals (solveWindow sets it again)
     addVisualTerms(frame, result.measurement, alignment, stereo_ok, gate.map_terms, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;
 

@@ -209,12 +209,24 @@ void Tracker::stereoMapPoints(const FrameMeasurement& m, std::vector<Eigen::Vect
 
 void Tracker::addStereoMapTerm(const FrameMeasurement& m, estimation::WindowInput& in) const
 {
-    estimation::MapDistanceTerm term;
-    term.field = distance_field_;
-    term.effective_points = options_.factors.stereo_map_effective_points;
-    term.truncation_m = options_.factors.stereo_map_truncation_m;
-    stereoMapPoints(m, term.p_cam, term.sigma_m);
-    if (term.p_cam.size() >= 10) in.map_distance_terms.push_back(std::move(term));
+    const MapFactorOptions& f = options_.factors;
+    std::vector<Eigen::Vector3d> p_cam;
+    std::vector<double> sigma_m;
+    stereoMapPoints(m, p_cam, sigma_m);
+    if (p_cam.size() < 10) return;
+    const Eigen::Isometry3d T_world_cam = in.current.T_map_body * T_body_cam_;  // the prediction
+    for (estimation::MapDistanceTerm& term : stereoMapTermsByTruncation(
+             p_cam, sigma_m, f.stereo_map_truncation_m, f.stereo_map_truncation_sigmas, f.stereo_map_effective_points))
+    {
+        term.field = distance_field_;
+        // The truncation keeps the whole sigma (how far off a point may be found); the weight its share across the
+        // surface.
+        if (f.stereo_map_sigma_along_normal)
+            for (size_t i = 0; i < term.p_cam.size(); ++i)
+                term.sigma_m[i] = sigmaAlongNormal(*distance_field_, T_world_cam, term.p_cam[i], term.sigma_m[i],
+                                                   f.stereo_map_sigma_m);
+        in.map_distance_terms.push_back(std::move(term));
+    }
 }
 
 bool Tracker::gateStereo(const FrameMeasurement& m, const MapAlignment& a, const StereoGate& gate,
@@ -259,7 +271,9 @@ void Tracker::addVisualTerms(const dataset::StereoFrame& frame, const std::share
     if (a.T_world_cam && f.map_points && points) addMapPoints(frame, m->left, *a.T_world_cam, in, rep);
     if (points && map_terms && options_.map_updates && f.stereo_map_factor && distance_field_ && stereo_ok)
         addStereoMapTerm(*m, in);
-    rep.stereo_map_points = in.map_distance_terms.empty() ? 0 : int(in.map_distance_terms[0].p_cam.size());
+    rep.stereo_map_points = 0;
+    for (const estimation::MapDistanceTerm& term : in.map_distance_terms)
+        rep.stereo_map_points += int(term.p_cam.size());
     // A frame whose stereo was left out is not the next frame's landmarks either: they start again from the next
     // good frame.
     if (points && stereo_ok)

@@ -46,6 +46,16 @@ void MapFactorOptions::declare(core::OptionTable& t)
           "all stereo points together count as this many independent observations");
     t.add("stereo_map_truncation_m", stereo_map_truncation_m, "m", Range::above(0),
           "points farther than this from the map do not pull (occluders, clutter)");
+    t.add("stereo_map_truncation_sigmas", stereo_map_truncation_sigmas, "", Range::atLeast(0),
+          "> 0: a point's truncation is at least this many of its own sigmas (stereo_map_sigma_m and its depth "
+          "noise), so that far points, whose depth error exceeds stereo_map_truncation_m, still pull; 0: "
+          "stereo_map_truncation_m for every point (off by default: measured on the simulated campus car only, "
+          "docs/benchmarks.md)");
+    t.add("stereo_map_sigma_along_normal", stereo_map_sigma_along_normal,
+          "a point's depth noise counts along the map's normal only (times |ray . normal| at the predicted pose): a "
+          "depth error moves a stereo point along its ray, so far points on the road or on a facade seen at a "
+          "grazing angle lie off their surface by a small share of it and hold the camera's height, roll and pitch "
+          "(off by default: measured on the simulated campus car only, docs/benchmarks.md)");
     t.add("stereo_map_max_depth_m", stereo_map_max_depth_m, "m", Range::above(0), "farther stereo points are left out");
     t.addEnum("stereo_map_points", stereo_map_points,
               {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},
@@ -129,7 +139,13 @@ void TrackerOptions::declare(core::OptionTable& t)
     t.add("max_correction_deg", max_correction_deg, "deg", Range::above(0), "the same for the rotation");
     t.add("temporal_landmarks", temporal_landmarks, "stereo landmarks between consecutive frames (odometry)");
     t.add("temporal_window_px", temporal_window_px, "px", Range::above(0),
-          "a current keypoint's match lies within this of the previous one");
+          "a current keypoint's match lies within this of the previous one (temporal_predicted_window: of where the "
+          "IMU prediction moves it)");
+    t.add("temporal_predicted_window", temporal_predicted_window,
+          "the temporal matching window is centred where the IMU's predicted camera motion moves each previous "
+          "keypoint (its stereo point; without one, its direction), not on the keypoint itself: a car at 10 m/s "
+          "moves 1 m between frames at 10 Hz, and near points move hundreds of pixels (off by default: measured on "
+          "the simulated campus car only, docs/benchmarks.md)");
     t.add("max_landmarks", max_landmarks, "", Range::atLeast(0), "temporal landmarks per frame at most");
     t.add("temporal_max_gap_s", temporal_max_gap_s, "s", Range::above(0),
           "no temporal landmarks between frames farther apart than this (dropped frames): the windowed matching "

@@ -76,6 +76,9 @@ struct GeometricLocalizationOptions : public core::DeclaredOptions
     int refine_iterations = 8;
     std::vector<double> polish_truncations_m{0.1, 0.05};
     double inlier_m = 0.06;
+    /** inlierRatio: the depth part of an inlier's tolerance along the map's normal (a depth error moves a point along
+     *  its ray, and off a surface by the ray's share along the normal), not whole. */
+    bool check_depth_along_normal = false;
     /** Between the inlier ratios at true and at wrong poses (docs/experiments.md). */
     double min_inlier_ratio = 0.7;
     double ambiguity_ratio = 0.9;
@@ -181,7 +184,8 @@ class GeometricLocalizer
     {
         return place_stereo_.compute(left_raw, right_raw);
     }
-    /** Share of the points the map explains at T_world_cam (within inlier_m + 2 depth sigmas): how a tracker
+    /** Share of the points the map explains at T_world_cam (within inlier_m + 2 depth sigmas; with
+     *  check_depth_along_normal, + 2 depth sigmas x |the ray's direction . the map's normal there|): how a tracker
      *  checks, independently of its own map term, that it is where it believes it is. */
     double inlierRatio(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Isometry3d& T_world_cam) const;
 
@@ -221,6 +225,12 @@ class GeometricLocalizer
     mutable std::unique_ptr<PlaceIndex> places_;
     mutable double places_build_s_ = 0;
 };
+
+/** Whether a stereo point at p_world (seen along ray_world) is explained by the map: within inlier_m +
+ *  depth_tolerance_m of it, or with along_normal within inlier_m + depth_tolerance_m x |cos| of the angle between the
+ *  ray and the field's gradient (the map's normal), the whole tolerance where the field has no gradient. */
+bool depthAwareInlier(const map::DistanceField& field, const Eigen::Vector3f& p_world, const Eigen::Vector3f& ray_world,
+                      double inlier_m, double depth_tolerance_m, bool along_normal);
 
 /** The candidate camera positions of `o` on `map` (grid order), as the localizer samples them. InputError naming
  *  `input` when there is none. */

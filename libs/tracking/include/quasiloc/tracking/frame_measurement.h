@@ -6,8 +6,10 @@
 // map at its prediction; the estimator claims the edge field when it needs it (PendingMeasurement::edgeField) and
 // the whole measurement when it needs the rest (PendingMeasurement::get), helping with what is left meanwhile. Who
 // runs a task changes only its timing.
+#include <Eigen/Geometry>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <quasiloc/core/ordered_tasks.h>
 #include <quasiloc/core/stereo_rig.h>
 #include <quasiloc/core/worker_thread.h>
@@ -49,7 +51,16 @@ struct MeasurementRequest
     bool points = true;       ///< stereo and temporal points, dense stereo (temporal_landmarks)
     bool edge_field = false;  ///< a keyframe aligned to the map
     bool lines = false;       ///< a keyframe with map_lines
+    /** temporal_predicted_window: the previous frame's left camera in this frame's left camera frame, as predicted
+     *  (T_cam_prevcam); the temporal matching looks for each previous keypoint where this motion moves it. */
+    std::optional<Eigen::Isometry3d> T_cam_prevcam;
 };
+
+/** Where the camera motion T_cam_prevcam moves each of `previous`'s left keypoints in the current left image: its
+ *  stereo point moved and projected; a keypoint without a stereo point (or one that leaves the front of the camera)
+ *  moved as a point at infinity (rotation only); one that projects nowhere stays where it was. */
+std::vector<cv::Point2f> predictedKeypoints(const FrameMeasurement& previous, const core::CameraModel& camera,
+                                            const Eigen::Isometry3d& T_cam_prevcam);
 
 /** A measurement under way. Destroyed before it is taken, it still waits for the worker's tasks. */
 class PendingMeasurement
@@ -102,9 +113,11 @@ class FrameMeasurer
                                               bool concurrent);
     bool guidedStereo() const { return guided_stereo_ && denseStereo(); }
     void addPointTasks(const dataset::StereoFrame& frame, PendingMeasurement& p,
-                       std::shared_ptr<const FrameMeasurement> previous, double previous_t);
+                       std::shared_ptr<const FrameMeasurement> previous, double previous_t,
+                       const std::optional<Eigen::Isometry3d>& motion);
     void matchStereo(FrameMeasurement& m) const;
-    void matchTemporal(FrameMeasurement& m, const FrameMeasurement* previous, double previous_t) const;
+    void matchTemporal(FrameMeasurement& m, const FrameMeasurement* previous, double previous_t,
+                       const std::optional<Eigen::Isometry3d>& T_cam_prevcam) const;
     void edgeField(const cv::Mat& image, FrameMeasurement& m) const;
 
     TrackerOptions options_;

@@ -74,6 +74,22 @@ struct TrackStep
     const std::vector<Eigen::Vector3f>& denseCloud() const;
 };
 
+/** The stereo surface term's points as window terms, one per truncation (a window term has one truncation for all
+ *  its points): a point's truncation is truncation_m, or with truncation_sigmas > 0 at least that many of its sigma,
+ *  rounded up to truncation_m times a power of sqrt(2). The terms share effective_points in proportion to their
+ *  points, so that together they weigh what one term of all the points would. Fields left unset. */
+std::vector<estimation::MapDistanceTerm> stereoMapTermsByTruncation(const std::vector<Eigen::Vector3d>& p_cam,
+                                                                    const std::vector<double>& sigma_m,
+                                                                    double truncation_m, double truncation_sigmas,
+                                                                    double effective_points);
+
+/** A stereo point's sigma against the map with its depth noise along the map's normal only: sigma_m =
+ *  hypot(map_sigma_m, depth sigma) becomes hypot(map_sigma_m, depth sigma x |cos|) of the angle between the point's
+ *  ray and the map's normal at T_world_cam * p_cam (the steepest of the distance field's gradients probed 0.12 m off
+ *  the point along each axis; a depth error moves a point along its ray); sigma_m where no surface is that near. */
+double sigmaAlongNormal(const map::DistanceField& field, const Eigen::Isometry3d& T_world_cam,
+                        const Eigen::Vector3d& p_cam, double sigma_m, double map_sigma_m);
+
 class Tracker
 {
    public:
@@ -147,8 +163,9 @@ class Tracker
     /** The IMU's prediction of the frame's state, and the alignment prior's sigmas into `rep`. */
     estimation::FrameState predict(const dataset::StereoFrame& frame, estimation::ImuPreintegration& imu,
                                    FrameReport& rep) const;
-    /** The measurement stage's request for this frame. */
-    MeasurementRequest request(bool keyframe) const;
+    /** The measurement stage's request for this frame (temporal_predicted_window: with the camera motion from the
+     *  previous state to `predicted`). */
+    MeasurementRequest request(bool keyframe, const estimation::FrameState& predicted) const;
 
     // Map terms (tracker_map_terms.cpp).
     /** Direct map alignment from the prediction: the map rendered at the prediction and its edge model, aligned to
@@ -164,7 +181,7 @@ class Tracker
     void addVisualTerms(const dataset::StereoFrame& frame, const std::shared_ptr<const FrameMeasurement>& m,
                         const MapAlignment& a, bool stereo_ok, bool map_terms, estimation::WindowInput& in,
                         FrameReport& rep);
-    /** The stereo points' distance to the map's surfaces as a window factor (stereo_map_factor). */
+    /** The stereo points' distance to the map's surfaces as window factors (stereo_map_factor). */
     void addStereoMapTerm(const FrameMeasurement& m, estimation::WindowInput& in) const;
     /** The points that term and the stereo gate use (the dense cloud, or the sparse matches) with their sigmas. */
     void stereoMapPoints(const FrameMeasurement& m, std::vector<Eigen::Vector3d>& p_cam,

@@ -70,6 +70,8 @@ struct MapFactorOptions : public core::DeclaredOptions
     bool stereo_map_factor = true;
     double stereo_map_sigma_m = 0.02, stereo_disparity_sigma_px = 0.5, stereo_map_effective_points = 50;
     double stereo_map_truncation_m = 0.15, stereo_map_max_depth_m = 6;
+    double stereo_map_truncation_sigmas = 0;
+    bool stereo_map_sigma_along_normal = false;
     StereoMapPoints stereo_map_points = StereoMapPoints::Dense;
     bool map_lines = false;
     double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;
@@ -100,6 +102,7 @@ struct TrackerOptions : public core::DeclaredOptions
     double max_correction_m = 0.15, max_correction_deg = 1.5;
     bool temporal_landmarks = true;
     double temporal_window_px = 60;
+    bool temporal_predicted_window = false;
     double temporal_max_gap_s = 0.1;
     int max_landmarks = 150;
     bool zero_velocity_updates = false;
