@@ -1,4 +1,5 @@
 // GlobalInitializer: two geometric localizations and the IMU between them (global_initialization.h).
+#include <mrpt/system/CTicTac.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/pose_parametrization.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <tuple>
 
 namespace quasiloc::tracking
 {
@@ -56,7 +58,8 @@ std::optional<reloc::SearchSphere> GlobalInitializer::searchSphere(
 
 reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFrame& frame,
                                                          const std::optional<reloc::SearchSphere>& near,
-                                                         std::string& note, AmbiguousFix& ambiguous)
+                                                         std::string& note, AmbiguousFix& ambiguous,
+                                                         std::vector<Eigen::Vector3f>& points_cam)
 {
     std::vector<Eigen::Vector3d> acc;
     if (const auto still = options_.static_initialization ? static_.estimate() : std::nullopt)
@@ -64,7 +67,14 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
     else
         for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
-    reloc::GeometricLocalization r = localizer_.localize(frame.left, frame.right, up_cam, near ? &*near : nullptr);
+    // One stereo matching per attempt: the search and the remembered places' rescoring use the same points.
+    mrpt::system::CTicTac clock;
+    std::vector<Eigen::Vector3f> place_points;
+    std::tie(points_cam, place_points) = localizer_.queryClouds(frame.left, frame.right);
+    const double ms_cloud = clock.Tac() * 1e3;
+    reloc::GeometricLocalization r = localizer_.localizePoints(points_cam, up_cam, near ? &*near : nullptr,
+                                                               place_points.empty() ? nullptr : &place_points);
+    r.ms_cloud = ms_cloud;
     ambiguous = {};
     if (!r.ambiguous) return r;
     ambiguous.poses = {r.T_world_cam};
@@ -152,12 +162,11 @@ void GlobalInitializer::carryRemembered(const std::vector<dataset::ImuSample>& s
     remembered_ = std::move(kept);
 }
 
-void GlobalInitializer::preferRemembered(const dataset::StereoFrame& frame,
+void GlobalInitializer::preferRemembered(const std::vector<Eigen::Vector3f>& points, double t,
                                          const std::optional<reloc::SearchSphere>& near,
                                          reloc::GeometricLocalization& r, AmbiguousFix& ambiguous, std::string& note)
 {
     if (remembered_.empty()) return;
-    const std::vector<Eigen::Vector3f> points = localizer_.stereoPoints(frame.left, frame.right);
     std::vector<RememberedPlace> kept;
     for (RememberedPlace& p : remembered_)
     {
@@ -175,7 +184,7 @@ void GlobalInitializer::preferRemembered(const dataset::StereoFrame& frame,
         kept.erase(std::remove_if(kept.begin(), kept.end(),
                                   [&](const RememberedPlace& k) { return !differentPlaces(k.place.T_world_cam, T); }),
                    kept.end());
-        kept.push_back({{T, ratio, p.place.t}, frame.timestamp});
+        kept.push_back({{T, ratio, p.place.t}, t});
     }
     remembered_ = std::move(kept);
     std::vector<ScoredPlace> scored;
@@ -387,7 +396,8 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     std::string appearance_note;
     AmbiguousFix ambiguous;
     const std::optional<reloc::SearchSphere> near = searchSphere(frame.timestamp, odometry);
-    attempt.result = localize(frame, near, appearance_note, ambiguous);
+    std::vector<Eigen::Vector3f> points_cam;
+    attempt.result = localize(frame, near, appearance_note, ambiguous, points_cam);
     if (near && (prior_ || odometry)) attempt.search_radius_m = near->radius_m;
     attempt.odometry = odometry;
     if (odometry) settleByPrediction(attempt.result, ambiguous, *odometry, appearance_note);
@@ -408,7 +418,7 @@ std::optional<GlobalInitialState> GlobalInitializer::feed(const dataset::StereoF
     }
     if (!odometry && options_.remembered_places > 0)
     {  // the odometry's relocalization settles by its prediction instead
-        preferRemembered(frame, near, attempt.result, ambiguous, appearance_note);
+        preferRemembered(points_cam, frame.timestamp, near, attempt.result, ambiguous, appearance_note);
         remember(attempt.result, frame.timestamp);
     }
     if (anchor_ && !attempt.result.localized && attempt.result.ambiguous)

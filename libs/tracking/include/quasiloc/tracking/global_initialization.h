@@ -254,18 +254,20 @@ class GlobalInitializer
     /** An ambiguous fix settled by the odometry (settleByOdometry), unless the image preferred another place. */
     bool settleByPrediction(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous,
                             const OdometryPrediction& odometry, std::string& note) const;
-    /** The frame localized within `near` (searchSphere at its time). */
+    /** The frame localized within `near` (searchSphere at its time); its stereo points (left camera frame) into
+     *  `points_cam`. */
     reloc::GeometricLocalization localize(const dataset::StereoFrame& frame,
                                           const std::optional<reloc::SearchSphere>& near, std::string& note,
-                                          AmbiguousFix& ambiguous);
+                                          AmbiguousFix& ambiguous, std::vector<Eigen::Vector3f>& points_cam);
     /** With an anchor: an ambiguous fix is taken when exactly one of its places closes the pair with the anchor and
      *  the image (if scored) prefers that place too. */
     bool settleByAnchor(reloc::GeometricLocalization& r, const AmbiguousFix& ambiguous, double t,
                         std::string& note) const;
-    /** Refines the remembered places against the frame and replaces the search's answer by one that explains clearly
-     *  more (preferredRememberedPlace); places the frame no longer supports are forgotten. */
-    void preferRemembered(const dataset::StereoFrame& frame, const std::optional<reloc::SearchSphere>& near,
-                          reloc::GeometricLocalization& r, AmbiguousFix& ambiguous, std::string& note);
+    /** Refines the remembered places against the frame's stereo points and replaces the search's answer by one that
+     *  explains clearly more (preferredRememberedPlace); places the frame no longer supports are forgotten. */
+    void preferRemembered(const std::vector<Eigen::Vector3f>& points_cam, double t,
+                          const std::optional<reloc::SearchSphere>& near, reloc::GeometricLocalization& r,
+                          AmbiguousFix& ambiguous, std::string& note);
     /** Adds the attempt's answer to the remembered places (replacing the same place; the best remembered_places
      *  kept). */
     void remember(const reloc::GeometricLocalization& r, double t);
