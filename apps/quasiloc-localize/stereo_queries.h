@@ -85,6 +85,7 @@ class StereoQueries
     std::optional<size_t> last_span_index_;
     double last_span_t_ = 0;
     double span_work_ms_ = 0;                ///< odometry and clouds since the last query
+    double last_span_work_ms_ = 0;           ///< that work, of the last query
     int span_steps_ = 0, span_refused_ = 0;  ///< odometry steps since the last query, and those refused
     std::string last_span_;                  ///< the last query's span, for describeLast
     std::string last_refusal_;               ///< why the odometry last refused a step since the last query
