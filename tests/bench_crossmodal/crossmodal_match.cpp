@@ -49,13 +49,7 @@ std::vector<Keypoint> selectKeypoints(const quasi::QuasiImage& q, const std::arr
                                       const Eigen::Isometry3d& T_world_true, double t_m, double rot_deg,
                                       const MatchBenchOptions& o)
 {
-    cv::Mat valid01, share;
-    cv::Mat(q.valid != 0).convertTo(valid01, CV_32F, 1.0 / 255.0);
-    cv::boxFilter(valid01, share, CV_32F, cv::Size(2 * margin + 1, 2 * margin + 1));
-    cv::Mat mask = (share >= o.min_valid_share) & (q.sparse != 0) & (q.provenance >= 0);
-    cv::Mat border = cv::Mat::zeros(mask.size(), CV_8U);
-    border(cv::Rect(margin, margin, mask.cols - 2 * margin, mask.rows - 2 * margin)).setTo(255);
-    mask &= border;
+    const cv::Mat mask = quasi::keypointSupportMask(q, margin, o.min_valid_share);
     std::vector<cv::Point> pts = corners(ch[1], o.keypoints / 2, mask, o.min_keypoint_distance_px);
     for (const cv::Point& p : corners(ch[2], o.keypoints - int(pts.size()), mask, o.min_keypoint_distance_px))
     {

@@ -26,13 +26,7 @@ std::vector<MapKeypoint> mapKeypoints(const quasi::QuasiImage& q, const cv::Mat&
                                       const Eigen::Isometry3d& T_cam_world, const CrossModalPointOptions& o)
 {
     if (q.valid.cols <= 2 * margin || q.valid.rows <= 2 * margin || o.keypoints <= 0) return {};
-    cv::Mat valid01, share;
-    cv::Mat(q.valid != 0).convertTo(valid01, CV_32F, 1.0 / 255.0);
-    cv::boxFilter(valid01, share, CV_32F, cv::Size(2 * margin + 1, 2 * margin + 1));
-    cv::Mat mask = (share >= o.min_valid_share) & (q.sparse != 0) & (q.provenance >= 0);
-    cv::Mat border = cv::Mat::zeros(mask.size(), CV_8U);
-    border(cv::Rect(margin, margin, mask.cols - 2 * margin, mask.rows - 2 * margin)).setTo(255);
-    mask &= border;
+    const cv::Mat mask = quasi::keypointSupportMask(q, margin, o.min_valid_share);
     std::vector<cv::Point2f> corners;
     cv::goodFeaturesToTrack(channel, corners, o.keypoints, 0.01, o.min_keypoint_distance_px, mask, 5);
     std::vector<MapKeypoint> out;

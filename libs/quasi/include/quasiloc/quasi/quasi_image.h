@@ -58,4 +58,9 @@ struct QuasiImage
     int height() const { return bgr.rows; }
 };
 
+/** Where a keypoint of q can stand and its descriptor be read: pixels a map point won (sparse, with provenance), at
+ *  least `margin` from the border, whose (2 margin + 1)^2 neighbourhood is at least min_valid_share valid. CV_8UC1,
+ *  255 where it can. */
+cv::Mat keypointSupportMask(const QuasiImage& q, int margin, double min_valid_share);
+
 }  // namespace quasiloc::quasi

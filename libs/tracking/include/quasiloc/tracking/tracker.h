@@ -139,7 +139,8 @@ class Tracker
     TrackEstimate start(double t, const Eigen::Isometry3d& T_world_cam0, const Eigen::Vector3d& v_world,
                         const dataset::StereoFrame* frame, double sigma_m, double sigma_deg, double sigma_v,
                         const ImuBiasPrior& biases);
-    /** The standstill since the start (static_initialization): true while it lasts (the prior is then updated). */
+    /** The standstill since the start (static_initialization): true while it lasts (the prior is then updated).
+     *  It ends when the IMU or the image (the previous frame's keypoint motion) says the platform moves. */
     bool updateStandstill(const dataset::StereoFrame& frame);
     /** While the platform has stood still since the start (static_initialization): the previous state's prior takes
      *  the standing span's gyroscope bias and a zero velocity (as OpenVINS's zero-velocity update), so a start
