@@ -8,6 +8,8 @@
 #include <quasiloc/map/lidar_map.h>
 #include <quasiloc/tracking/edge_trust.h>
 
+#include "floor_wall_scene.h"
+
 using namespace quasiloc;
 
 TEST(EdgeTrust, TheWeightFallsWithTheDisagreementInSigmas)
@@ -23,20 +25,11 @@ TEST(EdgeTrust, TheWeightFallsWithTheDisagreementInSigmas)
 TEST(EdgeTrust, AnEdgeOptimumOffTheStereoSurfacesIsWeighedDownAndThenLeftOut)
 {
     // A floor and a wall 2 m ahead of a camera looking along world x; stereo points on both, 2 cm sigmas.
-    map::LidarMap map;
-    const float s = 0.02f;
-    for (float x = -1; x <= 2; x += s)
-        for (float y = -1.5f; y <= 1.5f; y += s) map.addPoint(x, y, 0, 0.5f);
-    for (float y = -1.5f; y <= 1.5f; y += s)
-        for (float z = 0; z <= 2; z += s) map.addPoint(2, y, z, 0.5f);
+    const map::LidarMap map = tracking::test::floorAndWall(-1, 2, 2, 1.5f, 2, 0.02f);
     map::DistanceFieldOptions o;
     o.voxel_m = 0.02;
     const map::DistanceField field = map::DistanceField::build(map, o);
-    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-    Eigen::Matrix3d R;  // camera z -> world x, camera x -> world -y, camera y -> world -z
-    R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-    T_world_cam.linear() = R;
-    T_world_cam.translation() = Eigen::Vector3d(0, 0, 1.0);
+    const Eigen::Isometry3d T_world_cam = tracking::test::cameraAlongX(1.0);
     tracking::StereoSurface stereo;  // the window's defaults: truncation 0.15 m, 50 effective points
     for (size_t i = 0; i < map.size(); i += 23)
     {

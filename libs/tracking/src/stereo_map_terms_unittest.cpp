@@ -6,6 +6,8 @@
 #include <quasiloc/map/distance_field.h>
 #include <quasiloc/tracking/tracker.h>
 
+#include "floor_wall_scene.h"
+
 using namespace quasiloc;
 
 TEST(StereoMapTerms, WithoutSigmasOneTermAtTheFixedTruncation)
@@ -50,20 +52,11 @@ TEST(StereoMapTerms, FarPointsGetATruncationOfTheirSigmas)
 TEST(StereoMapTerms, TheDepthNoiseCountsAlongTheMapsNormal)
 {
     // A road (z = 0) and a wall ahead (x = 30); a camera 1.65 m above the road looking along world x.
-    map::LidarMap map;
-    const float s = 0.04f;
-    for (float x = 0; x <= 32; x += s)
-        for (float y = -3; y <= 3; y += s) map.addPoint(x, y, 0, 0.5f);
-    for (float y = -3; y <= 3; y += s)
-        for (float z = 0; z <= 4; z += s) map.addPoint(30, y, z, 0.5f);
+    const map::LidarMap map = tracking::test::floorAndWall(0, 32, 30, 3, 4, 0.04f);
     map::DistanceFieldOptions o;
     o.voxel_m = 0.04;
     const map::DistanceField field = map::DistanceField::build(map, o);
-    Eigen::Isometry3d T_world_cam = Eigen::Isometry3d::Identity();
-    Eigen::Matrix3d R;  // camera z -> world x, camera x -> world -y, camera y -> world -z
-    R << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-    T_world_cam.linear() = R;
-    T_world_cam.translation() = Eigen::Vector3d(0, 0, 1.65);
+    const Eigen::Isometry3d T_world_cam = tracking::test::cameraAlongX(1.65);
     const double map_sigma = 0.02, depth_sigma = 0.26, sigma = std::hypot(map_sigma, depth_sigma);
     // The road 20 m ahead, seen 4.7 degrees below the horizon: a share of 0.082 of the depth noise.
     const Eigen::Vector3d road_cam(0, 1.65, 20);
