@@ -120,23 +120,15 @@ std::vector<Eigen::Vector3d> candidatePositions(const map::LidarMap& map, const 
 GeometricLocalizer::~GeometricLocalizer() = default;
 
 GeometricLocalization GeometricLocalizer::localize(const cv::Mat& left_raw, const cv::Mat& right_raw,
-                                                   const Eigen::Vector3d& up_cam, const SearchSphere* near) const
+                                                   const Eigen::Vector3d& up_cam, const SearchSphere* near,
+                                                   std::vector<Eigen::Vector3f>* points_cam) const
 {
     const auto t0 = Clock::now();
-    if (!retrieval_)
-    {
-        const std::vector<Eigen::Vector3f> points = stereo_.compute(left_raw, right_raw);
-        const double ms_cloud = msSince(t0);
-        GeometricLocalization r = localizePoints(points, up_cam, near);
-        r.ms_cloud = ms_cloud;
-        return r;
-    }
-    // One matching for both clouds: the geometric check's and the place profile's (farther).
-    const StereoDisparity d = stereo_.disparity(left_raw, right_raw);
-    const std::vector<Eigen::Vector3f> points = stereo_.points(d), place_points = place_stereo_.points(d);
+    auto [points, place_points] = queryClouds(left_raw, right_raw);
     const double ms_cloud = msSince(t0);
-    GeometricLocalization r = localizePoints(points, up_cam, near, &place_points);
+    GeometricLocalization r = localizePoints(points, up_cam, near, retrieval_ ? &place_points : nullptr);
     r.ms_cloud = ms_cloud;
+    if (points_cam) *points_cam = std::move(points);
     return r;
 }
 
@@ -144,6 +136,7 @@ std::pair<std::vector<Eigen::Vector3f>, std::vector<Eigen::Vector3f>> GeometricL
     const cv::Mat& left_raw, const cv::Mat& right_raw) const
 {
     if (!retrieval_) return {stereo_.compute(left_raw, right_raw), {}};
+    // One matching for both clouds: the geometric check's and the place profile's (farther).
     const StereoDisparity d = stereo_.disparity(left_raw, right_raw);
     return {stereo_.points(d), place_stereo_.points(d)};
 }

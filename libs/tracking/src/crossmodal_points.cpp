@@ -1,5 +1,6 @@
 // Map points associated across the modality gap by the orientation field (crossmodal_points.h).
 #include <quasiloc/tracking/crossmodal_points.h>
+#include <quasiloc/tracking/map_points.h>
 
 #include <algorithm>
 #include <cmath>
@@ -223,14 +224,9 @@ void appendAxisLineFactors(const std::vector<CrossModalPointAssociation>& associ
 int countCorrect(const std::vector<CrossModalPointAssociation>& associations, const core::CameraModel& camera,
                  const Eigen::Isometry3d& T_world_cam_true, double correct_px)
 {
-    const Eigen::Isometry3d T_cam_world = T_world_cam_true.inverse();
-    int n = 0;
-    for (const CrossModalPointAssociation& a : associations)
-    {
-        Eigen::Vector2d u;
-        n += camera.project(T_cam_world * a.p_map[size_t(a.nominal())], u) && (u - a.px).norm() <= correct_px;
-    }
-    return n;
+    std::vector<estimation::PointMatch> nominal;
+    for (const CrossModalPointAssociation& a : associations) nominal.push_back({a.px, a.p_map[size_t(a.nominal())]});
+    return countCorrectMatches(nominal, camera, T_world_cam_true, correct_px);
 }
 
 }  // namespace quasiloc::tracking

@@ -1,5 +1,4 @@
 // GlobalInitializer: two geometric localizations and the IMU between them (global_initialization.h).
-#include <mrpt/system/CTicTac.h>
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/estimation/pose_parametrization.h>
@@ -9,7 +8,6 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
-#include <tuple>
 
 namespace quasiloc::tracking
 {
@@ -68,13 +66,8 @@ reloc::GeometricLocalization GlobalInitializer::localize(const dataset::StereoFr
         for (const auto& s : recent_imu_) acc.push_back(s.acc);
     const Eigen::Vector3d up_cam = reloc::upInCamera(acc, T_body_cam_.linear().transpose());
     // One stereo matching per attempt: the search and the remembered places' rescoring use the same points.
-    mrpt::system::CTicTac clock;
-    std::vector<Eigen::Vector3f> place_points;
-    std::tie(points_cam, place_points) = localizer_.queryClouds(frame.left, frame.right);
-    const double ms_cloud = clock.Tac() * 1e3;
-    reloc::GeometricLocalization r = localizer_.localizePoints(points_cam, up_cam, near ? &*near : nullptr,
-                                                               place_points.empty() ? nullptr : &place_points);
-    r.ms_cloud = ms_cloud;
+    reloc::GeometricLocalization r =
+        localizer_.localize(frame.left, frame.right, up_cam, near ? &*near : nullptr, &points_cam);
     ambiguous = {};
     if (!r.ambiguous) return r;
     ambiguous.poses = {r.T_world_cam};

@@ -158,9 +158,11 @@ class GeometricLocalizer
                                                                 const std::string& input);
     ~GeometricLocalizer();
 
-    /** Localizes one raw stereo pair; up_cam: world +z (the opposite of gravity) in the left camera frame. */
+    /** Localizes one raw stereo pair; up_cam: world +z (the opposite of gravity) in the left camera frame.
+     *  points_cam (optional): the pair's query points, for a caller that scores other poses on them too. */
     GeometricLocalization localize(const cv::Mat& left_raw, const cv::Mat& right_raw, const Eigen::Vector3d& up_cam,
-                                   const SearchSphere* near = nullptr) const;
+                                   const SearchSphere* near = nullptr,
+                                   std::vector<Eigen::Vector3f>* points_cam = nullptr) const;
     /** The same from query points already in the left camera frame; place_points: the pair's points for the place
      *  profile (placeStereoPoints; nullptr: points_cam). */
     GeometricLocalization localizePoints(const std::vector<Eigen::Vector3f>& points_cam, const Eigen::Vector3d& up_cam,
