@@ -7,6 +7,7 @@
 #include <quasiloc/core/error.h>
 #include <quasiloc/core/pose.h>
 #include <quasiloc/map/surface_thickness.h>
+#include <quasiloc/tracking/along_track_search.h>
 #include <quasiloc/tracking/tracker.h>
 #include <quasiloc/tracking/zero_velocity_update.h>
 
@@ -423,12 +424,23 @@ TrackStep Tracker::step(const dataset::StereoFrame& frame, const StereoGate& gat
     measureImageMotion(m);
     if (zeroVelocityUpdate(imu_standing)) rep.standing = true;
     const bool stereo_ok = gateStereo(m, alignment, gate, rep);
-    in.current = predicted;  // where the map terms look up the map's normals (solveWindow sets it again)
+    // The window starts from the prediction, or where the search along the street puts it.
+    estimation::FrameState start = predicted;
+    if (options_.factors.along_track_range_m > 0 && distance_field_ && stereo_ok && gate.map_terms &&
+        options_.map_updates)
+    {
+        std::vector<Eigen::Vector3d> p_cam;
+        std::vector<double> sigma_m;
+        stereoMapPoints(m, p_cam, sigma_m);
+        correctAlongTrack(*distance_field_, options_.factors, T_body_cam_, p_cam, sigma_m, state_, prior_, start,
+                          in.pose_measurements);
+    }
+    in.current = start;  // where the map terms look up the map's normals (solveWindow sets it again)
     addVisualTerms(frame, result.measurement, alignment, stereo_ok, gate.map_terms, in, rep);
     rep.ms_visual = tic.Tac() * 1e3;
 
     // 4. The two-frame window.
-    solveWindow(predicted, imu, alignment, in, rep);
+    solveWindow(start, imu, alignment, in, rep);
     result.estimate = {state_, prior_};
     rep.ms_total = total.Tac() * 1e3;
     return result;

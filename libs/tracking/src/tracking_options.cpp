@@ -56,6 +56,24 @@ void MapFactorOptions::declare(core::OptionTable& t)
           "depth error moves a stereo point along its ray, so far points on the road or on a facade seen at a "
           "grazing angle lie off their surface by a small share of it and hold the camera's height, roll and pitch "
           "(off by default: measured on the simulated campus car only, docs/benchmarks.md)");
+    t.add("along_track_range_m", along_track_range_m, "m", Range::atLeast(0),
+          "> 0: on every frame with the stereo surface term, its points are shifted along the camera's horizontal "
+          "viewing direction by up to this much on each side of the prediction and scored against the map; a clear, "
+          "unique minimum away from the prediction (a wall ahead, a crossing street) measures the position along the "
+          "street, which the truncated surface term cannot reach once the track has drifted along a straight street "
+          "(along_track_search.h; 0: off, the default: measured on the simulated campus car only, docs/benchmarks.md)");
+    t.add("along_track_step_m", along_track_step_m, "m", Range::above(0), "between the searched shifts");
+    t.add("along_track_smooth_m", along_track_smooth_m, "m", Range::atLeast(0),
+          "each shift's score is the mean of the scores of the shifts within this of it (a single shift's score is "
+          "noisy: the best of many lies below the prediction's by chance)");
+    t.add("along_track_sigma_m", along_track_sigma_m, "m", Range::above(0),
+          "the found position's sigma along the searched direction");
+    t.add("along_track_min_gain", along_track_min_gain, "", Range::atLeast(0),
+          "chi-square (in stereo_map_effective_points observations) the best shift gains over the prediction and "
+          "over every shift a metre or more from it");
+    t.add("along_track_velocity_sigma_m_s", along_track_velocity_sigma_m_s, "m/s", Range::atLeast(0),
+          "with a fix, the previous state's velocity along the direction widens by this (its position by the shift): "
+          "the drift the fix found came from them");
     t.add("stereo_map_max_depth_m", stereo_map_max_depth_m, "m", Range::above(0), "farther stereo points are left out");
     t.addEnum("stereo_map_points", stereo_map_points,
               {{"dense", StereoMapPoints::Dense}, {"sparse", StereoMapPoints::Sparse}},

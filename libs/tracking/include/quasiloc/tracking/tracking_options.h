@@ -72,6 +72,9 @@ struct MapFactorOptions : public core::DeclaredOptions
     double stereo_map_truncation_m = 0.15, stereo_map_max_depth_m = 6;
     double stereo_map_truncation_sigmas = 0;
     bool stereo_map_sigma_along_normal = false;
+    /** along_track_search.h: the frame's stereo points searched along the street against the map (0: off). */
+    double along_track_range_m = 0, along_track_step_m = 0.1, along_track_sigma_m = 0.3, along_track_min_gain = 9;
+    double along_track_velocity_sigma_m_s = 0.5, along_track_smooth_m = 0;
     StereoMapPoints stereo_map_points = StereoMapPoints::Dense;
     bool map_lines = false;
     double line_sigma_px = 1.5, line_window_sigmas = 3, line_window_min_px = 2, line_window_max_px = 3;
