@@ -1,5 +1,6 @@
 #include <quasiloc/tracking/track_monitor.h>
 
+#include <algorithm>
 #include <iomanip>
 
 namespace quasiloc::tracking
@@ -24,6 +25,7 @@ const char* toString(CheckOutcome o)
         case CheckOutcome::Passed: return "passed";
         case CheckOutcome::PassedUnconfirmed: return "passed, not confirming the restart (edges poorer than usual)";
         case CheckOutcome::Failed: return "failed";
+        case CheckOutcome::StereoHeld: return "not judged: the stereo fits the map nowhere near, it stays held";
     }
     return "?";
 }
@@ -84,7 +86,7 @@ StereoGate TrackMonitor::stereoGate() const
     const bool odometry = options_.odometry_while_lost && health_ == TrackHealth::Lost;
     g.map_terms = !odometry;
     if (health_ == TrackHealth::Lost) g.velocity_random_walk = options_.lost_velocity_random_walk;
-    if (options_.stereo_check_max_sigmas <= 0 || odometry) return g;
+    if (options_.stereo_check_max_sigmas <= 0 || odometry || stereo_vouched_until_) return g;
     if (stereo_held_until_)
         g.max_sigmas = options_.stereo_check_release_sigmas;
     else if (edgesTrusted() && !input_fault_t_)
@@ -104,6 +106,7 @@ void TrackMonitor::holdStereo(const FrameReport& r)
                     "broken calibration?)"
                  << std::endl;
             stereo_held_since_ = r.t;
+            hold_judged_ = options_.stereo_hold_fit_below <= 0;
         }
         stereo_held_until_ = r.t + options_.stereo_check_hold_s;
     }
@@ -133,6 +136,7 @@ void TrackMonitor::releaseStereo()
 
 void TrackMonitor::frameTracked(const FrameReport& r)
 {
+    if (stereo_vouched_until_ && r.t >= *stereo_vouched_until_) stereo_vouched_until_.reset();
     if (input_fault_t_ && r.t >= *input_fault_t_)
     {
         flagUnverified(r.t - 1e-6);
@@ -175,15 +179,32 @@ void TrackMonitor::updateUsualFit(const FrameReport& r)
 
 bool TrackMonitor::checkDue(size_t n) const
 {
-    // A held stereo is the one the check would weigh: no check, unless the hold has lasted stereo_hold_max_s.
-    if (health_ == TrackHealth::Lost || (stereo_held_until_ && !hold_overlong_)) return false;
+    // A held stereo is the one the check would weigh: no check, unless the hold is yet to be judged or has lasted
+    // stereo_hold_max_s.
+    if (health_ == TrackHealth::Lost) return false;
+    if (stereo_held_until_ && !hold_overlong_) return !hold_judged_;
     return n % size_t(options_.check_every) == 0 || failed_checks_ > 0 || unverified_after_;
 }
 
 double TrackMonitor::checkAlignsBelow() const { return stereo_drifts_ ? 1.0 : options_.lost_explained_ratio; }
 
+bool TrackMonitor::judgeHeldStereo(const FrameReport& r, const CheckResult& c)
+{
+    hold_judged_ = true;
+    const double fit = c.refined ? std::max(c.explained, c.refined_explained) : c.explained;
+    if (fit < options_.stereo_hold_fit_below) return false;
+    // A desynchronized or miscalibrated stereo is bent out of the map's shape and fits it nowhere; this one fits.
+    out_ << "stereo check at t " << std::fixed << std::setprecision(3) << r.t << ": the rejected stereo fits the map ("
+         << std::setprecision(3) << fit << " explained): the pose is what disagrees; the stereo is released"
+         << std::endl;
+    releaseStereo();
+    stereo_vouched_until_ = r.t + options_.stereo_check_hold_s;
+    return true;
+}
+
 CheckOutcome TrackMonitor::checked(const FrameReport& r, const CheckResult& c)
 {
+    if (stereo_held_until_ && !hold_judged_ && !judgeHeldStereo(r, c)) return CheckOutcome::StereoHeld;
     const bool failed = c.refined && (c.refined_explained - c.explained >= options_.lost_min_gain ||
                                       c.explained < options_.lost_explained_floor);
     failed_checks_ = failed ? failed_checks_ + 1 : 0;

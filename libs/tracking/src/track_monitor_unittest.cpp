@@ -397,6 +397,42 @@ TEST(TrackMonitor, ACheckThatConfirmsAPoseAfterALongHoldReleasesTheStereo)
              {{0.2 - 1e-6, 3.2}}, {CheckOutcome::Passed});
 }
 
+TEST(TrackMonitor, ARejectedStereoThatFitsTheMapIsReleasedAndTheCheckJudgesThePose)
+{
+    // The check after a failed one: the gate rejects the stereo at the (wrong) edge pose, but aligned it fits the
+    // map, so the disagreement is the pose's. The stereo stays in, ungated, and the second failed check loses the
+    // track at once instead of a hold that no check would end.
+    TrackMonitorOptions o = testOptions();
+    o.stereo_hold_fit_below = 0.7;
+    runTable(o,
+             {{"start", start(0.0), H::Verified, 3, false, false},
+              {"stereo agrees", frame({0.1, true, 1.0}), H::Verified, 3, false, false},
+              {"stereo rejected: a check is due", frame({0.2, true, 5.0}), H::Doubted, 2, true, false},
+              {"fits when aligned: released, failed", check(0.5, 0.92), H::Doubted, 0, true, false},
+              {"ungated", frame({0.3, true, 5.0}), H::Doubted, 0, true, false},
+              {"failed twice: lost", check(0.5, 0.9), H::Doubted, 0, true, true},
+              {"search", searchBegun(), H::Lost, 0, false, false},
+              {"end", ended(), H::Lost, 0, false, false}},
+             {{0.0, INFINITY}}, {CheckOutcome::Failed, CheckOutcome::Failed});
+}
+
+TEST(TrackMonitor, ARejectedStereoThatFitsNowhereStaysHeld)
+{
+    // A desynchronized stereo: aligned from the tracked pose it still explains little of the map, so it is held
+    // and the check does not judge the pose with it.
+    TrackMonitorOptions o = testOptions();
+    o.stereo_hold_fit_below = 0.7;
+    runTable(o,
+             {{"start", start(0.0), H::Verified, 3, false, false},
+              {"stereo agrees", frame({0.1, true, 1.0}), H::Verified, 3, false, false},
+              {"stereo rejected: a check is due", frame({0.2, true, 5.0}), H::Doubted, 2, true, false},
+              {"fits nowhere: held", check(0.3, 0.4), H::Doubted, 2, false, false},
+              {"rejected at 1.2: renewed", frame({1.2, true, 2.5}), H::Doubted, 2, false, false},
+              {"agrees for 2 s: released", frame({3.3, true, 1.0}), H::Doubted, 3, true, false},
+              {"passed (frame 5: on schedule)", check(0.9, 0.9), H::Verified, 3, true, false}},
+             {{0.2 - 1e-6, 3.3}}, {CheckOutcome::StereoHeld, CheckOutcome::Passed});
+}
+
 TEST(TrackMonitor, ALostTrackAsksForAWiderVelocity)
 {
     TrackMonitorOptions o = testOptions();

@@ -299,6 +299,11 @@ void TrackMonitorOptions::declare(core::OptionTable& t)
           "a stereo hold (stereo_check_hold_s, renewed by every rejected frame) that has lasted this long makes the "
           "loss check due on every frame: it ends when a check confirms the pose (the stereo is released) or in a "
           "loss; 0: no bound (the default: measured on the simulated ground robot only)");
+    t.add("stereo_hold_fit_below", stereo_hold_fit_below, "", Range::between(0, 1),
+          "a rejected stereo is held only when it fits the map nowhere near: the loss check runs on the first rejected "
+          "frame and, when this share or more of the stereo is explained (at the tracked pose or aligned from it), "
+          "the stereo is sound and the pose is what disagrees: no hold, the stereo is not gated for "
+          "stereo_check_hold_s, and the check's verdict stands; 0: every rejection holds");
 }
 
 void TrackMonitorOptions::check(const std::string& input) const

@@ -26,6 +26,9 @@
 //                 hold has lasted stereo_hold_max_s (every rejected frame renews a hold, and a track drifting under
 //                 it would go unchecked): then a passed check releases the stereo and failed ones lose the track.
 //                 It aligns the stereo to the map when too little of it is explained, and always while it drifts.
+//                 With stereo_hold_fit_below it also runs on a hold's first frame: a rejected stereo that fits the map
+//                 near the tracked pose is sound (the pose is what disagrees), so it is released, not gated for
+//                 stereo_check_hold_s, and the check judges the pose; one that fits nowhere stays held.
 //   velocity      while Lost the gate asks the tracker to widen its velocity's uncertainty
 //                 (lost_velocity_random_walk): a lost track's velocity may have diverged.
 //   unverified    the stretches of the track no check confirmed, handed to the log as they close: from an input
@@ -63,7 +66,8 @@ enum class CheckOutcome
 {
     Passed,             ///< the pose is confirmed
     PassedUnconfirmed,  ///< passed, but after a restart the frame's edges fit worse than usual: not confirmed
-    Failed              ///< the stereo fits the map better elsewhere, or too little of it is explained
+    Failed,             ///< the stereo fits the map better elsewhere, or too little of it is explained
+    StereoHeld          ///< the stereo the gate rejected fits the map nowhere near: it is held, the pose not judged
 };
 const char* toString(CheckOutcome o);
 
@@ -120,6 +124,8 @@ class TrackMonitor
     void closeUnverified(double up_to_t);
     void holdStereo(const FrameReport& r);
     void releaseStereo();
+    /** The first check of a hold: false when the held stereo fits the map nowhere near (then it stays held). */
+    bool judgeHeldStereo(const FrameReport& r, const CheckResult& c);
     /** Frame r's stereo lies farther from the map than usual: unverified, and checks align until one passes. */
     void watchStereoDrift(const FrameReport& r);
     /** The running means of the edge fit and the stereo's distance to the map, over frames that agree. */
@@ -135,6 +141,8 @@ class TrackMonitor
     std::optional<double> stereo_held_until_;          ///< the stereo was left out: held until then
     std::optional<double> stereo_held_since_;          ///< the first rejected frame of the hold
     bool hold_overlong_ = false;                       ///< the hold has lasted stereo_hold_max_s: checks are due
+    bool hold_judged_ = true;                          ///< a check has weighed whether the held stereo fits the map
+    std::optional<double> stereo_vouched_until_;       ///< a check found the rejected stereo sound: ungated until
     double last_verified_t_ = 0;
     double restarted_at_t_ = 0;  ///< the fix the track restarted at (Restarted)
     int failed_checks_ = 0;      ///< in a row

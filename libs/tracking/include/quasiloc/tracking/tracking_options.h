@@ -154,6 +154,7 @@ struct TrackMonitorOptions : public core::DeclaredOptions
     bool odometry_while_lost = false;
     double lost_velocity_random_walk = 0;
     double stereo_hold_max_s = 0;
+    double stereo_hold_fit_below = 0;
     double input_gap_s = 0.15;  ///< three frame periods at 20 Hz
     void declare(core::OptionTable& t) override;
     void check(const std::string& input) const;
