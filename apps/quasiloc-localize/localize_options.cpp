@@ -13,8 +13,10 @@ void LocalizeRunOptions::declare(core::OptionTable& t)
     t.add("map_file", map_file, "the LiDAR map (mode stereo, and query_image = quasi)");
     t.add("output_dir", output_dir, "where the outputs go");
     t.add("modes", modes,
-          "any of fast, full (the left image against the database, in that budget) and stereo (the raw stereo pair's "
-          "geometry against the map, [GeometricLocalization])");
+          "any of fast, full (the left image against the database, in that budget), structure (the left image "
+          "against the database's views rendered from map_file, by gradient-orientation structure, "
+          "[StructureLocalization]) and stereo (the raw stereo pair's geometry against the map, "
+          "[GeometricLocalization])");
     t.addEnum("query_image", query_image, {{"camera", QueryImage::Camera}, {"quasi", QueryImage::Quasi}},
               "the camera's left image, or the quasi-image rendered at the ground-truth pose");
     t.add("every_n", every_n, "", core::Range::atLeast(1), "query every N-th frame");
@@ -46,12 +48,15 @@ std::vector<QueryMode> LocalizeRunOptions::checkedModes(const std::string& name)
     {
         QueryMode mode{m};
         mode.stereo = m == "stereo";
-        if (!mode.stereo) mode.budget = reloc::localizationModeFromString(m, key + "modes");
+        mode.structure = m == "structure";
+        if (!mode.stereo && !mode.structure) mode.budget = reloc::localizationModeFromString(m, key + "modes");
         out.push_back(mode);
     }
-    core::require(!out.empty(), key + "modes", "needs any of fast, full, stereo");
+    core::require(!out.empty(), key + "modes", "needs any of fast, full, structure, stereo");
     core::require(!needsDatabase(out) || !database.empty(), key + "database", "modes fast and full need a database");
     core::require(!hasStereo(out) || !map_file.empty(), key + "map_file", "mode stereo needs the map");
+    core::require(!hasStructure(out) || !map_file.empty(), key + "map_file",
+                  "mode structure needs the map (its views are rendered from it)");
     core::require(!hasStereo(out) || query_image == QueryImage::Camera, key + "query_image",
                   "mode stereo localizes the camera's stereo pair; quasi applies to the database modes only");
     return out;
@@ -68,6 +73,13 @@ bool hasStereo(const std::vector<QueryMode>& modes)
 {
     for (const auto& m : modes)
         if (m.stereo) return true;
+    return false;
+}
+
+bool hasStructure(const std::vector<QueryMode>& modes)
+{
+    for (const auto& m : modes)
+        if (m.structure) return true;
     return false;
 }
 

@@ -21,6 +21,7 @@ struct QueryMode
 {
     std::string name;
     bool stereo = false;
+    bool structure = false;  ///< the image against the map's views by structure (reloc/structure_localizer.h)
     reloc::LocalizationMode budget = reloc::LocalizationMode::Fast;  ///< database modes
 };
 
@@ -47,5 +48,7 @@ struct LocalizeRunOptions : public core::DeclaredOptions
 bool needsDatabase(const std::vector<QueryMode>& modes);
 /** Whether any of `modes` is a stereo query. */
 bool hasStereo(const std::vector<QueryMode>& modes);
+/** Whether any of `modes` is a structure query. */
+bool hasStructure(const std::vector<QueryMode>& modes);
 
 }  // namespace quasiloc::app

@@ -8,7 +8,7 @@
 // the ground-truth pose instead of the camera image: a check of the localization machinery without the
 // camera-to-map modality gap. Other sections: [Localization] [PointMatching] (and [QuasiImage] for quasi queries).
 //
-// Other sections: [GeometricLocalization] for mode stereo.
+// Other sections: [GeometricLocalization] for mode stereo, [StructureLocalization] for mode structure.
 // Outputs in output_dir, all or nothing: queries.txt (every query timestamp), and per mode <mode>.tum (the
 // localized queries' T_world_cam0), <mode>.csv (per query: status, reason, inliers, errors, time per stage),
 // <mode>_diagnostics.txt (per query: retrieved views with scores and groups, matches, PnP hypotheses), then
@@ -35,6 +35,7 @@
 #include <quasiloc/eval/json_writer.h>
 #include <quasiloc/quasi/quasi_renderer.h>
 #include <quasiloc/reloc/localizer.h>
+#include <quasiloc/reloc/structure_localizer.h>
 #include <sstream>
 
 #include "localize_options.h"
@@ -61,6 +62,7 @@ struct RunOptions
     reloc::LocalizerOptions localizer;
     quasi::QuasiOptions quasi;
     reloc::GeometricLocalizationOptions geometric;
+    reloc::StructureLocalizerOptions structure;
     std::vector<app::QueryMode> modes;
 };
 
@@ -84,6 +86,8 @@ RunOptions loadOptions(const core::CommandLine& cmd)
     o.quasi.check(name);
     core::loadOptionsChecked(o.geometric, cfg, "GeometricLocalization", name);
     o.geometric.check(name);
+    core::loadOptionsChecked(o.structure, cfg, "StructureLocalization", name);
+    o.structure.check(name);
     return o;
 }
 
@@ -125,6 +129,35 @@ void report(const QueryRow& row, const dataset::StereoFrame& f, const std::strin
               << ", " << row.report.ms.total << " ms" << std::endl;
 }
 
+/** A structure query; with ground truth its diagnostics say how far the retrieved guesses were. */
+QueryRow localizeStructure(reloc::StructureLocalizer& localizer, const cv::Mat& image, const dataset::StereoFrame& f)
+{
+    QueryRow row;
+    row.t = f.timestamp;
+    row.has_gt = bool(f.T_world_cam0);
+    const Eigen::Isometry3d truth = row.has_gt ? core::toIsometry(*f.T_world_cam0) : Eigen::Isometry3d::Identity();
+    row.report = localizer.localize(image, row.has_gt ? &truth : nullptr);
+    if (row.has_gt && row.report.localized)
+    {
+        row.err_m = core::translationDistance(row.report.T_world_cam, truth);
+        row.err_deg = core::rotationDistanceRad(row.report.T_world_cam, truth) * 180 / M_PI;
+    }
+    return row;
+}
+
+/** The structure localizer of mode structure over the database's views (nullptr without it). */
+std::unique_ptr<reloc::StructureLocalizer> makeStructureQueries(const RunOptions& o, const reloc::Database* db,
+                                                                const map::LidarMap* map,
+                                                                const core::CameraModel& camera)
+{
+    if (!app::hasStructure(o.modes) || !db || !map) return nullptr;
+    std::vector<mrpt::poses::CPose3D> views;
+    for (const auto& v : db->views) views.push_back(v.T_world_cam);
+    auto structure = std::make_unique<reloc::StructureLocalizer>(*map, views, camera, o.quasi, o.structure);
+    std::cout << "structure queries against " << o.run.map_file << ": " << structure->summary() << std::endl;
+    return structure;
+}
+
 /** Per-stage wall time of every query (what --print-timing prints). */
 void recordStageTimes(const reloc::LocalizationReport& r, mrpt::system::CTimeLogger& timer)
 {
@@ -152,14 +185,13 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database* db, dataset:
     const core::CameraModel& camera = source.rig().left;
     std::unique_ptr<map::LidarMap> map;
     std::unique_ptr<quasi::QuasiRenderer> renderer;
-    if (o.run.query_image == QueryImage::Quasi)
-    {
+    if (o.run.query_image == QueryImage::Quasi || app::hasStructure(o.modes))
         map = std::make_unique<map::LidarMap>(map::LidarMap::load(o.run.map_file));
-        renderer = std::make_unique<quasi::QuasiRenderer>(*map, o.quasi);
-    }
+    if (o.run.query_image == QueryImage::Quasi) renderer = std::make_unique<quasi::QuasiRenderer>(*map, o.quasi);
     std::unique_ptr<reloc::Localizer> localizer;
     if (db) localizer = std::make_unique<reloc::Localizer>(*db, o.localizer);
     const auto stereo = makeStereoQueries(o, source.rig());
+    const auto structure = makeStructureQueries(o, db, map.get(), camera);
     Queries out;
     out.rows.resize(o.modes.size());
     out.diagnostics.resize(o.modes.size());
@@ -183,10 +215,12 @@ Queries localizeQueries(const RunOptions& o, const reloc::Database* db, dataset:
         for (size_t m = 0; m < o.modes.size(); ++m)
         {
             const app::QueryMode& mode = o.modes[m];
-            out.rows[m].push_back(mode.stereo ? stereo->localize(f)
-                                              : localizeOne(*localizer, image, f, camera, mode.budget));
-            const std::string account =
-                mode.stereo ? stereo->describeLast() : reloc::describe(out.rows[m].back().report, *db);
+            out.rows[m].push_back(mode.stereo      ? stereo->localize(f)
+                                  : mode.structure ? localizeStructure(*structure, image, f)
+                                                   : localizeOne(*localizer, image, f, camera, mode.budget));
+            const std::string account = mode.stereo      ? stereo->describeLast()
+                                        : mode.structure ? structure->describeLast()
+                                                         : reloc::describe(out.rows[m].back().report, *db);
             report(out.rows[m].back(), f, mode.name, account, out.diagnostics[m]);
             recordStageTimes(out.rows[m].back().report, timer);
         }
@@ -220,7 +254,8 @@ std::string writeOutputs(RunOptions& o, const Queries& queries, const std::strin
                                 {"Localization", &o.localizer},
                                 {"PointMatching", &o.localizer.matching},
                                 {"QuasiImage", &o.quasi},
-                                {"GeometricLocalization", &o.geometric}},
+                                {"GeometricLocalization", &o.geometric},
+                                {"StructureLocalization", &o.structure}},
                                "quasiloc-localize effective configuration");
     out.commit();
     return md;

@@ -23,6 +23,7 @@
 #include <quasiloc/quasi/rawlog_quasi.h>
 #include <quasiloc/reloc/database_builder.h>
 #include <quasiloc/reloc/localizer.h>
+#include <quasiloc/reloc/structure_localizer.h>
 #include <quasiloc/sim/imu_synthesizer.h>
 #include <quasiloc/sim/large_world.h>
 #include <quasiloc/sim/lidar_sampler.h>
@@ -119,6 +120,7 @@ std::vector<Section> sections()
     add("quasiloc-localize", "PointMatching", nullptr);
     add("quasiloc-localize", "QuasiImage", make<quasi::QuasiOptions>());
     add("quasiloc-localize", "GeometricLocalization", nullptr);
+    add("quasiloc-localize", "StructureLocalization", make<reloc::StructureLocalizerOptions>());
     add("quasiloc-eval", "Eval", make<eval::EvalOptions>());
     add("quasiloc-eval", "Eval.<sequence>", make<eval::SequenceOptions>());
     return out;
