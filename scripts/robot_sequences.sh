@@ -3,7 +3,8 @@
 # seed, a sequence started standing and one started moving, each simulated then tracked with the top-level
 # config.ini's tracker (init = global), and one table of the figures the ground-robot targets are set for (docs/benchmarks.md).
 #   bash scripts/robot_sequences.sh [output_root=out/robot] [duration_s=30] [seeds...=1 2 3]
-# Simulated folders are reused when present (delete them to simulate again). Needs a built tree (scripts/build.sh).
+# Simulated folders are reused when present (delete them to simulate again); the table's map column says whether a
+# folder's map was built from simulated sweeps (the default) or sampled exactly. Needs a built tree (scripts/build.sh).
 # Tracker overrides (the rig differs from the simulated EuRoC one, the tracker does not): temporal_max_gap_s = 0.05
 # (no temporal landmarks across a dropped frame of this 30 Hz camera, as config.ini's 0.1 s does at 20 Hz), no scene
 # file. Columns:
@@ -50,9 +51,20 @@ import csv, json, math, sys
 out, load, overrides, runs = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4:]
 print(f"Simulated ground robot (D435i-like rig, 30 Hz; share/quasiloc/sim/robot_floor.ini), tracked with config.ini "
       f"and {overrides}; load average at the end: {load}.\n")
-print("| run | frames | ATE RMSE | max verified | losses | unverified | start error | wall ms/frame median / p95 "
+print("| run | map | frames | ATE RMSE | max verified | losses | unverified | start error | wall ms/frame median / p95 "
       "| CPU ms/frame | map updates |")
-print("|---|---|---|---|---|---|---|---|---|---|")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def map_source(name):
+    # The map the folder was simulated with (folders made before swept maps were the default hold exact ones).
+    for line in open(f"{out}/{name}/sim/sim-rawlog.ini"):
+        key, _, value = line.partition("=")
+        if key.strip() == "map_source":
+            return "swept" if value.split()[0] == "sweeps" else "exact"
+    return "exact"
+
+
 for name in runs:
     s = json.load(open(f"{out}/{name}/track/summary.json"))
     worst = 0.0
@@ -64,7 +76,7 @@ for name in runs:
     user, sys_s, wall = (float(v) for v in open(f"{out}/{name}.time").read().split()[-3:])
     cpu = (user + sys_s) * 1e3 / s["frames"]
     st, t = s["start"], s["time_per_frame_ms"]
-    print(f"| {name} | {s['frames']} | {s['ate']['rmse_m'] * 100:.2f} cm | {worst * 100:.2f} cm | {s['losses']} | "
+    print(f"| {name} | {map_source(name)} | {s['frames']} | {s['ate']['rmse_m'] * 100:.2f} cm | {worst * 100:.2f} cm | {s['losses']} | "
           f"{s['frames_unverified']} | {st['error_m'] * 100:.2f} cm / {st['error_deg']:.2f} deg | "
           f"{t['median']:.1f} / {t['p95']:.1f} | {cpu:.1f} | {s['map_updates']} |")
 EOF
